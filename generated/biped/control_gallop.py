@@ -32,10 +32,10 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "016b9eb3084e58da"
+FINGERPRINT = "7d7af9767c17b777"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -82,7 +82,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:211:5
     """
-    leg_right_touching = s[36]
+    leg_right_touching = s[37]
     return (leg_right_touching < 0.5)
 
 
@@ -92,7 +92,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:219:5
     """
-    leg_left_touching = s[27]
+    leg_left_touching = s[28]
     return (leg_left_touching > 0.5)
 
 
@@ -102,7 +102,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:226:5
     """
-    leg_right_touching = s[36]
+    leg_right_touching = s[37]
     return (leg_right_touching > 0.5)
 
 
@@ -112,7 +112,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:231:5
     """
-    leg_left_touching = s[27]
+    leg_left_touching = s[28]
     return (leg_left_touching < 0.5)
 
 
@@ -132,7 +132,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_vz = s[11]
     com_x = s[12]
     com_y = s[13]
-    time = s[37]
+    time = s[38]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
@@ -202,11 +202,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw = s[7]
     com_vx = s[9]
     com_vy = s[10]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    time = s[37]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    time = s[38]
     speed = u[0]
     k_speed = p[0]
     stance_guess = p[3]
@@ -273,7 +273,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     act_leg_l_spring_k = s[1]
     com_vz = s[11]
     com_z = s[14]
-    time = s[37]
+    time = s[38]
     height = u[3]
     stroke = p[12]
     k_height = p[13]
@@ -346,20 +346,19 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     com_vx = s[9]
     com_vy = s[10]
     coord_hip_l_z_value = s[17]
-    leg_left_foot_x = s[19]
-    leg_left_foot_y = s[20]
-    leg_left_foot_z = s[21]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    leg_left_hip_z = s[24]
-    leg_left_length = s[25]
-    leg_left_rate = s[26]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    time = s[37]
+    integral_turn_rate = s[19]
+    leg_left_foot_x = s[20]
+    leg_left_foot_y = s[21]
+    leg_left_foot_z = s[22]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    leg_left_hip_z = s[25]
+    leg_left_length = s[26]
+    leg_left_rate = s[27]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
     speed = u[0]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp = p[4]
     kv = p[5]
@@ -377,7 +376,7 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
-    t2 = -body_trunk_yaw + heading + time*turn_rate
+    t2 = -body_trunk_yaw + heading + integral_turn_rate
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t2), math.cos(t2))
     t3 = math.cos(body_trunk_yaw)
     t4 = math.sin(body_trunk_yaw)
@@ -414,7 +413,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     From the .leg file:
         record landed_2  creatures/biped.leg:227:7
     """
-    time = s[37]
+    time = s[38]
     stance_2 = r[0]
     extend_at = r[1]
     landed_1 = r[2]
@@ -481,25 +480,24 @@ def action_DOUBLE_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[8]
     coord_hip_l_z_value = s[17]
     coord_hip_r_z_value = s[18]
-    leg_left_foot_x = s[19]
-    leg_left_foot_y = s[20]
-    leg_left_foot_z = s[21]
-    leg_left_hip_x = s[22]
-    leg_left_hip_y = s[23]
-    leg_left_hip_z = s[24]
-    leg_left_length = s[25]
-    leg_left_rate = s[26]
-    leg_right_foot_x = s[28]
-    leg_right_foot_y = s[29]
-    leg_right_foot_z = s[30]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    leg_right_hip_z = s[33]
-    leg_right_length = s[34]
-    leg_right_rate = s[35]
-    time = s[37]
+    integral_turn_rate = s[19]
+    leg_left_foot_x = s[20]
+    leg_left_foot_y = s[21]
+    leg_left_foot_z = s[22]
+    leg_left_hip_x = s[23]
+    leg_left_hip_y = s[24]
+    leg_left_hip_z = s[25]
+    leg_left_length = s[26]
+    leg_left_rate = s[27]
+    leg_right_foot_x = s[29]
+    leg_right_foot_y = s[30]
+    leg_right_foot_z = s[31]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    leg_right_hip_z = s[34]
+    leg_right_length = s[35]
+    leg_right_rate = s[36]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
@@ -521,7 +519,7 @@ def action_DOUBLE_0(s, u, p, r, tis):
     t4 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = t2 + t4*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = t3 + t4*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t5 = -body_trunk_yaw + heading + time*turn_rate
+    t5 = -body_trunk_yaw + heading + integral_turn_rate
     t6 = body_trunk_yaw_rate*yaw_lead + math.atan2(-math.sin(t5), math.cos(t5))
     hip_l_yaw_setpoint = coord_hip_l_z_value + t6
     hip_r_yaw_setpoint = coord_hip_r_z_value + t6
@@ -558,7 +556,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     """
     coord_hip_l_x_value = s[15]
     coord_hip_l_y_value = s[16]
-    time = s[37]
+    time = s[38]
     stance_guess = p[3]
     stance_2 = r[0]
     extend_at = r[1]
@@ -624,17 +622,16 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     body_trunk_yaw = s[7]
     body_trunk_yaw_rate = s[8]
     coord_hip_r_z_value = s[18]
-    leg_right_foot_x = s[28]
-    leg_right_foot_y = s[29]
-    leg_right_foot_z = s[30]
-    leg_right_hip_x = s[31]
-    leg_right_hip_y = s[32]
-    leg_right_hip_z = s[33]
-    leg_right_length = s[34]
-    leg_right_rate = s[35]
-    time = s[37]
+    integral_turn_rate = s[19]
+    leg_right_foot_x = s[29]
+    leg_right_foot_y = s[30]
+    leg_right_foot_z = s[31]
+    leg_right_hip_x = s[32]
+    leg_right_hip_y = s[33]
+    leg_right_hip_z = s[34]
+    leg_right_length = s[35]
+    leg_right_rate = s[36]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
@@ -653,7 +650,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
-    t2 = -body_trunk_yaw + heading + time*turn_rate
+    t2 = -body_trunk_yaw + heading + integral_turn_rate
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
     leg_l_spring_rest = maximum(short, -slew*tis)
     return [

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "2eb395741695e0a8";
+const char legdsl_control_fingerprint[] = "4100fe6411f0c958";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -33,25 +33,26 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[17] = s->q[11];  /* coord.hip_r_x.value */
     out[18] = s->q[12];  /* coord.hip_r_y.value */
     out[19] = s->q[13];  /* coord.hip_r_z.value */
-    out[20] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
-    out[21] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
-    out[22] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
-    out[23] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
-    out[24] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
-    out[25] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
-    out[26] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
-    out[27] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
-    out[28] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
-    out[29] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
-    out[30] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
-    out[31] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
-    out[32] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
-    out[33] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
-    out[34] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
-    out[35] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
-    out[36] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
-    out[37] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
-    out[38] = s->t;  /* time */
+    out[20] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[21] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
+    out[22] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
+    out[23] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
+    out[24] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
+    out[25] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
+    out[26] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
+    out[27] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
+    out[28] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
+    out[29] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
+    out[30] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
+    out[31] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
+    out[32] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
+    out[33] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
+    out[34] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
+    out[35] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
+    out[36] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
+    out[37] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
+    out[38] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
+    out[39] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -59,7 +60,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/biped.leg:211:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[37];
+    const double leg_right_touching = s[38];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching < 0.5);
 }
@@ -68,7 +69,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:219:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[28];
+    const double leg_left_touching = s[29];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching > 0.5);
 }
@@ -77,7 +78,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 /*   event: creatures/biped.leg:226:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[37];
+    const double leg_right_touching = s[38];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching > 0.5);
 }
@@ -86,7 +87,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:231:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[28];
+    const double leg_left_touching = s[29];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching < 0.5);
 }
@@ -109,7 +110,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double com_y = s[14];
     const double coord_hip_r_x_value = s[17];
     const double coord_hip_r_y_value = s[18];
-    const double time = s[38];
+    const double time = s[39];
     const double speed = u[0];
     const double k_trim = p[1];
     const double trim_band = p[2];
@@ -178,9 +179,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw = s[8];
     const double com_vx = s[10];
     const double com_vy = s[11];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double time = s[38];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double time = s[39];
     const double speed = u[0];
     const double k_speed = p[0];
     const double stance_guess = p[3];
@@ -239,7 +240,7 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double act_leg_l_spring_k = s[1];
     const double com_vz = s[12];
     const double com_z = s[15];
-    const double time = s[38];
+    const double time = s[39];
     const double height = u[3];
     const double stroke = p[12];
     const double k_height = p[13];
@@ -313,20 +314,19 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double com_vx = s[10];
     const double com_vy = s[11];
     const double coord_hip_l_z_value = s[16];
-    const double leg_left_foot_x = s[20];
-    const double leg_left_foot_y = s[21];
-    const double leg_left_foot_z = s[22];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double leg_left_hip_z = s[25];
-    const double leg_left_length = s[26];
-    const double leg_left_rate = s[27];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double time = s[38];
+    const double integral_turn_rate = s[20];
+    const double leg_left_foot_x = s[21];
+    const double leg_left_foot_y = s[22];
+    const double leg_left_foot_z = s[23];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double leg_left_hip_z = s[26];
+    const double leg_left_length = s[27];
+    const double leg_left_rate = s[28];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
     const double speed = u[0];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp = p[4];
     const double kv = p[5];
@@ -347,7 +347,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
-    const double t2 = -body_trunk_yaw + heading + time*turn_rate;
+    const double t2 = -body_trunk_yaw + heading + integral_turn_rate;
     const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(-leg_sin(t2), leg_cos(t2));
     const double leg_r_spring_rest = leg_min(0.0, leg_max(short_, short_ + swing_slew*(-swing_wait + tis)));
     const double t3 = leg_cos(body_trunk_yaw);
@@ -384,7 +384,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 /*   record landed_2: creatures/biped.leg:227:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double time = s[38];
+    const double time = s[39];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double landed_1 = r[2];
@@ -451,25 +451,24 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[9];
     const double coord_hip_l_z_value = s[16];
     const double coord_hip_r_z_value = s[19];
-    const double leg_left_foot_x = s[20];
-    const double leg_left_foot_y = s[21];
-    const double leg_left_foot_z = s[22];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double leg_left_hip_z = s[25];
-    const double leg_left_length = s[26];
-    const double leg_left_rate = s[27];
-    const double leg_right_foot_x = s[29];
-    const double leg_right_foot_y = s[30];
-    const double leg_right_foot_z = s[31];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double leg_right_hip_z = s[34];
-    const double leg_right_length = s[35];
-    const double leg_right_rate = s[36];
-    const double time = s[38];
+    const double integral_turn_rate = s[20];
+    const double leg_left_foot_x = s[21];
+    const double leg_left_foot_y = s[22];
+    const double leg_left_foot_z = s[23];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double leg_left_hip_z = s[26];
+    const double leg_left_length = s[27];
+    const double leg_left_rate = s[28];
+    const double leg_right_foot_x = s[30];
+    const double leg_right_foot_y = s[31];
+    const double leg_right_foot_z = s[32];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
+    const double leg_right_hip_z = s[35];
+    const double leg_right_length = s[36];
+    const double leg_right_rate = s[37];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[4];
     const double kv = p[5];
     const double kp_roll = p[6];
@@ -491,7 +490,7 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double t4 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = t2 + t4*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = t3 + t4*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
-    const double t5 = -body_trunk_yaw + heading + time*turn_rate;
+    const double t5 = -body_trunk_yaw + heading + integral_turn_rate;
     const double t6 = body_trunk_yaw_rate*yaw_lead + atan2(-leg_sin(t5), leg_cos(t5));
     const double hip_l_yaw_setpoint = coord_hip_l_z_value + t6;
     const double hip_r_yaw_setpoint = coord_hip_r_z_value + t6;
@@ -524,7 +523,7 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
-    const double time = s[38];
+    const double time = s[39];
     const double stance_guess = p[3];
     const double stance_2 = r[0];
     const double extend_at = r[1];
@@ -593,17 +592,16 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double coord_hip_r_x_value = s[17];
     const double coord_hip_r_y_value = s[18];
     const double coord_hip_r_z_value = s[19];
-    const double leg_right_foot_x = s[29];
-    const double leg_right_foot_y = s[30];
-    const double leg_right_foot_z = s[31];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double leg_right_hip_z = s[34];
-    const double leg_right_length = s[35];
-    const double leg_right_rate = s[36];
-    const double time = s[38];
+    const double integral_turn_rate = s[20];
+    const double leg_right_foot_x = s[30];
+    const double leg_right_foot_y = s[31];
+    const double leg_right_foot_z = s[32];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
+    const double leg_right_hip_z = s[35];
+    const double leg_right_length = s[36];
+    const double leg_right_rate = s[37];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[4];
     const double kv = p[5];
     const double kp_roll = p[6];
@@ -622,7 +620,7 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
-    const double t2 = -body_trunk_yaw + heading + time*turn_rate;
+    const double t2 = -body_trunk_yaw + heading + integral_turn_rate;
     const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(-leg_sin(t2), leg_cos(t2));
     const double leg_l_spring_rest = leg_max(short_, leg_rest_at_lift - lift_slew*tis);
     const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror_gain;
@@ -684,7 +682,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, 0, 0};
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, 0, 0};
 
 const leg_controller leg_the_controller = {
-    4, 1, 39, 4, 16, 22,
+    4, 1, 40, 4, 16, 22,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "ae72996adb1be378";
+const char legdsl_control_fingerprint[] = "5c2aca69a7c1f173";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -36,28 +36,29 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[20] = s->q[11];  /* coord.hip_r_x.value */
     out[21] = s->q[12];  /* coord.hip_r_y.value */
     out[22] = s->q[13];  /* coord.hip_r_z.value */
-    out[23] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
-    out[24] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
-    out[25] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
-    out[26] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
-    out[27] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
-    out[28] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
-    out[29] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
-    out[30] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
-    out[31] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
-    out[32] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
-    out[33] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
-    out[34] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
-    out[35] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
-    out[36] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
-    out[37] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
-    out[38] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
-    out[39] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
-    out[40] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
-    out[41] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[42] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[43] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[44] = s->t;  /* time */
+    out[23] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[24] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
+    out[25] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
+    out[26] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
+    out[27] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
+    out[28] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
+    out[29] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
+    out[30] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
+    out[31] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
+    out[32] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
+    out[33] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
+    out[34] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
+    out[35] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
+    out[36] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
+    out[37] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
+    out[38] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
+    out[39] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
+    out[40] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
+    out[41] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
+    out[42] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[43] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[44] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[45] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -65,7 +66,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/biped.leg:150:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[31];
+    const double leg_left_touching = s[32];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching < 0.5);
 }
@@ -74,7 +75,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:158:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[31];
+    const double leg_left_touching = s[32];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching > 0.5);
 }
@@ -83,7 +84,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 /*   event: creatures/biped.leg:159:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_rate = s[30];
+    const double leg_left_rate = s[31];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_rate < 0.0);
 }
@@ -92,7 +93,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 /*   event: creatures/biped.leg:160:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_rate = s[30];
+    const double leg_left_rate = s[31];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_rate > 0.0);
 }
@@ -102,7 +103,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
-    const double leg_left_length = s[29];
+    const double leg_left_length = s[30];
     const double full = p[20];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_length > act_leg_l_spring_rest + full);
@@ -112,7 +113,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 /*   event: creatures/biped.leg:150:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[40];
+    const double leg_right_touching = s[41];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching < 0.5);
 }
@@ -121,7 +122,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:158:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[40];
+    const double leg_right_touching = s[41];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching > 0.5);
 }
@@ -130,7 +131,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 /*   event: creatures/biped.leg:159:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_rate = s[39];
+    const double leg_right_rate = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_rate < 0.0);
 }
@@ -139,7 +140,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 /*   event: creatures/biped.leg:160:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_rate = s[39];
+    const double leg_right_rate = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_rate > 0.0);
 }
@@ -149,7 +150,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_r_spring_rest = s[5];
-    const double leg_right_length = s[38];
+    const double leg_right_length = s[39];
     const double full = p[20];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_length > act_leg_r_spring_rest + full);
@@ -167,7 +168,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double body_trunk_yaw = s[10];
     const double com_x = s[14];
     const double com_y = s[15];
-    const double time = s[44];
+    const double time = s[45];
     const double speed = u[0];
     const double k_trim = p[1];
     const double trim_band = p[2];
@@ -226,8 +227,8 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double com_vy = s[13];
     const double coord_hip_l_x_value = s[17];
     const double coord_hip_l_y_value = s[18];
-    const double leg_left_hip_x = s[26];
-    const double leg_left_hip_y = s[27];
+    const double leg_left_hip_x = s[27];
+    const double leg_left_hip_y = s[28];
     const double speed = u[0];
     const double k_speed = p[0];
     const double swing_kp = p[10];
@@ -279,7 +280,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 /*   record landed: creatures/biped.leg:158:48 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double time = s[44];
+    const double time = s[45];
     const double stance = r[0];
     const double step_speed = r[2];
     const double speed_trim = r[3];
@@ -399,19 +400,18 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double coord_hip_l_x_value = s[17];
     const double coord_hip_l_y_value = s[18];
     const double coord_hip_l_z_value = s[19];
-    const double leg_left_foot_x = s[23];
-    const double leg_left_foot_y = s[24];
-    const double leg_left_foot_z = s[25];
-    const double leg_left_hip_x = s[26];
-    const double leg_left_hip_y = s[27];
-    const double leg_left_hip_z = s[28];
-    const double leg_left_length = s[29];
-    const double path_route_ahead_heading = s[41];
-    const double path_route_given = s[42];
-    const double path_route_lateral = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[23];
+    const double leg_left_foot_x = s[24];
+    const double leg_left_foot_y = s[25];
+    const double leg_left_foot_z = s[26];
+    const double leg_left_hip_x = s[27];
+    const double leg_left_hip_y = s[28];
+    const double leg_left_hip_z = s[29];
+    const double leg_left_length = s[30];
+    const double path_route_ahead_heading = s[42];
+    const double path_route_given = s[43];
+    const double path_route_lateral = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[4];
     const double kv = p[5];
     const double kp_roll = p[6];
@@ -428,7 +428,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(leg_sin(t3), leg_cos(t3));
     const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
     out[0] = 0.0;
@@ -512,19 +512,18 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double coord_hip_l_x_value = s[17];
     const double coord_hip_l_y_value = s[18];
     const double coord_hip_l_z_value = s[19];
-    const double leg_left_foot_x = s[23];
-    const double leg_left_foot_y = s[24];
-    const double leg_left_foot_z = s[25];
-    const double leg_left_hip_x = s[26];
-    const double leg_left_hip_y = s[27];
-    const double leg_left_hip_z = s[28];
-    const double leg_left_length = s[29];
-    const double path_route_ahead_heading = s[41];
-    const double path_route_given = s[42];
-    const double path_route_lateral = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[23];
+    const double leg_left_foot_x = s[24];
+    const double leg_left_foot_y = s[25];
+    const double leg_left_foot_z = s[26];
+    const double leg_left_hip_x = s[27];
+    const double leg_left_hip_y = s[28];
+    const double leg_left_hip_z = s[29];
+    const double leg_left_length = s[30];
+    const double path_route_ahead_heading = s[42];
+    const double path_route_given = s[43];
+    const double path_route_lateral = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double height = u[3];
     const double kp = p[4];
     const double kv = p[5];
@@ -548,7 +547,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(leg_sin(t3), leg_cos(t3));
     const double hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror;
     out[0] = leg_l_spring_rest;
@@ -657,7 +656,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double body_trunk_yaw = s[10];
     const double com_x = s[14];
     const double com_y = s[15];
-    const double time = s[44];
+    const double time = s[45];
     const double speed = u[0];
     const double k_trim = p[1];
     const double trim_band = p[2];
@@ -716,8 +715,8 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double com_vy = s[13];
     const double coord_hip_r_x_value = s[20];
     const double coord_hip_r_y_value = s[21];
-    const double leg_right_hip_x = s[35];
-    const double leg_right_hip_y = s[36];
+    const double leg_right_hip_x = s[36];
+    const double leg_right_hip_y = s[37];
     const double speed = u[0];
     const double k_speed = p[0];
     const double swing_kp = p[10];
@@ -769,7 +768,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 /*   record landed: creatures/biped.leg:158:48 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double time = s[44];
+    const double time = s[45];
     const double stance = r[0];
     const double step_speed = r[2];
     const double speed_trim = r[3];
@@ -889,19 +888,18 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double coord_hip_r_x_value = s[20];
     const double coord_hip_r_y_value = s[21];
     const double coord_hip_r_z_value = s[22];
-    const double leg_right_foot_x = s[32];
-    const double leg_right_foot_y = s[33];
-    const double leg_right_foot_z = s[34];
-    const double leg_right_hip_x = s[35];
-    const double leg_right_hip_y = s[36];
-    const double leg_right_hip_z = s[37];
-    const double leg_right_length = s[38];
-    const double path_route_ahead_heading = s[41];
-    const double path_route_given = s[42];
-    const double path_route_lateral = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[23];
+    const double leg_right_foot_x = s[33];
+    const double leg_right_foot_y = s[34];
+    const double leg_right_foot_z = s[35];
+    const double leg_right_hip_x = s[36];
+    const double leg_right_hip_y = s[37];
+    const double leg_right_hip_z = s[38];
+    const double leg_right_length = s[39];
+    const double path_route_ahead_heading = s[42];
+    const double path_route_given = s[43];
+    const double path_route_lateral = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[4];
     const double kv = p[5];
     const double kp_roll = p[6];
@@ -918,7 +916,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(leg_sin(t3), leg_cos(t3));
     const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
     out[0] = 0.0;
@@ -1002,19 +1000,18 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double coord_hip_r_x_value = s[20];
     const double coord_hip_r_y_value = s[21];
     const double coord_hip_r_z_value = s[22];
-    const double leg_right_foot_x = s[32];
-    const double leg_right_foot_y = s[33];
-    const double leg_right_foot_z = s[34];
-    const double leg_right_hip_x = s[35];
-    const double leg_right_hip_y = s[36];
-    const double leg_right_hip_z = s[37];
-    const double leg_right_length = s[38];
-    const double path_route_ahead_heading = s[41];
-    const double path_route_given = s[42];
-    const double path_route_lateral = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[23];
+    const double leg_right_foot_x = s[33];
+    const double leg_right_foot_y = s[34];
+    const double leg_right_foot_z = s[35];
+    const double leg_right_hip_x = s[36];
+    const double leg_right_hip_y = s[37];
+    const double leg_right_hip_z = s[38];
+    const double leg_right_length = s[39];
+    const double path_route_ahead_heading = s[42];
+    const double path_route_given = s[43];
+    const double path_route_lateral = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double height = u[3];
     const double kp = p[4];
     const double kv = p[5];
@@ -1038,7 +1035,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(leg_sin(t3), leg_cos(t3));
     const double hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror;
     out[0] = leg_r_spring_rest;
@@ -1175,7 +1172,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 45, 4, 8, 21,
+    5, 2, 46, 4, 8, 21,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

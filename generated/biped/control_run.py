@@ -33,10 +33,10 @@ def maximum(*values):
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "ae72996adb1be378"
+FINGERPRINT = "5c2aca69a7c1f173"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -91,7 +91,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:150:5
     """
-    leg_left_touching = s[31]
+    leg_left_touching = s[32]
     return (leg_left_touching < 0.5)
 
 
@@ -101,7 +101,7 @@ def event_LOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:158:5
     """
-    leg_left_touching = s[31]
+    leg_left_touching = s[32]
     return (leg_left_touching > 0.5)
 
 
@@ -111,7 +111,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:159:5
     """
-    leg_left_rate = s[30]
+    leg_left_rate = s[31]
     return (leg_left_rate < 0.0)
 
 
@@ -121,7 +121,7 @@ def event_THRUST_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:160:5
     """
-    leg_left_rate = s[30]
+    leg_left_rate = s[31]
     return (leg_left_rate > 0.0)
 
 
@@ -132,7 +132,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
         event  creatures/biped.leg:161:5
     """
     act_leg_l_spring_rest = s[2]
-    leg_left_length = s[29]
+    leg_left_length = s[30]
     full = p[20]
     return (leg_left_length > act_leg_l_spring_rest + full)
 
@@ -143,7 +143,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:150:5
     """
-    leg_right_touching = s[40]
+    leg_right_touching = s[41]
     return (leg_right_touching < 0.5)
 
 
@@ -153,7 +153,7 @@ def event_LOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:158:5
     """
-    leg_right_touching = s[40]
+    leg_right_touching = s[41]
     return (leg_right_touching > 0.5)
 
 
@@ -163,7 +163,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:159:5
     """
-    leg_right_rate = s[39]
+    leg_right_rate = s[40]
     return (leg_right_rate < 0.0)
 
 
@@ -173,7 +173,7 @@ def event_THRUST_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:160:5
     """
-    leg_right_rate = s[39]
+    leg_right_rate = s[40]
     return (leg_right_rate > 0.0)
 
 
@@ -184,7 +184,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
         event  creatures/biped.leg:161:5
     """
     act_leg_r_spring_rest = s[5]
-    leg_right_length = s[38]
+    leg_right_length = s[39]
     full = p[20]
     return (leg_right_length > act_leg_r_spring_rest + full)
 
@@ -203,7 +203,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
-    time = s[44]
+    time = s[45]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
@@ -255,8 +255,8 @@ def action_FLIGHT_0(s, u, p, r, tis):
     com_vy = s[13]
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
-    leg_left_hip_x = s[26]
-    leg_left_hip_y = s[27]
+    leg_left_hip_x = s[27]
+    leg_left_hip_y = s[28]
     speed = u[0]
     k_speed = p[0]
     swing_kp = p[10]
@@ -310,7 +310,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     From the .leg file:
         record landed  creatures/biped.leg:158:48
     """
-    time = s[44]
+    time = s[45]
     stance = r[0]
     step_speed = r[2]
     speed_trim = r[3]
@@ -415,19 +415,18 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     coord_hip_l_z_value = s[19]
-    leg_left_foot_x = s[23]
-    leg_left_foot_y = s[24]
-    leg_left_foot_z = s[25]
-    leg_left_hip_x = s[26]
-    leg_left_hip_y = s[27]
-    leg_left_hip_z = s[28]
-    leg_left_length = s[29]
-    path_route_ahead_heading = s[41]
-    path_route_given = s[42]
-    path_route_lateral = s[43]
-    time = s[44]
+    integral_turn_rate = s[23]
+    leg_left_foot_x = s[24]
+    leg_left_foot_y = s[25]
+    leg_left_foot_z = s[26]
+    leg_left_hip_x = s[27]
+    leg_left_hip_y = s[28]
+    leg_left_hip_z = s[29]
+    leg_left_length = s[30]
+    path_route_ahead_heading = s[42]
+    path_route_given = s[43]
+    path_route_lateral = s[44]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
@@ -444,7 +443,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
@@ -523,19 +522,18 @@ def action_THRUST_0(s, u, p, r, tis):
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
     coord_hip_l_z_value = s[19]
-    leg_left_foot_x = s[23]
-    leg_left_foot_y = s[24]
-    leg_left_foot_z = s[25]
-    leg_left_hip_x = s[26]
-    leg_left_hip_y = s[27]
-    leg_left_hip_z = s[28]
-    leg_left_length = s[29]
-    path_route_ahead_heading = s[41]
-    path_route_given = s[42]
-    path_route_lateral = s[43]
-    time = s[44]
+    integral_turn_rate = s[23]
+    leg_left_foot_x = s[24]
+    leg_left_foot_y = s[25]
+    leg_left_foot_z = s[26]
+    leg_left_hip_x = s[27]
+    leg_left_hip_y = s[28]
+    leg_left_hip_z = s[29]
+    leg_left_length = s[30]
+    path_route_ahead_heading = s[42]
+    path_route_given = s[43]
+    path_route_lateral = s[44]
     heading = u[1]
-    turn_rate = u[2]
     height = u[3]
     kp = p[4]
     kv = p[5]
@@ -559,7 +557,7 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_r_pitch_setpoint = -coord_hip_l_y_value*mirror
     return [
@@ -662,7 +660,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     body_trunk_yaw = s[10]
     com_x = s[14]
     com_y = s[15]
-    time = s[44]
+    time = s[45]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
@@ -714,8 +712,8 @@ def action_FLIGHT_1(s, u, p, r, tis):
     com_vy = s[13]
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
-    leg_right_hip_x = s[35]
-    leg_right_hip_y = s[36]
+    leg_right_hip_x = s[36]
+    leg_right_hip_y = s[37]
     speed = u[0]
     k_speed = p[0]
     swing_kp = p[10]
@@ -769,7 +767,7 @@ def entry_LOADING_1(s, u, p, r, tis):
     From the .leg file:
         record landed  creatures/biped.leg:158:48
     """
-    time = s[44]
+    time = s[45]
     stance = r[0]
     step_speed = r[2]
     speed_trim = r[3]
@@ -874,19 +872,18 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     coord_hip_r_z_value = s[22]
-    leg_right_foot_x = s[32]
-    leg_right_foot_y = s[33]
-    leg_right_foot_z = s[34]
-    leg_right_hip_x = s[35]
-    leg_right_hip_y = s[36]
-    leg_right_hip_z = s[37]
-    leg_right_length = s[38]
-    path_route_ahead_heading = s[41]
-    path_route_given = s[42]
-    path_route_lateral = s[43]
-    time = s[44]
+    integral_turn_rate = s[23]
+    leg_right_foot_x = s[33]
+    leg_right_foot_y = s[34]
+    leg_right_foot_z = s[35]
+    leg_right_hip_x = s[36]
+    leg_right_hip_y = s[37]
+    leg_right_hip_z = s[38]
+    leg_right_length = s[39]
+    path_route_ahead_heading = s[42]
+    path_route_given = s[43]
+    path_route_lateral = s[44]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[4]
     kv = p[5]
     kp_roll = p[6]
@@ -903,7 +900,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [
@@ -982,19 +979,18 @@ def action_THRUST_1(s, u, p, r, tis):
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
     coord_hip_r_z_value = s[22]
-    leg_right_foot_x = s[32]
-    leg_right_foot_y = s[33]
-    leg_right_foot_z = s[34]
-    leg_right_hip_x = s[35]
-    leg_right_hip_y = s[36]
-    leg_right_hip_z = s[37]
-    leg_right_length = s[38]
-    path_route_ahead_heading = s[41]
-    path_route_given = s[42]
-    path_route_lateral = s[43]
-    time = s[44]
+    integral_turn_rate = s[23]
+    leg_right_foot_x = s[33]
+    leg_right_foot_y = s[34]
+    leg_right_foot_z = s[35]
+    leg_right_hip_x = s[36]
+    leg_right_hip_y = s[37]
+    leg_right_hip_z = s[38]
+    leg_right_length = s[39]
+    path_route_ahead_heading = s[42]
+    path_route_given = s[43]
+    path_route_lateral = s[44]
     heading = u[1]
-    turn_rate = u[2]
     height = u[3]
     kp = p[4]
     kv = p[5]
@@ -1018,7 +1014,7 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(math.sin(t3), math.cos(t3))
     hip_l_pitch_setpoint = -coord_hip_r_y_value*mirror
     return [

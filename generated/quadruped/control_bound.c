@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "200c8206eb99f7dd";
+const char legdsl_control_fingerprint[] = "cd7572b894e1ae4b";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -25,34 +25,35 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[9] = leg_sense_com(s, 0, 0, err);  /* com.x */
     out[10] = leg_sense_com(s, 1, 0, err);  /* com.y */
     out[11] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[12] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
-    out[13] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
-    out[14] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
-    out[15] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
-    out[16] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
-    out[17] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
-    out[18] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
-    out[19] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
-    out[20] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
-    out[21] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
-    out[22] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
-    out[23] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
-    out[24] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
-    out[25] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
-    out[26] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
-    out[27] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
-    out[28] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
-    out[29] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
-    out[30] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
-    out[31] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
-    out[32] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
-    out[33] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
-    out[34] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
-    out[35] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
-    out[36] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[37] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[38] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[39] = s->t;  /* time */
+    out[12] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[13] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
+    out[14] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
+    out[15] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
+    out[16] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
+    out[17] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
+    out[18] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
+    out[19] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
+    out[20] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
+    out[21] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
+    out[22] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
+    out[23] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
+    out[24] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
+    out[25] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
+    out[26] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
+    out[27] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
+    out[28] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
+    out[29] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
+    out[30] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
+    out[31] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
+    out[32] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
+    out[33] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
+    out[34] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
+    out[35] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
+    out[36] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
+    out[37] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[38] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[39] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[40] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -60,8 +61,8 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/quadruped.leg:340:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[17];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_touching = s[24];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)));
 }
@@ -70,8 +71,8 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:356:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[17];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_touching = s[24];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching > 0.5)) || ((leg_fr_touching > 0.5)));
 }
@@ -80,8 +81,8 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:367:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[16];
-    const double leg_fr_rate = s[22];
+    const double leg_fl_rate = s[17];
+    const double leg_fr_rate = s[23];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0);
 }
@@ -90,8 +91,8 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:370:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[16];
-    const double leg_fr_rate = s[22];
+    const double leg_fl_rate = s[17];
+    const double leg_fr_rate = s[23];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
@@ -101,10 +102,10 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:374:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_length = s[22];
+    const double leg_fr_touching = s[24];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[16];
@@ -116,8 +117,8 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 /*   event: creatures/quadruped.leg:340:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[29];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_touching = s[36];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)));
 }
@@ -126,8 +127,8 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:356:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[29];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_touching = s[36];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching > 0.5)) || ((leg_rr_touching > 0.5)));
 }
@@ -136,8 +137,8 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:367:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[28];
-    const double leg_rr_rate = s[34];
+    const double leg_rl_rate = s[29];
+    const double leg_rr_rate = s[35];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0);
 }
@@ -146,8 +147,8 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:370:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[28];
-    const double leg_rr_rate = s[34];
+    const double leg_rl_rate = s[29];
+    const double leg_rr_rate = s[35];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
@@ -157,10 +158,10 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:374:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
+    const double leg_rl_length = s[28];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_length = s[34];
+    const double leg_rr_touching = s[36];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[16];
@@ -188,9 +189,9 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double body_trunk_yaw = s[4];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double time = s[39];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double time = s[40];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -324,22 +325,21 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_hip_z = s[14];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_hip_z = s[20];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_hip_z = s[15];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_fr_hip_z = s[21];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -370,7 +370,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t5 = com_vx*t3 + com_vy*t4;
     const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5;
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
     const double t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9;
@@ -452,9 +452,9 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double com_x = s[9];
     const double com_y = s[10];
     const double com_z = s[11];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fr_hip_x = s[18];
-    const double time = s[39];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fr_hip_x = s[19];
+    const double time = s[40];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -588,24 +588,23 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_fr_length = s[22];
+    const double leg_fr_touching = s[24];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -640,7 +639,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double hip_fl_pitch_kv = swing_kv*t1;
     const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + integral_turn_rate));
     const double t5 = atan2(leg_sin(t4), leg_cos(t4));
     const double t6 = -aim_rate + body_trunk_yaw_rate;
     const double t7 = -kp_yaw*t5 - kv_yaw*t6;
@@ -818,24 +817,23 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_fr_length = s[22];
+    const double leg_fr_touching = s[24];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -870,7 +868,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double hip_fl_pitch_kv = swing_kv*t1;
     const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + integral_turn_rate));
     const double t5 = atan2(leg_sin(t4), leg_cos(t4));
     const double t6 = -aim_rate + body_trunk_yaw_rate;
     const double t7 = -kp_yaw*t5 - kv_yaw*t6;
@@ -1036,24 +1034,23 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fl_length = s[15];
-    const double leg_fl_touching = s[17];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_fr_length = s[21];
-    const double leg_fr_touching = s[23];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fl_length = s[16];
+    const double leg_fl_touching = s[18];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_fr_length = s[22];
+    const double leg_fr_touching = s[24];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -1094,7 +1091,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double hip_fl_pitch_kv = swing_kv*t2;
     const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = atan2(leg_sin(t5), leg_cos(t5));
     const double t7 = -aim_rate + body_trunk_yaw_rate;
     const double t8 = -kp_yaw*t6 - kv_yaw*t7;
@@ -1259,16 +1256,15 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -1288,7 +1284,7 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double t3 = com_vx*t1 + com_vy*t2;
     const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3;
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t5), leg_cos(t5))))));
     const double t7 = com_vx*t2 - com_vy*t1;
     const double t8 = k_speed*(-side_trim - t7) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t7;
@@ -1350,9 +1346,9 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double body_trunk_yaw = s[4];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double time = s[39];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double time = s[40];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -1486,22 +1482,21 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_hip_z = s[26];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_hip_z = s[32];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rl_hip_z = s[27];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double leg_rr_hip_z = s[33];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -1532,7 +1527,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t5 = com_vx*t3 + com_vy*t4;
     const double rl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5;
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
     const double t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9;
@@ -1614,9 +1609,9 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double com_x = s[9];
     const double com_y = s[10];
     const double com_z = s[11];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rr_hip_x = s[30];
-    const double time = s[39];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rr_hip_x = s[31];
+    const double time = s[40];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -1750,24 +1745,23 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rl_length = s[28];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double leg_rr_length = s[34];
+    const double leg_rr_touching = s[36];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -1802,7 +1796,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double hip_rl_pitch_kv = swing_kv*t1;
     const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + integral_turn_rate));
     const double t5 = atan2(leg_sin(t4), leg_cos(t4));
     const double t6 = -aim_rate + body_trunk_yaw_rate;
     const double t7 = -kp_yaw*t5 - kv_yaw*t6;
@@ -1980,24 +1974,23 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rl_length = s[28];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double leg_rr_length = s[34];
+    const double leg_rr_touching = s[36];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -2032,7 +2025,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double hip_rl_pitch_kv = swing_kv*t1;
     const double t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t3 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + time*turn_rate));
+    const double t4 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t3), leg_cos(t3))))) : (heading + integral_turn_rate));
     const double t5 = atan2(leg_sin(t4), leg_cos(t4));
     const double t6 = -aim_rate + body_trunk_yaw_rate;
     const double t7 = -kp_yaw*t5 - kv_yaw*t6;
@@ -2198,24 +2191,23 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double leg_rl_hip_x = s[24];
-    const double leg_rl_hip_y = s[25];
-    const double leg_rl_length = s[27];
-    const double leg_rl_touching = s[29];
-    const double leg_rr_hip_x = s[30];
-    const double leg_rr_hip_y = s[31];
-    const double leg_rr_length = s[33];
-    const double leg_rr_touching = s[35];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double leg_rl_hip_x = s[25];
+    const double leg_rl_hip_y = s[26];
+    const double leg_rl_length = s[28];
+    const double leg_rl_touching = s[30];
+    const double leg_rr_hip_x = s[31];
+    const double leg_rr_hip_y = s[32];
+    const double leg_rr_length = s[34];
+    const double leg_rr_touching = s[36];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -2256,7 +2248,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double hip_rl_pitch_kv = swing_kv*t2;
     const double t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((t1) ? (-omega_f) : (omega_r)) - leg_min(stride_most, leg_max(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))));
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = atan2(leg_sin(t5), leg_cos(t5));
     const double t7 = -aim_rate + body_trunk_yaw_rate;
     const double t8 = -kp_yaw*t6 - kv_yaw*t7;
@@ -2421,16 +2413,15 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double body_trunk_yaw_rate = s[5];
     const double com_vx = s[6];
     const double com_vy = s[7];
-    const double leg_fl_hip_x = s[12];
-    const double leg_fl_hip_y = s[13];
-    const double leg_fr_hip_x = s[18];
-    const double leg_fr_hip_y = s[19];
-    const double path_route_ahead_heading = s[36];
-    const double path_route_given = s[37];
-    const double path_route_lateral = s[38];
-    const double time = s[39];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[13];
+    const double leg_fl_hip_y = s[14];
+    const double leg_fr_hip_x = s[19];
+    const double leg_fr_hip_y = s[20];
+    const double path_route_ahead_heading = s[37];
+    const double path_route_given = s[38];
+    const double path_route_lateral = s[39];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -2450,7 +2441,7 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double t3 = com_vx*t1 + com_vy*t2;
     const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3;
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t5), leg_cos(t5))))));
     const double t7 = com_vx*t2 - com_vy*t1;
     const double t8 = k_speed*(-side_trim - t7) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t7;
@@ -2564,7 +2555,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 40, 4, 29, 44,
+    5, 2, 41, 4, 29, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -33,10 +33,10 @@ def maximum(*values):
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "200c8206eb99f7dd"
+FINGERPRINT = "cd7572b894e1ae4b"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -111,8 +111,8 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:340:5
     """
-    leg_fl_touching = s[17]
-    leg_fr_touching = s[23]
+    leg_fl_touching = s[18]
+    leg_fr_touching = s[24]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5)
 
 
@@ -122,8 +122,8 @@ def event_LOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:356:5
     """
-    leg_fl_touching = s[17]
-    leg_fr_touching = s[23]
+    leg_fl_touching = s[18]
+    leg_fr_touching = s[24]
     return (leg_fl_touching > 0.5) or (leg_fr_touching > 0.5)
 
 
@@ -133,8 +133,8 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:367:5
     """
-    leg_fl_rate = s[16]
-    leg_fr_rate = s[22]
+    leg_fl_rate = s[17]
+    leg_fr_rate = s[23]
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0)
 
 
@@ -144,8 +144,8 @@ def event_THRUST_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:370:5
     """
-    leg_fl_rate = s[16]
-    leg_fr_rate = s[22]
+    leg_fl_rate = s[17]
+    leg_fr_rate = s[23]
     settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
@@ -156,10 +156,10 @@ def event_UNLOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:374:5
     """
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_length = s[22]
+    leg_fr_touching = s[24]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[16]
@@ -172,8 +172,8 @@ def event_FLIGHT_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:340:5
     """
-    leg_rl_touching = s[29]
-    leg_rr_touching = s[35]
+    leg_rl_touching = s[30]
+    leg_rr_touching = s[36]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
@@ -183,8 +183,8 @@ def event_LOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:356:5
     """
-    leg_rl_touching = s[29]
-    leg_rr_touching = s[35]
+    leg_rl_touching = s[30]
+    leg_rr_touching = s[36]
     return (leg_rl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
@@ -194,8 +194,8 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:367:5
     """
-    leg_rl_rate = s[28]
-    leg_rr_rate = s[34]
+    leg_rl_rate = s[29]
+    leg_rr_rate = s[35]
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0)
 
 
@@ -205,8 +205,8 @@ def event_THRUST_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:370:5
     """
-    leg_rl_rate = s[28]
-    leg_rr_rate = s[34]
+    leg_rl_rate = s[29]
+    leg_rr_rate = s[35]
     settle = p[30]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
@@ -217,10 +217,10 @@ def event_UNLOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:374:5
     """
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
+    leg_rl_length = s[28]
+    leg_rl_touching = s[30]
+    leg_rr_length = s[34]
+    leg_rr_touching = s[36]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[16]
@@ -249,9 +249,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    time = s[39]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    time = s[40]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -387,22 +387,21 @@ def action_FLIGHT_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_hip_z = s[14]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_hip_z = s[20]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_hip_z = s[15]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_fr_hip_z = s[21]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -433,7 +432,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t5 = com_vx*t3 + com_vy*t4
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
@@ -517,9 +516,9 @@ def entry_LOADING_0(s, u, p, r, tis):
     com_x = s[9]
     com_y = s[10]
     com_z = s[11]
-    leg_fl_hip_x = s[12]
-    leg_fr_hip_x = s[18]
-    time = s[39]
+    leg_fl_hip_x = s[13]
+    leg_fr_hip_x = s[19]
+    time = s[40]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -655,24 +654,23 @@ def action_LOADING_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_fr_length = s[22]
+    leg_fr_touching = s[24]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -707,7 +705,7 @@ def action_LOADING_0(s, u, p, r, tis):
     hip_fl_pitch_kv = swing_kv*t1
     t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
@@ -886,24 +884,23 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_fr_length = s[22]
+    leg_fr_touching = s[24]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -938,7 +935,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_fl_pitch_kv = swing_kv*t1
     t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
@@ -1105,24 +1102,23 @@ def action_THRUST_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fl_length = s[15]
-    leg_fl_touching = s[17]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_fr_length = s[21]
-    leg_fr_touching = s[23]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fl_length = s[16]
+    leg_fl_touching = s[18]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_fr_length = s[22]
+    leg_fr_touching = s[24]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -1163,7 +1159,7 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fl_pitch_kv = swing_kv*t2
     t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
@@ -1329,16 +1325,15 @@ def action_UNLOADING_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -1358,7 +1353,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
     t3 = com_vx*t1 + com_vy*t2
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
     t7 = com_vx*t2 - com_vy*t1
     t8 = k_speed*(-side_trim - t7) - 0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t7
@@ -1422,9 +1417,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     body_trunk_yaw = s[4]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    time = s[39]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    time = s[40]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -1560,22 +1555,21 @@ def action_FLIGHT_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_hip_z = s[26]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_hip_z = s[32]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rl_hip_z = s[27]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    leg_rr_hip_z = s[33]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -1606,7 +1600,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t5 = com_vx*t3 + com_vy*t4
     rl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*stance*t9
@@ -1690,9 +1684,9 @@ def entry_LOADING_1(s, u, p, r, tis):
     com_x = s[9]
     com_y = s[10]
     com_z = s[11]
-    leg_rl_hip_x = s[24]
-    leg_rr_hip_x = s[30]
-    time = s[39]
+    leg_rl_hip_x = s[25]
+    leg_rr_hip_x = s[31]
+    time = s[40]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -1828,24 +1822,23 @@ def action_LOADING_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rl_length = s[28]
+    leg_rl_touching = s[30]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    leg_rr_length = s[34]
+    leg_rr_touching = s[36]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -1880,7 +1873,7 @@ def action_LOADING_1(s, u, p, r, tis):
     hip_rl_pitch_kv = swing_kv*t1
     t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
@@ -2059,24 +2052,23 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rl_length = s[28]
+    leg_rl_touching = s[30]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    leg_rr_length = s[34]
+    leg_rr_touching = s[36]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -2111,7 +2103,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     hip_rl_pitch_kv = swing_kv*t1
     t2 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t3 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t4 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t3), math.cos(t3))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t5 = math.atan2(math.sin(t4), math.cos(t4))
     t6 = -aim_rate + body_trunk_yaw_rate
     t7 = -kp_yaw*t5 - kv_yaw*t6
@@ -2278,24 +2270,23 @@ def action_THRUST_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    leg_rl_hip_x = s[24]
-    leg_rl_hip_y = s[25]
-    leg_rl_length = s[27]
-    leg_rl_touching = s[29]
-    leg_rr_hip_x = s[30]
-    leg_rr_hip_y = s[31]
-    leg_rr_length = s[33]
-    leg_rr_touching = s[35]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    leg_rl_hip_x = s[25]
+    leg_rl_hip_y = s[26]
+    leg_rl_length = s[28]
+    leg_rl_touching = s[30]
+    leg_rr_hip_x = s[31]
+    leg_rr_hip_y = s[32]
+    leg_rr_length = s[34]
+    leg_rr_touching = s[36]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -2336,7 +2327,7 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_rl_pitch_kv = swing_kv*t2
     t3 = kv_rate*(body_trunk_pitch_rate + k_center*pitch_mean + pitch_trim - ((-omega_f) if t1 else (omega_r)) - minimum(stride_most, maximum(-stride_most, k_stride_speed*(-ramped_speed + stride_speed))))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
@@ -2502,16 +2493,15 @@ def action_UNLOADING_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     com_vx = s[6]
     com_vy = s[7]
-    leg_fl_hip_x = s[12]
-    leg_fl_hip_y = s[13]
-    leg_fr_hip_x = s[18]
-    leg_fr_hip_y = s[19]
-    path_route_ahead_heading = s[36]
-    path_route_given = s[37]
-    path_route_lateral = s[38]
-    time = s[39]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[13]
+    leg_fl_hip_y = s[14]
+    leg_fr_hip_x = s[19]
+    leg_fr_hip_y = s[20]
+    path_route_ahead_heading = s[37]
+    path_route_given = s[38]
+    path_route_lateral = s[39]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -2531,7 +2521,7 @@ def action_UNLOADING_1(s, u, p, r, tis):
     t3 = com_vx*t1 + com_vy*t2
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t3) + 0.5*stance*t3
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t5), math.cos(t5))))))
     t7 = com_vx*t2 - com_vy*t1
     t8 = k_speed*(-side_trim - t7) - 0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - 0.5*stance*t7

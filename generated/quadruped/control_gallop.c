@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "c619fb5fb3f4aba0";
+const char legdsl_control_fingerprint[] = "aa7e538ae9d5fc3d";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -25,39 +25,40 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[9] = leg_sense_com(s, 0, 0, err);  /* com.x */
     out[10] = leg_sense_com(s, 1, 0, err);  /* com.y */
     out[11] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[12] = leg_sense_leg(s, 0, 10, err);  /* leg.fl.foot_z */
-    out[13] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
-    out[14] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
-    out[15] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
-    out[16] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
-    out[17] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
-    out[18] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
-    out[19] = leg_sense_leg(s, 1, 10, err);  /* leg.fr.foot_z */
-    out[20] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
-    out[21] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
-    out[22] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
-    out[23] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
-    out[24] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
-    out[25] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
-    out[26] = leg_sense_leg(s, 2, 10, err);  /* leg.rl.foot_z */
-    out[27] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
-    out[28] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
-    out[29] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
-    out[30] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
-    out[31] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
-    out[32] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
-    out[33] = leg_sense_leg(s, 3, 10, err);  /* leg.rr.foot_z */
-    out[34] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
-    out[35] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
-    out[36] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
-    out[37] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
-    out[38] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
-    out[39] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
-    out[40] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[41] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[42] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[43] = leg_sense_terrain(s, 4, err);  /* terrain.height */
-    out[44] = s->t;  /* time */
+    out[12] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[13] = leg_sense_leg(s, 0, 10, err);  /* leg.fl.foot_z */
+    out[14] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
+    out[15] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
+    out[16] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
+    out[17] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
+    out[18] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
+    out[19] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
+    out[20] = leg_sense_leg(s, 1, 10, err);  /* leg.fr.foot_z */
+    out[21] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
+    out[22] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
+    out[23] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
+    out[24] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
+    out[25] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
+    out[26] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
+    out[27] = leg_sense_leg(s, 2, 10, err);  /* leg.rl.foot_z */
+    out[28] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
+    out[29] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
+    out[30] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
+    out[31] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
+    out[32] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
+    out[33] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
+    out[34] = leg_sense_leg(s, 3, 10, err);  /* leg.rr.foot_z */
+    out[35] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
+    out[36] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
+    out[37] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
+    out[38] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
+    out[39] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
+    out[40] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
+    out[41] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[42] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[43] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[44] = leg_sense_terrain(s, 4, err);  /* terrain.height */
+    out[45] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -65,8 +66,8 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/quadruped.leg:471:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[18];
-    const double leg_fr_touching = s[25];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_touching = s[26];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching < 0.5)) && ((leg_fr_touching < 0.5)));
 }
@@ -75,8 +76,8 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:487:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[18];
-    const double leg_fr_touching = s[25];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_touching = s[26];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching > 0.5)) || ((leg_fr_touching > 0.5)));
 }
@@ -85,8 +86,8 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:497:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[17];
-    const double leg_fr_rate = s[24];
+    const double leg_fl_rate = s[18];
+    const double leg_fr_rate = s[25];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0);
 }
@@ -95,8 +96,8 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:500:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[17];
-    const double leg_fr_rate = s[24];
+    const double leg_fl_rate = s[18];
+    const double leg_fr_rate = s[25];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)));
@@ -106,10 +107,10 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:504:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_length = s[16];
-    const double leg_fl_touching = s[18];
-    const double leg_fr_length = s[23];
-    const double leg_fr_touching = s[25];
+    const double leg_fl_length = s[17];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_length = s[24];
+    const double leg_fr_touching = s[26];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[14];
@@ -121,8 +122,8 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 /*   event: creatures/quadruped.leg:471:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[32];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_touching = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)));
 }
@@ -131,8 +132,8 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:487:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_touching = s[32];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_touching = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_rl_touching > 0.5)) || ((leg_rr_touching > 0.5)));
 }
@@ -141,8 +142,8 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:497:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[31];
-    const double leg_rr_rate = s[38];
+    const double leg_rl_rate = s[32];
+    const double leg_rr_rate = s[39];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0);
 }
@@ -151,8 +152,8 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:500:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_rate = s[31];
-    const double leg_rr_rate = s[38];
+    const double leg_rl_rate = s[32];
+    const double leg_rr_rate = s[39];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)));
@@ -162,10 +163,10 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:504:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_rl_length = s[30];
-    const double leg_rl_touching = s[32];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
+    const double leg_rl_length = s[31];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[14];
@@ -195,9 +196,9 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[44];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double time = s[45];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -325,29 +326,28 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -399,7 +399,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t15 = 0.5*stance + 0.5*t6*(t12 + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))));
     const double fl_x_goal = t10*t15 + t11;
     const double t16 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + time*turn_rate));
+    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + integral_turn_rate));
     const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t17), leg_cos(t17))))));
     const double t19 = com_vx*t9 - com_vy*t8;
     const double t20 = t7*(-side_trim - t19);
@@ -473,7 +473,7 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[44];
+    const double time = s[45];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -594,31 +594,30 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fl_length = s[16];
-    const double leg_fl_touching = s[18];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_fr_length = s[23];
-    const double leg_fr_touching = s[25];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fl_length = s[17];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_fr_length = s[24];
+    const double leg_fr_touching = s[26];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -669,7 +668,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double t3 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t3 - omega_f) : (fast_omega_r*t3 + omega_r)));
     const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + integral_turn_rate));
     const double t7 = atan2(leg_sin(t6), leg_cos(t6));
     const double t8 = -aim_rate + body_trunk_yaw_rate;
     const double t9 = -kp_yaw*t7 - kv_yaw*t8;
@@ -840,29 +839,28 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_length = s[16];
-    const double leg_fl_touching = s[18];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_length = s[23];
-    const double leg_fr_touching = s[25];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_length = s[17];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_length = s[24];
+    const double leg_fr_touching = s[26];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -909,7 +907,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - (((0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = atan2(leg_sin(t5), leg_cos(t5));
     const double t7 = -aim_rate + body_trunk_yaw_rate;
     const double t8 = -kp_yaw*t6 - kv_yaw*t7;
@@ -1068,31 +1066,30 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fl_length = s[16];
-    const double leg_fl_touching = s[18];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_fr_length = s[23];
-    const double leg_fr_touching = s[25];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fl_length = s[17];
+    const double leg_fl_touching = s[19];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_fr_length = s[24];
+    const double leg_fr_touching = s[26];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -1149,7 +1146,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double hip_fl_pitch_kv = swing_kv*t4;
     const double t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = atan2(leg_sin(t7), leg_cos(t7));
     const double t9 = -aim_rate + body_trunk_yaw_rate;
     const double t10 = -kp_yaw*t8 - kv_yaw*t9;
@@ -1307,21 +1304,20 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -1357,7 +1353,7 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double t7 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))));
     const double rl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7;
     const double t8 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + time*turn_rate));
+    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + integral_turn_rate));
     const double t10 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t9), leg_cos(t9))))));
     const double t11 = com_vx*t5 - com_vy*t4;
     const double t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t11*t7 + t3*(-side_trim - t11);
@@ -1421,9 +1417,9 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[44];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double time = s[45];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -1551,29 +1547,28 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_rl_foot_z = s[26];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rr_foot_z = s[33];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_rl_foot_z = s[27];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rr_foot_z = s[34];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -1625,7 +1620,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t15 = 0.5*stance + 0.5*t6*(t12 + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, t13 + 19.62*leg_max(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))));
     const double rl_x_goal = t10*t15 + t11;
     const double t16 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + time*turn_rate));
+    const double t17 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t16), leg_cos(t16))))) : (heading + integral_turn_rate));
     const double t18 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t17), leg_cos(t17))))));
     const double t19 = com_vx*t9 - com_vy*t8;
     const double t20 = t7*(-side_trim - t19);
@@ -1699,7 +1694,7 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double body_trunk_pitch = s[0];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[44];
+    const double time = s[45];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -1820,31 +1815,30 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rl_length = s[30];
-    const double leg_rl_touching = s[32];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rl_length = s[31];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -1895,7 +1889,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double t3 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t3 - omega_f) : (fast_omega_r*t3 + omega_r)));
     const double t5 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + time*turn_rate));
+    const double t6 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t5), leg_cos(t5))))) : (heading + integral_turn_rate));
     const double t7 = atan2(leg_sin(t6), leg_cos(t6));
     const double t8 = -aim_rate + body_trunk_yaw_rate;
     const double t9 = -kp_yaw*t7 - kv_yaw*t8;
@@ -2066,29 +2060,28 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_length = s[30];
-    const double leg_rl_touching = s[32];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_length = s[31];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -2135,7 +2128,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - (((0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
     const double t4 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + time*turn_rate));
+    const double t5 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t4), leg_cos(t4))))) : (heading + integral_turn_rate));
     const double t6 = atan2(leg_sin(t5), leg_cos(t5));
     const double t7 = -aim_rate + body_trunk_yaw_rate;
     const double t8 = -kp_yaw*t6 - kv_yaw*t7;
@@ -2294,31 +2287,30 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double leg_rl_hip_x = s[27];
-    const double leg_rl_hip_y = s[28];
-    const double leg_rl_hip_z = s[29];
-    const double leg_rl_length = s[30];
-    const double leg_rl_touching = s[32];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double leg_rl_hip_x = s[28];
+    const double leg_rl_hip_y = s[29];
+    const double leg_rl_hip_z = s[30];
+    const double leg_rl_length = s[31];
+    const double leg_rl_touching = s[33];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double kp_roll = p[9];
     const double kv_roll = p[10];
@@ -2375,7 +2367,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double hip_rl_pitch_kv = swing_kv*t4;
     const double t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((t1) ? (-fast_omega_f*t2 - omega_f) : (fast_omega_r*t2 + omega_r)));
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = atan2(leg_sin(t7), leg_cos(t7));
     const double t9 = -aim_rate + body_trunk_yaw_rate;
     const double t10 = -kp_yaw*t8 - kv_yaw*t9;
@@ -2533,21 +2525,20 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double com_vy = s[7];
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double leg_fl_foot_z = s[12];
-    const double leg_fl_hip_x = s[13];
-    const double leg_fl_hip_y = s[14];
-    const double leg_fl_hip_z = s[15];
-    const double leg_fr_foot_z = s[19];
-    const double leg_fr_hip_x = s[20];
-    const double leg_fr_hip_y = s[21];
-    const double leg_fr_hip_z = s[22];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double terrain_height = s[43];
-    const double time = s[44];
+    const double integral_turn_rate = s[12];
+    const double leg_fl_foot_z = s[13];
+    const double leg_fl_hip_x = s[14];
+    const double leg_fl_hip_y = s[15];
+    const double leg_fl_hip_z = s[16];
+    const double leg_fr_foot_z = s[20];
+    const double leg_fr_hip_x = s[21];
+    const double leg_fr_hip_y = s[22];
+    const double leg_fr_hip_z = s[23];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
+    const double terrain_height = s[44];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -2583,7 +2574,7 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double t7 = 0.5*stance + 0.5*t2*(-2.0*(((fast_window > 0.0)) ? (fast_lag) : (0.0)) + ((t1) ? (fast_stance_f) : (fast_stance_r)) + 2.0*leg_min(fast_window, leg_max(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*leg_sqrt(leg_max(0.0, com_vz*com_vz + 19.62*leg_max(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))));
     const double fl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7;
     const double t8 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + time*turn_rate));
+    const double t9 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t8), leg_cos(t8))))) : (heading + integral_turn_rate));
     const double t10 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t9), leg_cos(t9))))));
     const double t11 = com_vx*t5 - com_vy*t4;
     const double t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t11*t7 + t3*(-side_trim - t11);
@@ -2697,7 +2688,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 45, 4, 22, 44,
+    5, 2, 46, 4, 22, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

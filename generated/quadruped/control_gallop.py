@@ -33,10 +33,10 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "c619fb5fb3f4aba0"
+FINGERPRINT = "aa7e538ae9d5fc3d"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -129,8 +129,8 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:471:5
     """
-    leg_fl_touching = s[18]
-    leg_fr_touching = s[25]
+    leg_fl_touching = s[19]
+    leg_fr_touching = s[26]
     return (leg_fl_touching < 0.5) and (leg_fr_touching < 0.5)
 
 
@@ -140,8 +140,8 @@ def event_LOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:487:5
     """
-    leg_fl_touching = s[18]
-    leg_fr_touching = s[25]
+    leg_fl_touching = s[19]
+    leg_fr_touching = s[26]
     return (leg_fl_touching > 0.5) or (leg_fr_touching > 0.5)
 
 
@@ -151,8 +151,8 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:497:5
     """
-    leg_fl_rate = s[17]
-    leg_fr_rate = s[24]
+    leg_fl_rate = s[18]
+    leg_fr_rate = s[25]
     return (0.5*leg_fl_rate + 0.5*leg_fr_rate < 0.0)
 
 
@@ -162,8 +162,8 @@ def event_THRUST_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:500:5
     """
-    leg_fl_rate = s[17]
-    leg_fr_rate = s[24]
+    leg_fl_rate = s[18]
+    leg_fr_rate = s[25]
     settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_fr_rate > 0.0)
 
@@ -174,10 +174,10 @@ def event_UNLOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:504:5
     """
-    leg_fl_length = s[16]
-    leg_fl_touching = s[18]
-    leg_fr_length = s[23]
-    leg_fr_touching = s[25]
+    leg_fl_length = s[17]
+    leg_fl_touching = s[19]
+    leg_fr_length = s[24]
+    leg_fr_touching = s[26]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[14]
@@ -190,8 +190,8 @@ def event_FLIGHT_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:471:5
     """
-    leg_rl_touching = s[32]
-    leg_rr_touching = s[39]
+    leg_rl_touching = s[33]
+    leg_rr_touching = s[40]
     return (leg_rl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
@@ -201,8 +201,8 @@ def event_LOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:487:5
     """
-    leg_rl_touching = s[32]
-    leg_rr_touching = s[39]
+    leg_rl_touching = s[33]
+    leg_rr_touching = s[40]
     return (leg_rl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
@@ -212,8 +212,8 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:497:5
     """
-    leg_rl_rate = s[31]
-    leg_rr_rate = s[38]
+    leg_rl_rate = s[32]
+    leg_rr_rate = s[39]
     return (0.5*leg_rl_rate + 0.5*leg_rr_rate < 0.0)
 
 
@@ -223,8 +223,8 @@ def event_THRUST_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:500:5
     """
-    leg_rl_rate = s[31]
-    leg_rr_rate = s[38]
+    leg_rl_rate = s[32]
+    leg_rr_rate = s[39]
     settle = p[30]
     return (tis > settle) and (0.5*leg_rl_rate + 0.5*leg_rr_rate > 0.0)
 
@@ -235,10 +235,10 @@ def event_UNLOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:504:5
     """
-    leg_rl_length = s[30]
-    leg_rl_touching = s[32]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[14]
@@ -269,9 +269,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[44]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    time = s[45]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -401,29 +401,28 @@ def action_FLIGHT_0(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -475,7 +474,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z + t14))))))
     fl_x_goal = t10*t15 + t11
     t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
     t19 = com_vx*t9 - com_vy*t8
     t20 = t7*(-side_trim - t19)
@@ -551,7 +550,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[44]
+    time = s[45]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -674,31 +673,30 @@ def action_LOADING_0(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fl_length = s[16]
-    leg_fl_touching = s[18]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_fr_length = s[23]
-    leg_fr_touching = s[25]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fl_length = s[17]
+    leg_fl_touching = s[19]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_fr_length = s[24]
+    leg_fr_touching = s[26]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -749,7 +747,7 @@ def action_LOADING_0(s, u, p, r, tis):
     t3 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
     t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t7 = math.atan2(math.sin(t6), math.cos(t6))
     t8 = -aim_rate + body_trunk_yaw_rate
     t9 = -kp_yaw*t7 - kv_yaw*t8
@@ -921,29 +919,28 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_length = s[16]
-    leg_fl_touching = s[18]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_length = s[23]
-    leg_fr_touching = s[25]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_length = s[17]
+    leg_fl_touching = s[19]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_length = s[24]
+    leg_fr_touching = s[26]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -990,7 +987,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
@@ -1150,31 +1147,30 @@ def action_THRUST_0(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fl_length = s[16]
-    leg_fl_touching = s[18]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_fr_length = s[23]
-    leg_fr_touching = s[25]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fl_length = s[17]
+    leg_fl_touching = s[19]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_fr_length = s[24]
+    leg_fr_touching = s[26]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -1231,7 +1227,7 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fl_pitch_kv = swing_kv*t4
     t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.atan2(math.sin(t7), math.cos(t7))
     t9 = -aim_rate + body_trunk_yaw_rate
     t10 = -kp_yaw*t8 - kv_yaw*t9
@@ -1390,21 +1386,20 @@ def action_UNLOADING_0(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -1440,7 +1435,7 @@ def action_UNLOADING_0(s, u, p, r, tis):
     t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z - terrain_height))))))
     rl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
     t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t10 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
     t11 = com_vx*t5 - com_vy*t4
     t12 = -0.5*leg_rl_hip_y - 0.5*leg_rr_hip_y - t11*t7 + t3*(-side_trim - t11)
@@ -1506,9 +1501,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[44]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    time = s[45]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -1638,29 +1633,28 @@ def action_FLIGHT_1(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_rl_foot_z = s[26]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rr_foot_z = s[33]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_rl_foot_z = s[27]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rr_foot_z = s[34]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -1712,7 +1706,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t15 = 0.5*stance + 0.5*t6*(t12 + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, t13 + 19.62*maximum(0.0, 0.5*leg_rl_foot_z + 0.5*leg_rr_foot_z + t14))))))
     rl_x_goal = t10*t15 + t11
     t16 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t17 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t16), math.cos(t16))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t18 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t17), math.cos(t17))))))
     t19 = com_vx*t9 - com_vy*t8
     t20 = t7*(-side_trim - t19)
@@ -1788,7 +1782,7 @@ def entry_LOADING_1(s, u, p, r, tis):
     body_trunk_pitch = s[0]
     com_vz = s[8]
     com_z = s[11]
-    time = s[44]
+    time = s[45]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -1911,31 +1905,30 @@ def action_LOADING_1(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rl_length = s[30]
-    leg_rl_touching = s[32]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -1986,7 +1979,7 @@ def action_LOADING_1(s, u, p, r, tis):
     t3 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t4 = -(fast_kv_rate*t3 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t3 + k_center) + pitch_trim - ((-fast_omega_f*t3 - omega_f) if t1 else (fast_omega_r*t3 + omega_r)))
     t5 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t6 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t5), math.cos(t5))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t7 = math.atan2(math.sin(t6), math.cos(t6))
     t8 = -aim_rate + body_trunk_yaw_rate
     t9 = -kp_yaw*t7 - kv_yaw*t8
@@ -2158,29 +2151,28 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_length = s[30]
-    leg_rl_touching = s[32]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -2227,7 +2219,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0) else (fast_omega_r*t2 + omega_r)))
     t4 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t5 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t4), math.cos(t4))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t6 = math.atan2(math.sin(t5), math.cos(t5))
     t7 = -aim_rate + body_trunk_yaw_rate
     t8 = -kp_yaw*t6 - kv_yaw*t7
@@ -2387,31 +2379,30 @@ def action_THRUST_1(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    leg_rl_hip_x = s[27]
-    leg_rl_hip_y = s[28]
-    leg_rl_hip_z = s[29]
-    leg_rl_length = s[30]
-    leg_rl_touching = s[32]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    leg_rl_hip_x = s[28]
+    leg_rl_hip_y = s[29]
+    leg_rl_hip_z = s[30]
+    leg_rl_length = s[31]
+    leg_rl_touching = s[33]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     kp_roll = p[9]
     kv_roll = p[10]
@@ -2468,7 +2459,7 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_rl_pitch_kv = swing_kv*t4
     t5 = -(fast_kv_rate*t2 + kv_rate)*(body_trunk_pitch_rate + pitch_mean*(fast_k_center*t2 + k_center) + pitch_trim - ((-fast_omega_f*t2 - omega_f) if t1 else (fast_omega_r*t2 + omega_r)))
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.atan2(math.sin(t7), math.cos(t7))
     t9 = -aim_rate + body_trunk_yaw_rate
     t10 = -kp_yaw*t8 - kv_yaw*t9
@@ -2627,21 +2618,20 @@ def action_UNLOADING_1(s, u, p, r, tis):
     com_vy = s[7]
     com_vz = s[8]
     com_z = s[11]
-    leg_fl_foot_z = s[12]
-    leg_fl_hip_x = s[13]
-    leg_fl_hip_y = s[14]
-    leg_fl_hip_z = s[15]
-    leg_fr_foot_z = s[19]
-    leg_fr_hip_x = s[20]
-    leg_fr_hip_y = s[21]
-    leg_fr_hip_z = s[22]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    terrain_height = s[43]
-    time = s[44]
+    integral_turn_rate = s[12]
+    leg_fl_foot_z = s[13]
+    leg_fl_hip_x = s[14]
+    leg_fl_hip_y = s[15]
+    leg_fl_hip_z = s[16]
+    leg_fr_foot_z = s[20]
+    leg_fr_hip_x = s[21]
+    leg_fr_hip_y = s[22]
+    leg_fr_hip_z = s[23]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
+    terrain_height = s[44]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -2677,7 +2667,7 @@ def action_UNLOADING_1(s, u, p, r, tis):
     t7 = 0.5*stance + 0.5*t2*(-2.0*((fast_lag) if (fast_window > 0.0) else (0.0)) + ((fast_stance_f) if t1 else (fast_stance_r)) + 2.0*minimum(fast_window, maximum(0.0, 0.1019367991845056*com_vz + 0.1019367991845056*math.sqrt(maximum(0.0, com_vz*com_vz + 19.62*maximum(0.0, com_z + 0.5*leg_fl_foot_z + 0.5*leg_fr_foot_z - terrain_height))))))
     fl_x_goal = t3*(-ramped_speed - speed_trim + t6) + t6*t7
     t8 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t9 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t8), math.cos(t8))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t10 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t9), math.cos(t9))))))
     t11 = com_vx*t5 - com_vy*t4
     t12 = -0.5*leg_fl_hip_y - 0.5*leg_fr_hip_y - t11*t7 + t3*(-side_trim - t11)

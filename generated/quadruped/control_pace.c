@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "72fd0bc2afe83aaf";
+const char legdsl_control_fingerprint[] = "ce7a76c78acb1fa5";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -29,34 +29,35 @@ static void read_sensors(leg_sim *s, double *out, int *err)
     out[13] = s->q[11];  /* coord.hip_fr_y.value */
     out[14] = s->q[14];  /* coord.hip_rl_y.value */
     out[15] = s->q[17];  /* coord.hip_rr_y.value */
-    out[16] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
-    out[17] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
-    out[18] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
-    out[19] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
-    out[20] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
-    out[21] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
-    out[22] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
-    out[23] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
-    out[24] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
-    out[25] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
-    out[26] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
-    out[27] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
-    out[28] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
-    out[29] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
-    out[30] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
-    out[31] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
-    out[32] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
-    out[33] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
-    out[34] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
-    out[35] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
-    out[36] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
-    out[37] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
-    out[38] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
-    out[39] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
-    out[40] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
-    out[41] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
-    out[42] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
-    out[43] = s->t;  /* time */
+    out[16] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[17] = leg_sense_leg(s, 0, 5, err);  /* leg.fl.hip_x */
+    out[18] = leg_sense_leg(s, 0, 6, err);  /* leg.fl.hip_y */
+    out[19] = leg_sense_leg(s, 0, 7, err);  /* leg.fl.hip_z */
+    out[20] = leg_sense_leg(s, 0, 3, err);  /* leg.fl.length */
+    out[21] = leg_sense_leg(s, 0, 4, err);  /* leg.fl.rate */
+    out[22] = leg_sense_leg(s, 0, 0, err);  /* leg.fl.touching */
+    out[23] = leg_sense_leg(s, 1, 5, err);  /* leg.fr.hip_x */
+    out[24] = leg_sense_leg(s, 1, 6, err);  /* leg.fr.hip_y */
+    out[25] = leg_sense_leg(s, 1, 7, err);  /* leg.fr.hip_z */
+    out[26] = leg_sense_leg(s, 1, 3, err);  /* leg.fr.length */
+    out[27] = leg_sense_leg(s, 1, 4, err);  /* leg.fr.rate */
+    out[28] = leg_sense_leg(s, 1, 0, err);  /* leg.fr.touching */
+    out[29] = leg_sense_leg(s, 2, 5, err);  /* leg.rl.hip_x */
+    out[30] = leg_sense_leg(s, 2, 6, err);  /* leg.rl.hip_y */
+    out[31] = leg_sense_leg(s, 2, 7, err);  /* leg.rl.hip_z */
+    out[32] = leg_sense_leg(s, 2, 3, err);  /* leg.rl.length */
+    out[33] = leg_sense_leg(s, 2, 4, err);  /* leg.rl.rate */
+    out[34] = leg_sense_leg(s, 2, 0, err);  /* leg.rl.touching */
+    out[35] = leg_sense_leg(s, 3, 5, err);  /* leg.rr.hip_x */
+    out[36] = leg_sense_leg(s, 3, 6, err);  /* leg.rr.hip_y */
+    out[37] = leg_sense_leg(s, 3, 7, err);  /* leg.rr.hip_z */
+    out[38] = leg_sense_leg(s, 3, 3, err);  /* leg.rr.length */
+    out[39] = leg_sense_leg(s, 3, 4, err);  /* leg.rr.rate */
+    out[40] = leg_sense_leg(s, 3, 0, err);  /* leg.rr.touching */
+    out[41] = leg_sense_path(s, 0, 8, err);  /* path.route.ahead_heading */
+    out[42] = leg_sense_path(s, 0, 9, err);  /* path.route.given */
+    out[43] = leg_sense_path(s, 0, 0, err);  /* path.route.lateral */
+    out[44] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -64,8 +65,8 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/quadruped.leg:202:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[21];
-    const double leg_rl_touching = s[33];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_touching = s[34];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching < 0.5)) && ((leg_rl_touching < 0.5)));
 }
@@ -74,8 +75,8 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:218:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_touching = s[21];
-    const double leg_rl_touching = s[33];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_touching = s[34];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fl_touching > 0.5)) || ((leg_rl_touching > 0.5)));
 }
@@ -84,8 +85,8 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:225:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[20];
-    const double leg_rl_rate = s[32];
+    const double leg_fl_rate = s[21];
+    const double leg_rl_rate = s[33];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fl_rate + 0.5*leg_rl_rate < 0.0);
 }
@@ -94,8 +95,8 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:228:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_rate = s[20];
-    const double leg_rl_rate = s[32];
+    const double leg_fl_rate = s[21];
+    const double leg_rl_rate = s[33];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fl_rate + 0.5*leg_rl_rate > 0.0)));
@@ -105,10 +106,10 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:232:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
+    const double leg_fl_length = s[20];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_length = s[32];
+    const double leg_rl_touching = s[34];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[6];
@@ -120,8 +121,8 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 /*   event: creatures/quadruped.leg:202:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fr_touching = s[27];
-    const double leg_rr_touching = s[39];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_touching = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fr_touching < 0.5)) && ((leg_rr_touching < 0.5)));
 }
@@ -130,8 +131,8 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:218:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fr_touching = s[27];
-    const double leg_rr_touching = s[39];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_touching = s[40];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((leg_fr_touching > 0.5)) || ((leg_rr_touching > 0.5)));
 }
@@ -140,8 +141,8 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 /*   event: creatures/quadruped.leg:225:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fr_rate = s[26];
-    const double leg_rr_rate = s[38];
+    const double leg_fr_rate = s[27];
+    const double leg_rr_rate = s[39];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (0.5*leg_fr_rate + 0.5*leg_rr_rate < 0.0);
 }
@@ -150,8 +151,8 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 /*   event: creatures/quadruped.leg:228:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fr_rate = s[26];
-    const double leg_rr_rate = s[38];
+    const double leg_fr_rate = s[27];
+    const double leg_rr_rate = s[39];
     const double settle = p[30];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (((tis > settle)) && ((0.5*leg_fr_rate + 0.5*leg_rr_rate > 0.0)));
@@ -161,10 +162,10 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 /*   event: creatures/quadruped.leg:232:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
+    const double leg_fr_length = s[26];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
     const double stand = p[25];
     const double full = p[29];
     const double thrust_stroke = r[6];
@@ -194,9 +195,9 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[43];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double time = s[44];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -317,18 +318,17 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double coord_hip_fl_y_value = s[12];
     const double coord_hip_rl_y_value = s[14];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_hip_z = s[18];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_hip_z = s[30];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fl_hip_x = s[17];
+    const double leg_fl_hip_y = s[18];
+    const double leg_fl_hip_z = s[19];
+    const double leg_rl_hip_x = s[29];
+    const double leg_rl_hip_y = s[30];
+    const double leg_rl_hip_z = s[31];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -359,7 +359,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t5 = com_vx*t3 + com_vy*t4;
     const double fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5;
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
     const double t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_rl_hip_y - 0.5*stance*t9;
@@ -423,7 +423,7 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 {
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[43];
+    const double time = s[44];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -529,20 +529,19 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fl_y_value = s[12];
     const double coord_hip_rl_y_value = s[14];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fl_hip_x = s[17];
+    const double leg_fl_hip_y = s[18];
+    const double leg_fl_length = s[20];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_hip_x = s[29];
+    const double leg_rl_hip_y = s[30];
+    const double leg_rl_length = s[32];
+    const double leg_rl_touching = s[34];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -560,7 +559,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -711,20 +710,19 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fl_y_value = s[12];
     const double coord_hip_rl_y_value = s[14];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fl_hip_x = s[17];
+    const double leg_fl_hip_y = s[18];
+    const double leg_fl_length = s[20];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_hip_x = s[29];
+    const double leg_rl_hip_y = s[30];
+    const double leg_rl_length = s[32];
+    const double leg_rl_touching = s[34];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -741,7 +739,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -880,20 +878,19 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fl_y_value = s[12];
     const double coord_hip_rl_y_value = s[14];
-    const double leg_fl_hip_x = s[16];
-    const double leg_fl_hip_y = s[17];
-    const double leg_fl_length = s[19];
-    const double leg_fl_touching = s[21];
-    const double leg_rl_hip_x = s[28];
-    const double leg_rl_hip_y = s[29];
-    const double leg_rl_length = s[31];
-    const double leg_rl_touching = s[33];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fl_hip_x = s[17];
+    const double leg_fl_hip_y = s[18];
+    const double leg_fl_length = s[20];
+    const double leg_fl_touching = s[22];
+    const double leg_rl_hip_x = s[29];
+    const double leg_rl_hip_y = s[30];
+    const double leg_rl_length = s[32];
+    const double leg_rl_touching = s[34];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -913,7 +910,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fl_length*t4, (leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -1111,9 +1108,9 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double time = s[43];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double time = s[44];
     const double speed = u[0];
     const double turn_rate = u[2];
     const double k_trim = p[1];
@@ -1234,18 +1231,17 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double com_vy = s[7];
     const double coord_hip_fr_y_value = s[13];
     const double coord_hip_rr_y_value = s[15];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_hip_z = s[24];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_hip_z = s[36];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fr_hip_x = s[23];
+    const double leg_fr_hip_y = s[24];
+    const double leg_fr_hip_z = s[25];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_hip_z = s[37];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double k_speed = p[0];
     const double k_turn = p[11];
     const double yaw_lead = p[12];
@@ -1276,7 +1272,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t5 = com_vx*t3 + com_vy*t4;
     const double fr_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5;
     const double t6 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + time*turn_rate));
+    const double t7 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t6), leg_cos(t6))))) : (heading + integral_turn_rate));
     const double t8 = leg_sin(leg_min(turn_most, leg_max(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + atan2(leg_sin(t7), leg_cos(t7))))));
     const double t9 = com_vx*t4 - com_vy*t3;
     const double t10 = k_speed*(-side_trim - t9) - 0.5*leg_fr_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9;
@@ -1340,7 +1336,7 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
 {
     const double com_vz = s[8];
     const double com_z = s[11];
-    const double time = s[43];
+    const double time = s[44];
     const double height = u[3];
     const double stroke = p[20];
     const double k_height = p[21];
@@ -1446,20 +1442,19 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fr_y_value = s[13];
     const double coord_hip_rr_y_value = s[15];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fr_hip_x = s[23];
+    const double leg_fr_hip_y = s[24];
+    const double leg_fr_length = s[26];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -1477,7 +1472,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -1628,20 +1623,19 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fr_y_value = s[13];
     const double coord_hip_rr_y_value = s[15];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fr_hip_x = s[23];
+    const double leg_fr_hip_y = s[24];
+    const double leg_fr_length = s[26];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -1658,7 +1652,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -1797,20 +1791,19 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double body_trunk_yaw_rate = s[5];
     const double coord_hip_fr_y_value = s[13];
     const double coord_hip_rr_y_value = s[15];
-    const double leg_fr_hip_x = s[22];
-    const double leg_fr_hip_y = s[23];
-    const double leg_fr_length = s[25];
-    const double leg_fr_touching = s[27];
-    const double leg_rr_hip_x = s[34];
-    const double leg_rr_hip_y = s[35];
-    const double leg_rr_length = s[37];
-    const double leg_rr_touching = s[39];
-    const double path_route_ahead_heading = s[40];
-    const double path_route_given = s[41];
-    const double path_route_lateral = s[42];
-    const double time = s[43];
+    const double integral_turn_rate = s[16];
+    const double leg_fr_hip_x = s[23];
+    const double leg_fr_hip_y = s[24];
+    const double leg_fr_length = s[26];
+    const double leg_fr_touching = s[28];
+    const double leg_rr_hip_x = s[35];
+    const double leg_rr_hip_y = s[36];
+    const double leg_rr_length = s[38];
+    const double leg_rr_touching = s[40];
+    const double path_route_ahead_heading = s[41];
+    const double path_route_given = s[42];
+    const double path_route_lateral = s[43];
     const double heading = u[1];
-    const double turn_rate = u[2];
     const double kp = p[7];
     const double kv = p[8];
     const double kp_roll = p[9];
@@ -1830,7 +1823,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double hip_fr_pitch_kp = swing_kp*t1;
     const double hip_fr_pitch_kv = swing_kv*t1;
     const double t2 = body_trunk_yaw - path_route_ahead_heading + atan(k_path*path_route_lateral);
-    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + time*turn_rate));
+    const double t3 = body_trunk_yaw - (((path_route_given > 0.0)) ? (body_trunk_yaw + leg_min(turn_limit, leg_max(-turn_limit, atan2(-leg_sin(t2), leg_cos(t2))))) : (heading + integral_turn_rate));
     const double t4 = -kp_yaw*atan2(leg_sin(t3), leg_cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate);
     const double t5 = leg_div(leg_fr_length*t4, (leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y));
     const double t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv;
@@ -2046,7 +2039,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 44, 4, 19, 44,
+    5, 2, 45, 4, 19, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

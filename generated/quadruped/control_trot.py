@@ -33,10 +33,10 @@ def maximum(*values):
 
 CONTROLLER = "trot"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "f669ff3dafeec7af"
+FINGERPRINT = "f4f9dc2f850eafab"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
-SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
+SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
 INPUTS = {
     "speed": 1.0,
     "heading": 0.0,
@@ -102,8 +102,8 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:202:5
     """
-    leg_fl_touching = s[21]
-    leg_rr_touching = s[39]
+    leg_fl_touching = s[22]
+    leg_rr_touching = s[40]
     return (leg_fl_touching < 0.5) and (leg_rr_touching < 0.5)
 
 
@@ -113,8 +113,8 @@ def event_LOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:218:5
     """
-    leg_fl_touching = s[21]
-    leg_rr_touching = s[39]
+    leg_fl_touching = s[22]
+    leg_rr_touching = s[40]
     return (leg_fl_touching > 0.5) or (leg_rr_touching > 0.5)
 
 
@@ -124,8 +124,8 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:225:5
     """
-    leg_fl_rate = s[20]
-    leg_rr_rate = s[38]
+    leg_fl_rate = s[21]
+    leg_rr_rate = s[39]
     return (0.5*leg_fl_rate + 0.5*leg_rr_rate < 0.0)
 
 
@@ -135,8 +135,8 @@ def event_THRUST_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:228:5
     """
-    leg_fl_rate = s[20]
-    leg_rr_rate = s[38]
+    leg_fl_rate = s[21]
+    leg_rr_rate = s[39]
     settle = p[30]
     return (tis > settle) and (0.5*leg_fl_rate + 0.5*leg_rr_rate > 0.0)
 
@@ -147,10 +147,10 @@ def event_UNLOADING_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:232:5
     """
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
+    leg_fl_length = s[20]
+    leg_fl_touching = s[22]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[6]
@@ -163,8 +163,8 @@ def event_FLIGHT_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:202:5
     """
-    leg_fr_touching = s[27]
-    leg_rl_touching = s[33]
+    leg_fr_touching = s[28]
+    leg_rl_touching = s[34]
     return (leg_fr_touching < 0.5) and (leg_rl_touching < 0.5)
 
 
@@ -174,8 +174,8 @@ def event_LOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:218:5
     """
-    leg_fr_touching = s[27]
-    leg_rl_touching = s[33]
+    leg_fr_touching = s[28]
+    leg_rl_touching = s[34]
     return (leg_fr_touching > 0.5) or (leg_rl_touching > 0.5)
 
 
@@ -185,8 +185,8 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:225:5
     """
-    leg_fr_rate = s[26]
-    leg_rl_rate = s[32]
+    leg_fr_rate = s[27]
+    leg_rl_rate = s[33]
     return (0.5*leg_fr_rate + 0.5*leg_rl_rate < 0.0)
 
 
@@ -196,8 +196,8 @@ def event_THRUST_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:228:5
     """
-    leg_fr_rate = s[26]
-    leg_rl_rate = s[32]
+    leg_fr_rate = s[27]
+    leg_rl_rate = s[33]
     settle = p[30]
     return (tis > settle) and (0.5*leg_fr_rate + 0.5*leg_rl_rate > 0.0)
 
@@ -208,10 +208,10 @@ def event_UNLOADING_1(s, u, p, r, tis):
     From the .leg file:
         event  creatures/quadruped.leg:232:5
     """
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
+    leg_fr_length = s[26]
+    leg_fr_touching = s[28]
+    leg_rl_length = s[32]
+    leg_rl_touching = s[34]
     stand = p[25]
     full = p[29]
     thrust_stroke = r[6]
@@ -242,9 +242,9 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[43]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    time = s[44]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -367,18 +367,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     com_vy = s[7]
     coord_hip_fl_y_value = s[12]
     coord_hip_rr_y_value = s[15]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_hip_z = s[18]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_hip_z = s[36]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fl_hip_x = s[17]
+    leg_fl_hip_y = s[18]
+    leg_fl_hip_z = s[19]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_hip_z = s[37]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -409,7 +408,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t5 = com_vx*t3 + com_vy*t4
     fl_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*leg_fl_hip_y - 0.5*leg_rr_hip_y - 0.5*stance*t9
@@ -475,7 +474,7 @@ def entry_LOADING_0(s, u, p, r, tis):
     """
     com_vz = s[8]
     com_z = s[11]
-    time = s[43]
+    time = s[44]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -583,20 +582,19 @@ def action_LOADING_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fl_y_value = s[12]
     coord_hip_rr_y_value = s[15]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fl_hip_x = s[17]
+    leg_fl_hip_y = s[18]
+    leg_fl_length = s[20]
+    leg_fl_touching = s[22]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -614,7 +612,7 @@ def action_LOADING_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -766,20 +764,19 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fl_y_value = s[12]
     coord_hip_rr_y_value = s[15]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fl_hip_x = s[17]
+    leg_fl_hip_y = s[18]
+    leg_fl_length = s[20]
+    leg_fl_touching = s[22]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -796,7 +793,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -936,20 +933,19 @@ def action_THRUST_0(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fl_y_value = s[12]
     coord_hip_rr_y_value = s[15]
-    leg_fl_hip_x = s[16]
-    leg_fl_hip_y = s[17]
-    leg_fl_length = s[19]
-    leg_fl_touching = s[21]
-    leg_rr_hip_x = s[34]
-    leg_rr_hip_y = s[35]
-    leg_rr_length = s[37]
-    leg_rr_touching = s[39]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fl_hip_x = s[17]
+    leg_fl_hip_y = s[18]
+    leg_fl_length = s[20]
+    leg_fl_touching = s[22]
+    leg_rr_hip_x = s[35]
+    leg_rr_hip_y = s[36]
+    leg_rr_length = s[38]
+    leg_rr_touching = s[40]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -969,7 +965,7 @@ def action_THRUST_0(s, u, p, r, tis):
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fl_length*t4/(leg_fl_hip_x*leg_fl_hip_x + leg_fl_hip_y*leg_fl_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -1170,9 +1166,9 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    time = s[43]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    time = s[44]
     speed = u[0]
     turn_rate = u[2]
     k_trim = p[1]
@@ -1295,18 +1291,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
     com_vy = s[7]
     coord_hip_fr_y_value = s[13]
     coord_hip_rl_y_value = s[14]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_hip_z = s[24]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_hip_z = s[30]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fr_hip_x = s[23]
+    leg_fr_hip_y = s[24]
+    leg_fr_hip_z = s[25]
+    leg_rl_hip_x = s[29]
+    leg_rl_hip_y = s[30]
+    leg_rl_hip_z = s[31]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     k_speed = p[0]
     k_turn = p[11]
     yaw_lead = p[12]
@@ -1337,7 +1332,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t5 = com_vx*t3 + com_vy*t4
     fr_x_goal = k_speed*(-ramped_speed - speed_trim + t5) + 0.5*stance*t5
     t6 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t7 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t6), math.cos(t6))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t8 = math.sin(minimum(turn_most, maximum(-turn_most, k_turn*(yaw_lead*(-aim_rate + body_trunk_yaw_rate) + math.atan2(math.sin(t7), math.cos(t7))))))
     t9 = com_vx*t4 - com_vy*t3
     t10 = k_speed*(-side_trim - t9) - 0.5*leg_fr_hip_y - 0.5*leg_rl_hip_y - 0.5*stance*t9
@@ -1403,7 +1398,7 @@ def entry_LOADING_1(s, u, p, r, tis):
     """
     com_vz = s[8]
     com_z = s[11]
-    time = s[43]
+    time = s[44]
     height = u[3]
     stroke = p[20]
     k_height = p[21]
@@ -1511,20 +1506,19 @@ def action_LOADING_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fr_y_value = s[13]
     coord_hip_rl_y_value = s[14]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fr_hip_x = s[23]
+    leg_fr_hip_y = s[24]
+    leg_fr_length = s[26]
+    leg_fr_touching = s[28]
+    leg_rl_hip_x = s[29]
+    leg_rl_hip_y = s[30]
+    leg_rl_length = s[32]
+    leg_rl_touching = s[34]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -1542,7 +1536,7 @@ def action_LOADING_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -1694,20 +1688,19 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fr_y_value = s[13]
     coord_hip_rl_y_value = s[14]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fr_hip_x = s[23]
+    leg_fr_hip_y = s[24]
+    leg_fr_length = s[26]
+    leg_fr_touching = s[28]
+    leg_rl_hip_x = s[29]
+    leg_rl_hip_y = s[30]
+    leg_rl_length = s[32]
+    leg_rl_touching = s[34]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -1724,7 +1717,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv
@@ -1864,20 +1857,19 @@ def action_THRUST_1(s, u, p, r, tis):
     body_trunk_yaw_rate = s[5]
     coord_hip_fr_y_value = s[13]
     coord_hip_rl_y_value = s[14]
-    leg_fr_hip_x = s[22]
-    leg_fr_hip_y = s[23]
-    leg_fr_length = s[25]
-    leg_fr_touching = s[27]
-    leg_rl_hip_x = s[28]
-    leg_rl_hip_y = s[29]
-    leg_rl_length = s[31]
-    leg_rl_touching = s[33]
-    path_route_ahead_heading = s[40]
-    path_route_given = s[41]
-    path_route_lateral = s[42]
-    time = s[43]
+    integral_turn_rate = s[16]
+    leg_fr_hip_x = s[23]
+    leg_fr_hip_y = s[24]
+    leg_fr_length = s[26]
+    leg_fr_touching = s[28]
+    leg_rl_hip_x = s[29]
+    leg_rl_hip_y = s[30]
+    leg_rl_length = s[32]
+    leg_rl_touching = s[34]
+    path_route_ahead_heading = s[41]
+    path_route_given = s[42]
+    path_route_lateral = s[43]
     heading = u[1]
-    turn_rate = u[2]
     kp = p[7]
     kv = p[8]
     kp_roll = p[9]
@@ -1897,7 +1889,7 @@ def action_THRUST_1(s, u, p, r, tis):
     hip_fr_pitch_kp = swing_kp*t1
     hip_fr_pitch_kv = swing_kv*t1
     t2 = body_trunk_yaw - path_route_ahead_heading + math.atan(k_path*path_route_lateral)
-    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + time*turn_rate))
+    t3 = body_trunk_yaw - ((body_trunk_yaw + minimum(turn_limit, maximum(-turn_limit, math.atan2(-math.sin(t2), math.cos(t2))))) if (path_route_given > 0.0) else (heading + integral_turn_rate))
     t4 = -kp_yaw*math.atan2(math.sin(t3), math.cos(t3)) - kv_yaw*(-aim_rate + body_trunk_yaw_rate)
     t5 = leg_fr_length*t4/(leg_fr_hip_x*leg_fr_hip_x + leg_fr_hip_y*leg_fr_hip_y)
     t6 = body_trunk_pitch*kp + body_trunk_pitch_rate*kv

@@ -44,7 +44,7 @@ BUILTIN_FUNCTIONS: dict[str, int | None] = {
     "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
     "sqrt": 1, "abs": 1, "exp": 1, "log": 1, "sign": 1,
     "min": None, "max": None, "clamp": 3, "select": 3,
-    "liftoff": 1, "touchdown": 1,
+    "liftoff": 1, "touchdown": 1, "integral": 1,
 }  # fmt: skip
 EVENT_FUNCTIONS = ("liftoff", "touchdown")
 
@@ -242,6 +242,8 @@ class ExprChecker(NameResolver):
             return None
         if name in EVENT_FUNCTIONS:
             return self.event(e, local, event)
+        if name == "integral":
+            return self.integral(e, local)
         if name == "select":
             cond = self.condition(e.args[0], local, event)
             branches = [self.number(a, local) for a in e.args[1:]]
@@ -279,6 +281,25 @@ class ExprChecker(NameResolver):
             return None
         assert isinstance(target, ir.Legs | ir.Part | ir.Alias)
         return ir.Event(name, target)
+
+    def integral(self, e: ast.ECall, local: dict[str, Value]) -> ir.Expr | None:
+        """``integral(INPUT)``: the input's commands integrated over the run's time, exactly
+        (they are piecewise constant): its unit times a second."""
+        value = self.expr(e.args[0], local)
+        if isinstance(value, Opaque):
+            return ir.Named("opaque", value.name, None)
+        if isinstance(value, ir.Named) and value.kind == "input":
+            return ir.Named("integral", value.name, _combine(value.type, ir.TIME, 1))
+        if value is not None:
+            inputs = [n for n, v in self.scope.names.items()
+                      if isinstance(v, ir.Named) and v.kind == "input"]  # fmt: skip
+            example = f"integral({inputs[0]})" if inputs else "integral(turn_rate)"
+            self.err(
+                e.args[0].span,
+                f"integral() takes one of the controller's inputs, as in {example}; "
+                f"'{expression_text(e.args[0])}' is not an input",
+            )
+        return None
 
     def want(self, e: ast.ECall, args: list[ir.Expr], dims: tuple[Type, ...], what: str) -> bool:
         for arg, node in zip(args, e.args, strict=True):

@@ -265,6 +265,8 @@ class Lowerer:
     def named(self, e: ir.Named, roles: Roles) -> Any:
         if e.kind in ("input", "param", "record"):
             return Symbol(f"{e.kind}_{e.name}")
+        if e.kind == "integral":  # the machine's, read as a sensor (legdsl.sim.machine)
+            return self.sense(f"integral.{e.name}")
         if e.kind == "signal":
             return self.expr(self.signals[e.name], roles)
         if e.name == "time":

@@ -39,7 +39,7 @@ from legdsl.ir.paths import MEMBERS
 from legdsl.sim.c_library import CLibrary, address, available, load_library
 from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
-from legdsl.sim.machine import StateMachine
+from legdsl.sim.machine import Integral, StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.run_loop import RunLoop, RunOptions, grow_recording
 from legdsl.sim.simulate import Controller, Simulation
@@ -261,6 +261,7 @@ class CSimulation(Simulation):
         self._schedule = list(m.schedule)
         self._array("ctl_records", m.records)
         self._array("ctl_inputs", m.inputs)
+        self._array("ctl_integral", m.integral_state())
         self._array("ctl_params", m.params)
         c.sched_n = len(self._schedule)
         self._array("sched_t", [ch.t for ch in self._schedule])
@@ -282,7 +283,7 @@ class CSimulation(Simulation):
             for key, targets in mod.SETTINGS.items()
         ]
         most = max([len(mod.RECORDS), *outputs])
-        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + ni + clocks
+        size = len(mod.SENSORS) + 2 * most + len(mod.RECORDS) + 3 * ni + clocks
         self._array("ctl_work", [], size=size + 4 * len(self.actuators.states) + 16)
         self._setup_paths(m)
 
@@ -315,6 +316,7 @@ class CSimulation(Simulation):
         c.ctl_entered_at = m.entered_at
         keep["ctl_records"][: len(m.records)] = m.records
         keep["ctl_inputs"][: len(m.inputs)] = m.inputs
+        keep["ctl_integral"][: 2 * len(m.inputs)] = m.integral_state()
         c.sched_pos = len(self._schedule) - len(m.schedule)
         for k, tracker in enumerate(m.sensors.paths.values()):
             values = [tracker.values[name] for name in MEMBERS]
@@ -332,6 +334,8 @@ class CSimulation(Simulation):
         m.entered_at = float(c.ctl_entered_at)
         m.records = keep["ctl_records"][: len(m.records)].tolist()
         m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
+        state = keep["ctl_integral"].tolist()
+        m.integrals = [Integral(*state[2 * i : 2 * i + 2]) for i in range(len(m.inputs))]
         m.schedule = self._schedule[int(c.sched_pos) :]
         for k, tracker in enumerate(m.sensors.paths.values()):
             state = keep["path_state"][12 * k : 12 * k + 12].tolist()

@@ -43,6 +43,26 @@ class InputChange:
     value: float
 
 
+@dataclass
+class Integral:
+    """``integral(INPUT)``: an input's commands integrated over the run's time. They are
+    constant between changes, so it is exact: ``total`` up to the last change at ``since``,
+    plus the value now times the time since. Without a change it is ``value * time`` to the
+    last bit, as a controller's own ``INPUT * time`` would be."""
+
+    total: float = 0.0
+    since: float = 0.0
+
+    def value(self, now: float, t: float) -> float:
+        return self.total + now * (t - self.since)
+
+    def change(self, old: float, new: float, t: float) -> None:
+        """The input goes from ``old`` to ``new`` at ``t`` (nothing to do if it stays)."""
+        if new != old:
+            self.total += old * (t - self.since)
+            self.since = t
+
+
 def resolve_paths(model: Model, controller: str, given: list[PathSpec]) -> list[PathSpec]:
     """The controller's declared paths with those of ``--path`` in their place (by name).
 
@@ -102,6 +122,8 @@ class StateMachine:
         self.params = tuple(float((params or {}).get(n, v)) for n, v in module.PARAMS.items())
         self.schedule = sorted(schedule or [], key=lambda c: c.t)
         self.records = [0.0] * len(module.RECORDS)  # a record is 0 until first recorded
+        self.integrals = [Integral() for _ in self.input_names]
+        self.sensors.integral = self._integral
         self.state_index = module.START
         self.binding = 0
         self.entered_at = 0.0
@@ -138,10 +160,20 @@ class StateMachine:
         changed = False
         while self.schedule and self.schedule[0].t <= t + 1e-12:
             change = self.schedule.pop(0)
-            self.inputs[self.input_names.index(change.name)] = change.value
+            i = self.input_names.index(change.name)
+            self.integrals[i].change(self.inputs[i], change.value, t)
+            self.inputs[i] = change.value
             changed = True
         if changed:
             self._history.append((t, list(self.inputs)))
+
+    def integral_state(self) -> list[float]:
+        """Each input's integral as machine.c keeps it: its total, then since."""
+        return [x for i in self.integrals for x in (i.total, i.since)]
+
+    def _integral(self, name: str, t: float) -> float:
+        i = self.input_names.index(name)
+        return self.integrals[i].value(self.inputs[i], t)
 
     def _call(self, kind: str, table: dict[Any, Any], key: tuple[int, int], args: tuple[Any, ...],
               t: float, state: int) -> Any:  # fmt: skip

@@ -88,6 +88,8 @@ class Sensors:
             leg.name: [self.contact_index[c] for c in leg.soles] for leg in model.legs
         }
         self.paths: dict[str, PathTracker] = {}
+        # integral(INPUT) (``integral.INPUT``): the machine's, which knows the commands
+        self.integral: Callable[[str, float], float] | None = None
 
     def follow(self, specs: Iterable[PathSpec]) -> None:
         """The paths whose members (``path.NAME.lateral``, ...) the controller reads."""
@@ -176,6 +178,8 @@ class Sensors:
             return self._body(sim, cache, self.body_index[name], member)
         if kind == "leg":
             return self._leg(sim, cache, name, member)
+        if kind == "integral" and self.integral is not None:
+            return self.integral(rest, float(sim.t))
         raise KeyError(f"unknown sensor key {key!r}")
 
     def _path(self, sim: Any, cache: dict[str, Any], name: str) -> dict[str, float]:

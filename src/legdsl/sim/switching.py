@@ -21,6 +21,8 @@ controller's machine is made and takes over:
   given while a controller without that input ran), else from its own defaults (or those
   given as ``--set CONTROLLER.NAME=V``); parameters given with ``--set NAME=V`` apply to
   every controller that has them, ``--set CONTROLLER.NAME=V`` to that one only;
+* ``integral(INPUT)`` carries on for an input both controllers have (else it counts from
+  the takeover);
 * the sensors' contact clocks (last stance and flight times) carry on, and so does the
   tracker of a path that both controllers follow.
 
@@ -32,14 +34,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any
 
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.sim.handover import Clock, Pair, cycle, lifts_off, on_liftoff
-from legdsl.sim.machine import InputChange, StateMachine, resolve_paths
+from legdsl.sim.machine import InputChange, Integral, StateMachine, resolve_paths
 
 # How long a switch waits at most for a liftoff to take over at: a stride of the slowest
 # shipped gait (the quadruped's trot steps every 0.4 s, the biped's run every 0.45 s).
@@ -204,6 +206,15 @@ class SwitchingMachine:
             for n, v in zip(new.input_names, new.inputs, strict=True)
         ]
         new.start_inputs(values, t)
+        # integral(INPUT) goes on from the old controller's for an input both have (a turn
+        # keeps its heading), else from the takeover
+        for i, name in enumerate(new.input_names):
+            if name in old.input_names:
+                j = old.input_names.index(name)
+                new.integrals[i] = replace(old.integrals[j])
+                new.integrals[i].change(old.inputs[j], new.inputs[i], t)
+            else:
+                new.integrals[i] = Integral(since=t)
         own = set(self.model.controller(to).own)  # learned with its own gains: from 0
         records = {
             n: r for n, r in zip(old.module.RECORDS, old.records, strict=True) if n not in own

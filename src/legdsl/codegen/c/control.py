@@ -72,6 +72,10 @@ def sensor_call(model: Model, key: str, controller: str | None = None) -> str:
         names = [p.name for p in model.controller(controller).paths]
         if len(names) <= 64:
             return f"leg_sense_path(s, {names.index(name)}, {MEMBERS.index(member)}, err)"
+    if kind == "integral" and controller is not None:  # Integral.value (legdsl.sim.machine)
+        i = [c.name for c in model.controller(controller).inputs].index(rest)
+        return (f"(s->ctl_integral[{2 * i}] + s->ctl_inputs[{i}] * "
+                f"(s->t - s->ctl_integral[{2 * i + 1}]))")  # fmt: skip
     if kind == "terrain" and member in TERRAIN:
         return f"leg_sense_terrain(s, {TERRAIN.index(member)}, err)"
     raise UnsupportedInC(f"the sensor {key} (it stays in Python)")

@@ -43,7 +43,7 @@
     X(int64_t, c_control) X(double, ctl_command_at) X(double, ctl_switch_at) \
     X(double, ctl_switch_until) X(int64_t, ctl_started) X(int64_t, ctl_state) \
     X(int64_t, ctl_binding) X(double, ctl_entered_at) X(double *, ctl_records) \
-    X(double *, ctl_inputs) \
+    X(double *, ctl_inputs) X(double *, ctl_integral) \
     X(double *, ctl_params) X(int64_t, sched_n) X(int64_t, sched_pos) X(double *, sched_t) \
     X(int64_t *, sched_input) X(double *, sched_value) X(int64_t, n_hist) X(double *, hist_t) \
     X(double *, hist_inputs) X(int64_t, speed_input) X(double *, clocks) \

@@ -465,7 +465,7 @@ int64_t leg_control_tick(leg_sim *s) {
     double *sens = s->ctl_work, *out = sens + c->n_sensors + 1;
     double *saved = out + (nr > c->max_settings ? nr : c->max_settings) + 1;
     int64_t n_clocks = NC + s->n_legs; /* the contacts' clocks, then the legs' */
-    double *acts = saved + nr + ni + 5 * n_clocks;
+    double *acts = saved + nr + ni + 5 * n_clocks + 2 * ni;
     int64_t na = s->n_act;
     /* what this tick may change, to undo it if Python must take the tick */
     int64_t started = s->ctl_started, state = s->ctl_state, binding = s->ctl_binding;
@@ -474,6 +474,7 @@ int64_t leg_control_tick(leg_sim *s) {
     memcpy(saved, s->ctl_records, sizeof(double) * nr);
     memcpy(saved + nr, s->ctl_inputs, sizeof(double) * ni);
     memcpy(saved + nr + ni, s->clocks, sizeof(double) * 5 * n_clocks);
+    memcpy(saved + nr + ni + 5 * n_clocks, s->ctl_integral, sizeof(double) * 2 * ni);
     memcpy(acts, s->act_gain, sizeof(double) * na);
     memcpy(acts + na, s->act_damping, sizeof(double) * na);
     memcpy(acts + 2 * na, s->act_target, sizeof(double) * na);
@@ -483,7 +484,13 @@ int64_t leg_control_tick(leg_sim *s) {
     int *err = &e;
     int changed = 0; /* _apply_schedule */
     while (s->sched_pos < s->sched_n && s->sched_t[s->sched_pos] <= t + 1e-12) {
-        s->ctl_inputs[s->sched_input[s->sched_pos]] = s->sched_value[s->sched_pos];
+        int64_t i = s->sched_input[s->sched_pos];
+        double now = s->sched_value[s->sched_pos], *integral = s->ctl_integral + 2 * i;
+        if (now != s->ctl_inputs[i]) { /* Integral.change */
+            integral[0] += s->ctl_inputs[i] * (t - integral[1]);
+            integral[1] = t;
+        }
+        s->ctl_inputs[i] = now;
         s->sched_pos++;
         changed = 1;
     }
@@ -566,6 +573,7 @@ python: /* undo the tick: Python's state machine takes it from the same state */
     memcpy(s->ctl_records, saved, sizeof(double) * nr);
     memcpy(s->ctl_inputs, saved + nr, sizeof(double) * ni);
     memcpy(s->clocks, saved + nr + ni, sizeof(double) * 5 * n_clocks);
+    memcpy(s->ctl_integral, saved + nr + ni + 5 * n_clocks, sizeof(double) * 2 * ni);
     memcpy(s->act_gain, acts, sizeof(double) * na);
     memcpy(s->act_damping, acts + na, sizeof(double) * na);
     memcpy(s->act_target, acts + 2 * na, sizeof(double) * na);
