@@ -17,6 +17,13 @@ binding that waited for the event). When a controller takes over at time t:
    state whose own event holds now (its time in state 0), else the stretch's first: mid-thrust
    that is THRUST, just after a landing LOADING.
 
+A role bound to several legs (the trot's diagonals, the bound's pairs, a tripod) is down while
+any of its feet is, as its events are: a fact holds with the role only partly down
+(``split``), at an edge of its stance, its first feet landed or its last ones about to leave.
+The contacts cannot tell which (the gallop gives the trot both, with the same order of
+touchdowns and liftoffs), so ``on_liftoff`` waits for the role's feet to agree; a takeover
+without a liftoff (``HANDOVER_WAIT``, a table without liftoff events) counts it as down.
+
 Everything here reads the controller IR (``legdsl.ir.controller``) and the model's legs;
 the events themselves are evaluated with the generated module's ``EVENTS``.
 """
@@ -133,15 +140,33 @@ def _score(facts: Sequence[Fact], feet: Mapping[str, Clock]) -> tuple[int, float
     return len(facts) - len(held), recent
 
 
+def split(fact: Fact, feet: Mapping[str, Clock]) -> bool:
+    """Whether a ``touchdown`` fact over several feet holds through some of them only: the
+    role (a virtual leg) is at an edge of its stance, its first feet landed or its last ones
+    about to leave, and which the contacts cannot tell."""
+    down = [feet[c].down for c in fact.feet if c in feet]
+    return fact.down and any(down) and not all(down)
+
+
 def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bool:
     """Whether a controller whose table runs through ``pairs`` can take over at ``t`` as a
-    foot leaves the ground: a pair of it contradicts no contact fact, and the most recent of
-    them is a liftoff made true at ``t`` (``take_over`` then chooses that pair)."""
+    foot leaves the ground: a pair of it contradicts no contact fact, none of its roles has
+    only some of its feet down (``split``), and one of its facts is a liftoff made true at
+    ``t`` (``take_over`` then chooses that pair). A role whose feet disagree waits: the
+    quadruped's trot taking over from the gallop as ``toe_fl`` lifted, with ``toe_fr`` of
+    its diagonal (fr, rl) still down, started in that pair's LOADING, which waits for its
+    compression while ``toe_fr`` left 7.6 ms later, and lost a step; the gallop's front pair
+    landing a foot at a time looks the same to the contacts (docs/runtime.md)."""
 
     def lifted_now(f: Fact) -> bool:
         return not f.down and any(feet[c].liftoff == t for c in f.feet if c in feet)
 
-    return any(_score(p.facts, feet)[0] == 0 and any(map(lifted_now, p.facts)) for p in pairs)
+    return any(
+        _score(p.facts, feet)[0] == 0
+        and not any(split(f, feet) for f in p.facts)
+        and any(map(lifted_now, p.facts))
+        for p in pairs
+    )
 
 
 def lifts_off(pairs: Sequence[Pair]) -> bool:

@@ -4,8 +4,9 @@
 controller's machine is made and takes over:
 
 * at the first control tick at or after the switch's time at which a foot has just lifted
-  off and one of its states knows that foot up and every other foot as it is
-  (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's swing), or
+  off and one of its states knows that foot up and every other foot as it is, no role of it
+  partly down (``legdsl.sim.handover.on_liftoff``: the start of a flight or of that leg's
+  swing), or
   ``HANDOVER_WAIT`` after the switch's time if none comes, or at once if its table has no
   liftoff event. For ``FLIGHT_WAIT`` after the switch's time only a liftoff that starts a
   flight will do, the centre of mass rising and the trunk turning slower than
