@@ -30,6 +30,7 @@ from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.analysis.series_units import series_unit
 from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
+    a_generated,
     a_path,
     an_output,
     check_vary,
@@ -258,6 +259,9 @@ class Creature:
 
     def _wrap(self, done: Any) -> Run:
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)
+
+    def __reduce__(self) -> tuple[Any, ...]:  # pickle: the file, checked again on arrival
+        return pickling.creature_again, pickling.creature_state(self.session)
 
     def __repr__(self) -> str:
         return f"<legdsl creature '{self.name}': {self.model.nv} DOF, controllers {list(self.controllers)}>"
@@ -498,10 +502,7 @@ def load(
         raise UsageError(
             f"load(): creature= is the name of a creature in the file, not {creature!r}"
         )
-    if not isinstance(generated, str | Path):
-        raise UsageError(f"load(): generated= is the directory of the generated code, not "
-                         f"{generated!r}")  # fmt: skip
-    return Creature(RunSession.from_file(path, creature, generated))
+    return Creature(RunSession.from_file(path, creature, a_generated("load()", generated)))
 
 
 def open_run(
@@ -512,9 +513,7 @@ def open_run(
     (as ``load`` does)."""
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
-    if not isinstance(generated, str | Path):
-        raise UsageError(f"open_run(): generated= is the directory of the generated code, not "
-                         f"{generated!r}")  # fmt: skip
+    generated = a_generated("open_run()", generated)
     found = read_run(Path(directory), a_path("open_run()", source) if source is not None else None)
-    dynamics = load_dynamics(found.model, found.source, Path(generated))
+    dynamics = load_dynamics(found.model, found.source, generated)
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

@@ -45,6 +45,14 @@ def a_path(call: str, path: object) -> Path:
     return Path(path)
 
 
+def a_generated(call: str, generated: object) -> Path:
+    """``generated=``: the directory of the generated code."""
+    if not isinstance(generated, str | Path):
+        raise UsageError(f"{call}: generated= is the directory of the generated code, not "
+                         f"{generated!r}")  # fmt: skip
+    return Path(generated)
+
+
 def thread_count(threads: object) -> int | None:
     """``threads=``: None (one per core) or a whole number, 1 or more."""
     if threads is not None and (

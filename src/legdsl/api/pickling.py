@@ -1,7 +1,10 @@
-"""A run sent between processes (``pickle``, ``multiprocessing``): its samples, model and
-run.json go as they are; the generated dynamics module, which pickle cannot carry, goes as
-its file and is imported again on first use (``legdsl.api.Run._motion``), checked to be the
-same creature's still."""
+"""A run or a creature sent between processes (``pickle``, ``multiprocessing``).
+
+A run's samples, model and run.json go as they are; the generated dynamics module, which
+pickle cannot carry, goes as its file and is imported again on first use
+(``legdsl.api.Run._motion``), checked to be the same creature's still. A creature goes as
+its ``.leg`` file, checked again on arrival, and must still describe the same creature and
+controllers."""
 
 from __future__ import annotations
 
@@ -27,6 +30,34 @@ def picklable(state: dict[str, Any]) -> dict[str, Any]:
     state["_dynamics"] = None
     state["_session_run"] = None
     return state
+
+
+def creature_state(session: Any) -> tuple[str, str, str, tuple[str, ...]]:
+    """What a creature is sent as: its file and generated directory (absolute: the other
+    process may work elsewhere), its name, and the fingerprints of what it is."""
+    return (os.path.abspath(session.source), session.model.name,
+            os.path.abspath(session.generated), _fingerprints(session.model))  # fmt: skip
+
+
+def creature_again(source: str, name: str, generated: str, was: tuple[str, ...]) -> Any:
+    """A creature that came through pickle: its file read and checked again here."""
+    from legdsl.api import load
+
+    if not Path(source).is_file():
+        raise UsageError(f"this creature came through pickle, but its file {source} is gone")
+    creature = load(source, name, generated)
+    if _fingerprints(creature.model) != was:
+        raise UsageError(f"this creature came through pickle, but {source} has changed since: "
+                         "its creature or controllers are not the ones sent; load it again "
+                         "with legdsl.load and send that")  # fmt: skip
+    return creature
+
+
+def _fingerprints(model: Model) -> tuple[str, ...]:
+    from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
+
+    controllers = (controller_fingerprint(model, c) for c in model.controllers)
+    return (creature_fingerprint(model), *controllers)
 
 
 def dynamics_again(model: Model, file: str | None) -> ModuleType:
