@@ -62,7 +62,18 @@ _ATOM = re.compile(r"([A-Za-z]+)(?:\^(-?\d+))?")
 
 
 class UnitError(ValueError):
-    """A unit string that names no known unit."""
+    """A unit string that names no known unit; it reads as the sentence a file's unknown
+    unit gets ('hz' is not a unit legdsl knows: ...; did you mean 'Hz'?), so that the
+    command line's values (``--dt 0.4MS``, ``--set speed=1m/sec``) are told the same."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+        self.text = text
+
+    def __str__(self) -> str:
+        from legdsl.lang.unit_words import unknown_unit  # it reads this module's table
+
+        return unknown_unit(self.text)
 
 
 def parse_unit(text: str) -> tuple[float, Dim]:
@@ -74,8 +85,7 @@ def parse_unit(text: str) -> tuple[float, Dim]:
     while True:
         match = _ATOM.match(text, pos)
         if not match or match.group(1) not in UNITS:
-            bad = match.group(1) if match else text[pos:]
-            raise UnitError(f"unknown unit '{bad}'" if bad else f"a unit is missing in '{text}'")
+            raise UnitError(text)
         scale, base = UNITS[match.group(1)]
         power = sign * int(match.group(2) or 1)
         try:
@@ -88,7 +98,7 @@ def parse_unit(text: str) -> tuple[float, Dim]:
         if pos == len(text):
             return factor, (dim[0], dim[1], dim[2], dim[3])
         if text[pos] not in "*/":
-            raise UnitError(f"unknown unit '{text[pos:]}'")
+            raise UnitError(text)
         sign = 1 if text[pos] == "*" else -1
         pos += 1
 
