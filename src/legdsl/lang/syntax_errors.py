@@ -20,8 +20,14 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.spellings import mask, offset_span, unit_spelling
-from legdsl.lang.unit_words import looks_like_unit, suggest_unit, unknown_unit
-from legdsl.lang.units import UnitError, parse_unit, unit_pattern
+from legdsl.lang.units import (
+    UnitError,
+    looks_like_unit,
+    parse_unit,
+    suggest_unit,
+    unit_pattern,
+    unknown_unit,
+)
 
 
 def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
