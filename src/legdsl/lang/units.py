@@ -193,6 +193,8 @@ def looks_like_unit(word: str) -> bool:
 
 def unknown_unit(word: str) -> str:
     """The message for a word written as a unit that is none."""
+    if word == "%":  # '--set k=30%', as a file's '30%' is told
+        return "a percentage is written as a plain number: '0.5', not '50%'"
     symbols = ", ".join(UNITS)
     message = (
         f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
