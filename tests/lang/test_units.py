@@ -212,6 +212,10 @@ def test_si_conversion_in_the_model(tmp_path: Path) -> None:
         ("MS", "did you mean 'ms'?"),
         ("°", "did you mean 'deg'?"),
         ("us", "'us' is not a unit legdsl knows: a unit is made of the symbols kg, g, m,"),
+        # symbols run together that read two ways: both are named (it said only N*ms/rad,
+        # a newton-millisecond, for the N*m*s/rad of an angular damping)
+        ("Nms/rad", "did you mean 'N*ms/rad' or 'N*m*s/rad'?"),
+        ("Nm", "did you mean 'N*m'?"),
     ],
 )
 def test_an_unknown_unit_reads_as_a_files_does(text: str, told: str) -> None:

@@ -9,6 +9,7 @@ or a length where an angle belongs, is caught; ``rad`` is its SI unit and
 from __future__ import annotations
 
 import difflib
+import itertools
 import math
 import re
 from dataclasses import dataclass
@@ -200,44 +201,68 @@ def unknown_unit(word: str) -> str:
         f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
         f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
     )
-    suggestion = suggest_unit(word)
-    return message + (f"; did you mean '{suggestion}'?" if suggestion else "")
+    found = suggest_units(word)
+    return message + (f"; did you mean {' or '.join(repr(f) for f in found)}?" if found else "")
 
 
 def suggest_unit(word: str) -> str | None:
     """A unit legdsl knows for a misspelt one: 'kgs' -> 'kg', 'm/sec' -> 'm/s', 'Nm' -> 'N*m'."""
-    out = []
+    found = suggest_units(word)
+    return found[0] if found else None
+
+
+def suggest_units(word: str) -> list[str]:
+    """The units legdsl knows a misspelt one may be, likeliest first: one, but symbols run
+    together may be read more ways than one: 'Nms' is 'N*ms' or 'N*m*s'."""
+    out: list[list[str]] = []
     for part in re.split(r"([*/^])", _plain_unit(word)):
         singular = part.lower().removesuffix("s")
         undoubled = _undoubled(part)
         if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
-            out.append(part)
+            out.append([part])
         elif undoubled is not None:  # a key pressed twice: 'kgg' is 'kg', not 'kg*g'
-            out.append(undoubled)
+            out.append([undoubled])
         elif len(part) > 1 and part.lower() in _UNIT_BY_LOWER:  # 'MS', 'HZ': its case
-            out.append(_UNIT_BY_LOWER[part.lower()])
+            out.append([_UNIT_BY_LOWER[part.lower()]])
         elif singular in _UNIT_NAMES:
             symbol = _UNIT_NAMES[singular]
             if symbol is None:
-                return None
-            out.append(symbol)
+                return []
+            out.append([symbol])
         elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
-            out.append(_UNIT_BY_LOWER[singular])
+            out.append([_UNIT_BY_LOWER[singular]])
         elif part[:1] in _PREFIXES and part[1:] in UNITS:
-            return None  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
+            return []  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
         elif _UNIT_RUN.fullmatch(part):
-            out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
+            out.append(["*".join(split) for split in _splits(part)])
         else:
             close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
             if not close:
-                return None
-            out.append(close[0])
-    suggestion = "".join(out)
-    try:
-        parse_unit(suggestion)
-    except UnitError:
-        return None
-    return suggestion if suggestion != word else None
+                return []
+            out.append([close[0]])
+    found = []
+    for choice in itertools.islice(itertools.product(*out), 4):
+        suggestion = "".join(choice)
+        try:
+            parse_unit(suggestion)
+        except UnitError:
+            continue
+        if suggestion != word:
+            found.append(suggestion)
+    return found
+
+
+def _splits(run: str) -> list[list[str]]:
+    """The ways symbols run together read as symbols, the longest symbols first:
+    'Nms' -> [['N', 'ms'], ['N', 'm', 's']]."""
+    if not run:
+        return [[]]
+    return [
+        [symbol, *rest]
+        for symbol in sorted(UNITS, key=len, reverse=True)
+        if run.startswith(symbol)
+        for rest in _splits(run[len(symbol) :])
+    ]
 
 
 def _undoubled(part: str) -> str | None:
