@@ -202,3 +202,25 @@ def test_si_conversion_in_the_model(tmp_path: Path) -> None:
     step = m.ground.terrain[0]
     assert (step.get("x"), step.get("height")) == pytest.approx((1000.0, 0.01))
     assert m.gravity == (0.0, 0.0, -9.81)
+
+
+@pytest.mark.parametrize(
+    ("text", "told"),
+    [
+        ("hz", "did you mean 'Hz'?"),
+        ("m/sec", "did you mean 'm/s'?"),
+        ("MS", "did you mean 'ms'?"),
+        ("°", "did you mean 'deg'?"),
+        ("us", "'us' is not a unit legdsl knows: a unit is made of the symbols kg, g, m,"),
+        # symbols run together that read two ways: both are named (it said only N*ms/rad,
+        # a newton-millisecond, for the N*m*s/rad of an angular damping)
+        ("Nms/rad", "did you mean 'N*ms/rad' or 'N*m*s/rad'?"),
+        ("Nm", "did you mean 'N*m'?"),
+    ],
+)
+def test_an_unknown_unit_reads_as_a_files_does(text: str, told: str) -> None:
+    """The command line's values (--dt 0.4MS, --set speed=1m/sec) print a UnitError: it says
+    what a file's unknown unit is told, the unit to write with it (it said "unknown unit 'hz'")."""
+    with pytest.raises(UnitError) as caught:
+        parse_unit(text)
+    assert told in str(caught.value)

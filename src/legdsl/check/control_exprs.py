@@ -17,7 +17,9 @@ any other bare number is dimensionless.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import re
 from collections.abc import Callable
 
 from legdsl.check.control_names import (
@@ -219,7 +221,14 @@ class ExprChecker(NameResolver):
                 dims = " and ".join(
                     dict.fromkeys(describe_type(v.type) for v in values if v.type is not None)
                 )
-                self.err(span, f"{what} must have one dimension, but they are {dims}")
+                gram = _gram_for_gravity(exprs)
+                hint = (
+                    f"; '{gram}' is one unit, a gram in it: for gravity write "
+                    f"'{gram.replace('*g', ' * g')}', with spaces"
+                    if gram
+                    else ""
+                )
+                self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH
         return found
 
@@ -424,3 +433,18 @@ def fits(t: Type, want: Dim) -> bool:
 
 def unit_advice(want: Dim) -> str:
     return "" if want == ONE else f"; write it with a unit of {describe(want)}"
+
+
+def _gram_for_gravity(exprs: list[ast.Expr]) -> str | None:
+    """A quantity written as '2 kg*g' among ``exprs``: the lexer reads 'kg*g' as one unit,
+    kilogram times gram, where a weight (2 kg times gravity, 'g') was meant."""
+    stack: list[object] = list(exprs)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.EQuantity) and re.search(r"[A-Za-z]\*g(?![A-Za-z])", node.text):
+            return node.text
+        if dataclasses.is_dataclass(node) and not isinstance(node, type):
+            stack.extend(getattr(node, f.name) for f in dataclasses.fields(node))
+        elif isinstance(node, list | tuple):
+            stack.extend(node)
+    return None

@@ -33,8 +33,7 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.syntax_errors import unknown_unit
-from legdsl.lang.units import UnitError, out_of_range, parse_unit
+from legdsl.lang.units import UnitError, out_of_range, parse_unit, unknown_unit
 
 # What a controller's own declarations are called in messages.
 _DECLARED_KIND: dict[type, str] = {

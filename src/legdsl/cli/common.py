@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import UnitError, parse_unit
 
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
@@ -58,9 +59,38 @@ def negative_values_joined(argv: Sequence[str], parser: argparse.ArgumentParser)
             return out + list(argv[i:])
         if out and out[-1] in takes_value and _NEGATIVE.match(arg):
             out[-1] = f"{out[-1]}={arg}"
+        elif _unit_apart(out, arg, takes_value):  # '--time 2 s' is '--time 2s', as in a file
+            out[-1] += arg
         else:
             out.append(arg)
     return out
+
+
+_PLAIN_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _unit_apart(out: Sequence[str], arg: str, takes_value: set[str]) -> bool:
+    """Whether ``arg`` is a unit written apart from the number an option was just given
+    (``--time 2 s``, ``--set speed=2 m/s``, ``--dt=0.4 ms``): argparse took it for another
+    argument ("unrecognized arguments: s"); a file reads '2 s' as '2s'."""
+    if not out:
+        return False
+    last = out[-1]
+    if last.startswith("--"):
+        flag, given, number = last.partition("=")
+        if not given or flag not in takes_value:
+            return False
+    elif len(out) >= 2 and out[-2] in takes_value:
+        number = re.split("[=@]", last)[-1]
+    else:
+        return False
+    if not _PLAIN_NUMBER.fullmatch(number):
+        return False
+    try:
+        parse_unit(arg)
+    except UnitError:
+        return False
+    return True
 
 
 def _options_with_a_value(parser: argparse.ArgumentParser) -> set[str]:

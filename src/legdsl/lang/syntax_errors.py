@@ -10,7 +10,6 @@ was found and what was expected.
 
 from __future__ import annotations
 
-import difflib
 import functools
 import re
 from dataclasses import dataclass
@@ -21,7 +20,14 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.spellings import mask, offset_span, unit_spelling
-from legdsl.lang.units import UNITS, UnitError, parse_unit, unit_pattern
+from legdsl.lang.units import (
+    UnitError,
+    looks_like_unit,
+    parse_unit,
+    suggest_unit,
+    unit_pattern,
+    unknown_unit,
+)
 
 
 def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
@@ -213,99 +219,8 @@ def _open_brace(text: str) -> bool:
 # the start of a controller's input or parameter, whose number a unit must follow
 _CONSTANT_DECL = re.compile(r"\s*(?:param|input)\s+[A-Za-z_]\w*\s*=\s*-?\s*")
 _NUMBER_AND_WORD = re.compile(
-    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_][^\s,;:(){}\[\]=<>!#\"]*)"
+    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
 )
-# Units spelt out, or from elsewhere, in the singular (a final 's' is dropped before
-# looking), with the symbol to suggest instead (None: no such unit in legdsl).
-_UNIT_NAMES: dict[str, str | None] = {
-    "sec": "s", "second": "s", "msec": "ms", "millisecond": "ms", "minute": "min",
-    "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
-    "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
-    "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
-    "degree": "deg", "radian": "rad", "revolution": "rev",
-    "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
-    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": "rev/min",
-}  # fmt: skip
-_UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
-_UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
-_UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
-_PREFIXES = "kcmuμnMG"  # SI prefixes that run into a symbol as a product would ('mN', 'kJ')
-
-
-_SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
-
-
-def _plain_unit(word: str) -> str:
-    """A unit as typeset ('m·s⁻²', 'N⋅m', 'N.s') in the symbols legdsl reads ('m*s^-2')."""
-    for dot in "·⋅.":
-        word = word.replace(dot, "*")
-    return re.sub(r"[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+", lambda m: "^" + m.group().translate(_SUPERSCRIPTS), word)
-
-
-def _looks_like_unit(word: str) -> bool:
-    """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
-    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
-    return bool(parts) and all(
-        p.lower().removesuffix("s") in _UNIT_NAMES
-        or p.lower().removesuffix("s") in _UNIT_BY_LOWER
-        or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
-        or (p[:1] in _PREFIXES and p[1:] in UNITS)
-        or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
-        for p in parts
-    )
-
-
-def unknown_unit(word: str) -> str:
-    """The message for a word written as a unit that is none."""
-    symbols = ", ".join(UNITS)
-    message = (
-        f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
-        f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
-    )
-    suggestion = _suggest_unit(word)
-    return message + (f"; did you mean '{suggestion}'?" if suggestion else "")
-
-
-def _suggest_unit(word: str) -> str | None:
-    """A unit legdsl knows for a misspelt one: 'kgs' -> 'kg', 'm/sec' -> 'm/s', 'Nm' -> 'N*m'."""
-    out = []
-    for part in re.split(r"([*/^])", _plain_unit(word)):
-        singular = part.lower().removesuffix("s")
-        undoubled = _undoubled(part)
-        if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
-            out.append(part)
-        elif undoubled is not None:  # a key pressed twice: 'kgg' is 'kg', not 'kg*g'
-            out.append(undoubled)
-        elif singular in _UNIT_NAMES:
-            symbol = _UNIT_NAMES[singular]
-            if symbol is None:
-                return None
-            out.append(symbol)
-        elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
-            out.append(_UNIT_BY_LOWER[singular])
-        elif part[:1] in _PREFIXES and part[1:] in UNITS:
-            return None  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
-        elif _UNIT_RUN.fullmatch(part):
-            out.append("*".join(re.findall(_UNIT_SYMBOL, part)))
-        else:
-            close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
-            if not close:
-                return None
-            out.append(close[0])
-    suggestion = "".join(out)
-    try:
-        parse_unit(suggestion)
-    except UnitError:
-        return None
-    return suggestion if suggestion != word else None
-
-
-def _undoubled(part: str) -> str | None:
-    """The unit symbol ``part`` is with one doubled letter written once ('kgg', 'ss'), if any."""
-    for i in range(1, len(part)):
-        if part[i] == part[i - 1] and part[:i] + part[i + 1 :] in UNITS:
-            return part[:i] + part[i + 1 :]
-    return None
 
 
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
@@ -327,7 +242,7 @@ def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
         declared = (
             _CONSTANT_DECL.fullmatch(line) is not None
         )  # its value's unit, whatever it looks like
-        return (word, start) if declared or _looks_like_unit(word) else None
+        return (word, start) if declared or looks_like_unit(word) else None
     return None
 
 
@@ -355,7 +270,7 @@ def repaired_unit(text: str, err: UnexpectedInput) -> str | None:
             return None
         unit, suggestion = (spelt.written, spelt.start), spelt.suggestion
     else:
-        suggestion = _suggest_unit(unit[0])
+        suggestion = suggest_unit(unit[0])
     word, start = unit
     if suggestion is None or len(suggestion) > len(word):
         return None
@@ -478,7 +393,7 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         message = (f"'mirror' needs its plane on its line: 'mirror sagittal' (y to -y, left to "
                    f"right) or 'mirror frontal' (x to -x, front to back); the next line's "
                    f"'{mirror[1]}' was read as the plane")  # fmt: skip
-    elif slip is not None:
+    elif slip is not None and unit is None:  # 'µm' is a unit before it is a name's letter
         message = slip
     elif not_a_number is not None:
         word, start = not_a_number

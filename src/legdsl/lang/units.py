@@ -8,6 +8,8 @@ or a length where an angle belongs, is caught; ``rad`` is its SI unit and
 
 from __future__ import annotations
 
+import difflib
+import itertools
 import math
 import re
 from dataclasses import dataclass
@@ -62,7 +64,16 @@ _ATOM = re.compile(r"([A-Za-z]+)(?:\^(-?\d+))?")
 
 
 class UnitError(ValueError):
-    """A unit string that names no known unit."""
+    """A unit string that names no known unit; it reads as the sentence a file's unknown
+    unit gets ('hz' is not a unit legdsl knows: ...; did you mean 'Hz'?), so that the
+    command line's values (``--dt 0.4MS``, ``--set speed=1m/sec``) are told the same."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+        self.text = text
+
+    def __str__(self) -> str:
+        return unknown_unit(self.text)
 
 
 def parse_unit(text: str) -> tuple[float, Dim]:
@@ -74,8 +85,7 @@ def parse_unit(text: str) -> tuple[float, Dim]:
     while True:
         match = _ATOM.match(text, pos)
         if not match or match.group(1) not in UNITS:
-            bad = match.group(1) if match else text[pos:]
-            raise UnitError(f"unknown unit '{bad}'" if bad else f"a unit is missing in '{text}'")
+            raise UnitError(text)
         scale, base = UNITS[match.group(1)]
         power = sign * int(match.group(2) or 1)
         try:
@@ -88,7 +98,7 @@ def parse_unit(text: str) -> tuple[float, Dim]:
         if pos == len(text):
             return factor, (dim[0], dim[1], dim[2], dim[3])
         if text[pos] not in "*/":
-            raise UnitError(f"unknown unit '{text[pos:]}'")
+            raise UnitError(text)
         sign = 1 if text[pos] == "*" else -1
         pos += 1
 
@@ -136,3 +146,128 @@ class Quantity:
     value: float
     dim: Dim
     unitless: bool = False
+
+
+# Words written as units that legdsl does not know ('kgs', 'm/sec', 'lb', '60°', 'µm'):
+# whether a word after a number was meant as a unit, and the sentence naming it.
+# Units spelt out, or from elsewhere, in the singular (a final 's' is dropped before
+# looking), with the symbol to suggest instead (None: no such unit in legdsl).
+_UNIT_NAMES: dict[str, str | None] = {
+    "sec": "s", "second": "s", "msec": "ms", "millisecond": "ms", "minute": "min",
+    "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
+    "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
+    "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
+    "degree": "deg", "radian": "rad", "revolution": "rev",
+    "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
+    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": "rev/min",
+    "t": None, "tonne": None, "ton": None, "oz": None, "ounce": None, "pound": None,
+    "mi": None, "mile": None, "yd": None, "yard": None, "°": "deg",
+}  # fmt: skip
+_UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
+_UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
+_UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
+_PREFIXES = "kcdmuµμnMG"  # SI prefixes (micro as 'u', 'µ' or Greek 'μ') that run into a symbol as a product would ('mN', 'kJ')
+
+
+_SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+
+
+def _plain_unit(word: str) -> str:
+    """A unit as typeset ('m·s⁻²', 'N⋅m', 'N.s') in the symbols legdsl reads ('m*s^-2')."""
+    for dot in "·⋅.":
+        word = word.replace(dot, "*")
+    return re.sub(r"[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+", lambda m: "^" + m.group().translate(_SUPERSCRIPTS), word)
+
+
+def looks_like_unit(word: str) -> bool:
+    """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
+    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
+    return bool(parts) and all(
+        p.lower().removesuffix("s") in _UNIT_NAMES
+        or p.lower().removesuffix("s") in _UNIT_BY_LOWER
+        or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or (p[:1] in _PREFIXES and p[1:] in UNITS)
+        or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
+        for p in parts
+    )
+
+
+def unknown_unit(word: str) -> str:
+    """The message for a word written as a unit that is none."""
+    if word == "%":  # '--set k=30%', as a file's '30%' is told
+        return "a percentage is written as a plain number: '0.5', not '50%'"
+    symbols = ", ".join(UNITS)
+    message = (
+        f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
+        f"joined by '*', '/' and '^', as in '5 m/s' or '60 N*m/rad'"
+    )
+    found = suggest_units(word)
+    return message + (f"; did you mean {' or '.join(repr(f) for f in found)}?" if found else "")
+
+
+def suggest_unit(word: str) -> str | None:
+    """A unit legdsl knows for a misspelt one: 'kgs' -> 'kg', 'm/sec' -> 'm/s', 'Nm' -> 'N*m'."""
+    found = suggest_units(word)
+    return found[0] if found else None
+
+
+def suggest_units(word: str) -> list[str]:
+    """The units legdsl knows a misspelt one may be, likeliest first: one, but symbols run
+    together may be read more ways than one: 'Nms' is 'N*ms' or 'N*m*s'."""
+    out: list[list[str]] = []
+    for part in re.split(r"([*/^])", _plain_unit(word)):
+        singular = part.lower().removesuffix("s")
+        undoubled = _undoubled(part)
+        if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
+            out.append([part])
+        elif undoubled is not None:  # a key pressed twice: 'kgg' is 'kg', not 'kg*g'
+            out.append([undoubled])
+        elif len(part) > 1 and part.lower() in _UNIT_BY_LOWER:  # 'MS', 'HZ': its case
+            out.append([_UNIT_BY_LOWER[part.lower()]])
+        elif singular in _UNIT_NAMES:
+            symbol = _UNIT_NAMES[singular]
+            if symbol is None:
+                return []
+            out.append([symbol])
+        elif len(singular) > 1 and singular in _UNIT_BY_LOWER:
+            out.append([_UNIT_BY_LOWER[singular]])
+        elif part[:1] in _PREFIXES and part[1:] in UNITS:
+            return []  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
+        elif _UNIT_RUN.fullmatch(part):
+            out.append(["*".join(split) for split in _splits(part)])
+        else:
+            close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
+            if not close:
+                return []
+            out.append([close[0]])
+    found = []
+    for choice in itertools.islice(itertools.product(*out), 4):
+        suggestion = "".join(choice)
+        try:
+            parse_unit(suggestion)
+        except UnitError:
+            continue
+        if suggestion != word:
+            found.append(suggestion)
+    return found
+
+
+def _splits(run: str) -> list[list[str]]:
+    """The ways symbols run together read as symbols, the longest symbols first:
+    'Nms' -> [['N', 'ms'], ['N', 'm', 's']]."""
+    if not run:
+        return [[]]
+    return [
+        [symbol, *rest]
+        for symbol in sorted(UNITS, key=len, reverse=True)
+        if run.startswith(symbol)
+        for rest in _splits(run[len(symbol) :])
+    ]
+
+
+def _undoubled(part: str) -> str | None:
+    """The unit symbol ``part`` is with one doubled letter written once ('kgg', 'ss'), if any."""
+    for i in range(1, len(part)):
+        if part[i] == part[i - 1] and part[:i] + part[i + 1 :] in UNITS:
+            return part[:i] + part[i + 1 :]
+    return None

@@ -1,0 +1,58 @@
+"""A numeric option's or ``--set``'s unknown unit is told as a file's is, with the unit to
+write where there is one; it said only "unknown unit 'hz'", and a '°' or 'MS' got no help."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from legdsl.cli import _parser, main
+from legdsl.cli.common import negative_values_joined
+
+HOPPER = str(Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg")
+
+
+@pytest.mark.parametrize(
+    ("args", "told"),
+    [
+        (["--record-rate", "1000hz"], "--record-rate 1000hz: 'hz' is not a unit legdsl knows"),
+        (["--record-rate", "1000hz"], "; did you mean 'Hz'?"),
+        (["--dt", "0.4MS"], "; did you mean 'ms'?"),
+        (["--fall-tilt", "45°"], "; did you mean 'deg'?"),
+        (["--set", "speed=1m/sec"], "; did you mean 'm/s'?"),
+        (
+            ["--drop", "5%"],
+            "--drop 5%: a percentage is written as a plain number: '0.5', not '50%'",
+        ),
+    ],
+)
+def test_an_unknown_unit_on_the_command_line_says_what_to_write(
+    args: list[str], told: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["run", HOPPER, *args, "--out", str(tmp_path / "run")]) == 2
+    err = capsys.readouterr().err
+    assert told in err
+    assert "Traceback" not in err
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_unit_apart_from_its_number_is_read_with_it() -> None:
+    """'--time 2 s' reads as '--time 2s', as '2 s' does in a file (argparse said
+    "unrecognized arguments: s"); a word that is no unit is left to argparse."""
+    parser = _parser()
+    argv = ["run", "f.leg", "--time", "2", "s", "--dt=0.4", "ms", "--set", "speed=2", "m/s"]
+    assert negative_values_joined(argv, parser) == [
+        "run", "f.leg", "--time", "2s", "--dt=0.4ms", "--set", "speed=2m/s"
+    ]  # fmt: skip
+    assert negative_values_joined(["run", "--drop", "3", "feet"], parser)[-1] == "feet"
+    assert negative_values_joined(["run", "f.leg", "--animate", "s"], parser)[-1] == "s"
+
+
+def test_a_run_given_a_unit_apart_reads_it(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    args = ["--time", "20", "ms", "--dt", "0.4", "ms", "--drop", "1", "cm", "--out", str(out)]
+    assert main(["run", HOPPER, *args]) == 0
+    options = json.loads((out / "run.json").read_text())["options"]
+    assert (options["duration"], options["dt"], options["drop"]) == (0.02, 0.0004, 0.01)
