@@ -56,3 +56,20 @@ def test_a_run_given_a_unit_apart_reads_it(tmp_path: Path) -> None:
     assert main(["run", HOPPER, *args]) == 0
     options = json.loads((out / "run.json").read_text())["options"]
     assert (options["duration"], options["dt"], options["drop"]) == (0.02, 0.0004, 0.01)
+
+
+@pytest.mark.parametrize(
+    ("args", "told"),
+    [
+        (["--control-dt", "500Hz"], "write e.g. --control-dt 0.002s (1/500Hz)"),
+        (["--record-rate", "5ms"], "write e.g. --record-rate 200Hz (1/5ms)"),
+        (["--controller", "hop", "--set", "k_speed=16Hz"], "write e.g. k_speed=0.0625s (1/16Hz)"),
+        (["--controller", "hop", "--set", "speed=2m"], "write e.g. speed=2m/s"),
+    ],
+)
+def test_a_frequency_given_for_a_time_is_told_its_inverse(
+    args: list[str], told: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # it said "write e.g. --control-dt 500s", a value 250000 times the one meant
+    assert main(["run", HOPPER, *args, "--out", str(tmp_path / "run")]) == 2
+    assert told in capsys.readouterr().err

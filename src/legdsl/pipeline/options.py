@@ -21,7 +21,7 @@ from legdsl.files import closed_stream, free_bytes
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
-from legdsl.pipeline.settings import a_kind, parse_given
+from legdsl.pipeline.settings import a_kind, parse_given, written
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
 
@@ -62,7 +62,7 @@ def read_numeric(flag: str, text: str, spec: Numeric) -> float:
     else:
         raise UsageError(
             f"{where}: {flag} is {a_kind(want)}, but {given.text} is {a_kind(given.dim)}; "
-            f"write e.g. {flag}{sep}{given.number}{spec.bare}"
+            f"write e.g. {flag}{sep}{written(given, want, spec.bare)}"
         )
     if spec.least == "positive" and not value > 0:
         raise UsageError(f"{where}: {flag} must be more than zero")

@@ -131,7 +131,7 @@ def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) 
     ``what`` says what is wanted ("speed is a velocity (m/s)"), ``write`` how to write the
     value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example.
     """
-    example = write.format(given.number + _unit_to_write(given, want))
+    example = write.format(written(given, want, _unit_to_write(given, want)))
     if want == DIMENSIONLESS:
         if given.dim is not None and given.dim != DIMENSIONLESS:
             raise UsageError(
@@ -147,6 +147,16 @@ def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) 
         raise UsageError(
             f"{where}: {what}, but {given.text} is {a_kind(given.dim)}; write e.g. {example}"
         )
+
+
+def written(given: Given, want: Dim, unit: str) -> str:
+    """The value an error suggests in ``unit``: the user's number, or, for a quantity whose
+    dimension is the wanted one's inverse (a frequency for a time), its reciprocal: 500Hz
+    for a time is 0.002s, never 500s."""
+    inverse = given.dim is not None and all(a == -b for a, b in zip(given.dim, want, strict=True))
+    if inverse and given.value != 0 and want != DIMENSIONLESS:
+        return f"{1 / given.value / parse_unit(unit)[0]:g}{unit} (1/{given.text})"
+    return given.number + unit
 
 
 def _unit_to_write(given: Given, want: Dim) -> str:
