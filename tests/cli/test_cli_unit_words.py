@@ -73,3 +73,21 @@ def test_a_frequency_given_for_a_time_is_told_its_inverse(
     # it said "write e.g. --control-dt 500s", a value 250000 times the one meant
     assert main(["run", HOPPER, *args, "--out", str(tmp_path / "run")]) == 2
     assert told in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("value", "told"),
+    [
+        ("kp=150 N m/rad", "write e.g. 150N*m/rad"),
+        ("speed=1 m / s", "write e.g. 1m/s"),
+        ("speed=", "'' is not a number with an optional unit"),
+        ("speed=one m/s", "'one m/s' is not a number with an optional unit"),
+    ],
+)
+def test_a_unit_with_spaces_in_a_set_value_is_told_how_to_join_it(
+    value: str, told: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # '150 N m/rad' was "not a number with an optional unit", with nothing to write
+    argv = ["run", HOPPER, "--controller", "hop", "--set", value, "--out", str(tmp_path / "r")]
+    assert main(argv) == 2
+    assert told in capsys.readouterr().err

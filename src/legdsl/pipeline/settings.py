@@ -46,9 +46,30 @@ class Given:
         return self.number + self.unit
 
 
+def _spaced_unit(value: str) -> str | None:
+    """``150 N m/rad`` (a unit with spaces, as a file's ``150 N*m/rad`` is not written) as
+    it is written, ``150N*m/rad``; None for a text that is not that."""
+    parts = value.split()
+    if len(parts) < 3 or not _NUMBER.fullmatch(parts[0]):
+        return None
+    number, words = parts[0], parts[1:]
+    unit = words[0]
+    for word in words[1:]:  # '*' between symbols, nothing beside an operator
+        unit += word if unit[-1] in "*/^" or word[0] in "*/^" else "*" + word
+    try:
+        parse_unit(unit)
+    except UnitError:
+        return None
+    return number + unit
+
+
 def parse_given(value: str, where: str) -> Given:
     """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
     match = _NUMBER.fullmatch(value)
+    joined = _spaced_unit(value) if match is None else None
+    if joined is not None:
+        raise UsageError(f"{where}: a unit is written without spaces, its symbols joined "
+                         f"by '*': write e.g. {joined}")  # fmt: skip
     if match is None:
         raise UsageError(f"{where}: {value!r} is not a number with an optional unit")
     number, unit = match.group(1), match.group(2)
