@@ -74,7 +74,7 @@ def test_axes_take_units_and_check_them() -> None:
         (3600.0, 7200.0)
     )
     assert parse_axis("grid", "k_speed=50ms,0.1", DIMS).values == pytest.approx((0.05, 0.1))
-    with pytest.raises(UsageError, match="speed is velocity .*, but '2kg' is mass"):
+    with pytest.raises(UsageError, match="speed is a velocity .*, but '2kg' is a mass"):
         parse_axis("grid", "speed=2kg:6kg:3", DIMS)
     with pytest.raises(UsageError, match="not an input or parameter"):
         parse_axis("random", "sped=1:2", DIMS)
@@ -168,7 +168,7 @@ def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -
         (["--from", "nan"], "--from nan: 'nan' is not a number"),
         (["--from", "-1"], "--from -1: --from must not be negative"),
         (["--from", "3"], "--from 3 is not a time within the runs .--time 3."),
-        (["--grid", "k_trim=1e400,1"], "--grid k_trim: '1e400' is too large to be a number"),
+        (["--grid", "k_trim=1e400,1"], "--grid k_trim: 1e400 is too large to be a number"),
         (["--grid", "k_trim=0:1:100000000"], "100,000,000 runs, more than a sweep takes"),
         (
             ["--grid", "k_trim=0:1:2000", "--lhs", "k_apex=0:1", "--samples", "1000"],
@@ -395,3 +395,18 @@ def test_a_sweep_records_the_step_its_runs_take_from_the_file(
     capsys.readouterr()
     assert main(argv) == 2
     assert "holds another sweep" in capsys.readouterr().err
+
+
+def test_a_range_is_read_as_set_reads_a_value() -> None:
+    """``--param k_center=0s^-1:6s^-1`` was 'not a number with an optional unit' (the sweep's
+    own pattern had no '-' for an exponent) where ``--set k_center=2s^-1`` was taken."""
+    from legdsl.api.sweep import parse_axis
+    from legdsl.lang.units import parse_unit
+
+    per_second = parse_unit("s^-1")[1]
+    dims = {"k_center": per_second}
+    assert parse_axis("param", "k_center=0s^-1:6s^-1", dims).values == (0.0, 6.0)
+    assert parse_axis("param", "k_center=0:6", dims).values == (0.0, 6.0)
+    assert parse_axis("grid", "k_center=1 Hz, 2 Hz", dims).values == (1.0, 2.0)
+    with pytest.raises(UsageError, match=r"k_center is .*, but '1 m' is a length"):
+        parse_axis("param", "k_center=1 m:2 m", dims)

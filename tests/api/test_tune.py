@@ -145,7 +145,7 @@ controller hold {
         (["--popsize", "1"], r"--popsize 1: CMA-ES needs at least 2 candidates"),
         (["--popsize", "0"], r"--popsize 0: CMA-ES needs at least 2 candidates"),
         (["--speeds", "0"], r"--speeds 0: a speed of 0 has no relative speed error .* add a speed other than 0"),
-        (["--speeds", "1kg"], r"--speeds 1kg: speed is velocity"),
+        (["--speeds", "1kg"], r"--speeds 1kg: speed is a velocity"),
         (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),

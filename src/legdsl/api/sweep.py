@@ -37,10 +37,10 @@ from legdsl.api.workers import Workers
 from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import KINDS, Dim, UnitError, describe, parse_unit
+from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
-from legdsl.pipeline.settings import named_si_unit
+from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
@@ -54,9 +54,6 @@ METRIC_UNITS = {
     "peak_vertical_acceleration": "g", "positive_work": "J", "energy_per_metre": "J/m",
     "cost_of_transport": "-",
 }  # fmt: skip
-_NUMBER = re.compile(
-    r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z][A-Za-z0-9*/^]*)?\s*"
-)
 
 
 @dataclass(frozen=True)
@@ -121,25 +118,15 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
 
 
 def _number(text: str, want: Dim, kind: str, name: str) -> float:
-    match = _NUMBER.fullmatch(text)
-    if match is None:
-        raise UsageError(f"--{kind} {name}: {text!r} is not a number with an optional unit")
-    value = float(match.group(1))
-    if not math.isfinite(value):  # 1e400 reads as infinity
-        raise UsageError(f"--{kind} {name}: {text.strip()!r} is too large to be a number")
-    if match.group(2) is None:
-        return value  # in the SI unit of the quantity
-    try:
-        factor, dim = parse_unit(match.group(2))
-    except UnitError as e:
-        raise UsageError(f"--{kind} {name}: {e}") from None
-    if dim != want:
+    """A value of a swept name, read as ``--set`` reads one (``2 s^-1``, ``60 N*m/rad``); a
+    bare number is in the quantity's SI unit."""
+    given = parse_given(text, f"--{kind} {name}")
+    if given.dim is not None and given.dim != want:
         raise UsageError(
-            f"--{kind} {name}: {name} is {describe(want)}, but {text.strip()!r} is {describe(dim)}"
+            f"--{kind} {name}: {name} is {a_kind(want)}, but {text.strip()!r} is "
+            f"{a_kind(given.dim)}"
         )
-    if not math.isfinite(value * factor):
-        raise UsageError(f"--{kind} {name}: {text!r} is not a finite number")
-    return value * factor
+    return given.value
 
 
 MAX_RUNS = 1_000_000  # a sweep's plan is laid out whole, in memory and in sweep.json
