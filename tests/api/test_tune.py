@@ -453,3 +453,33 @@ def test_the_runs_of_a_gait_of_pairs_are_measured_on_its_pairs(generated: Path) 
     assert sorted(unison) == sorted(f"unison_{n}" for n in pairs) and all(
         0.9 <= v <= 1.0 for v in unison.values()
     )
+
+
+def test_the_tuned_values_also_run_between_the_tuned_speeds(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A tune fits the speeds it is given; the flat-footed biped tuned at 0, 1, 1.5, 2 and
+    2.5 m/s fell at 1.75 without a word. Halfway between each two, the tuned values run once
+    more (not scored), shown and kept in tune.json."""
+    code = main([
+        "tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
+        "--speeds", "0.5,1.5", "--time", "2", "--from", "0.8", "--generations", "1",
+        "--popsize", "2", "--seed", "3", "--jobs", "1", "--out", str(tmp_path / "t"),
+        "--generated", str(tmp_path / "generated"),
+    ])  # fmt: skip
+    assert code == 0
+    (between,) = json.loads((tmp_path / "t" / "tune.json").read_text())["between"]
+    assert between["speed"] == 1.0 and between["outcome"] == "ok"
+    best = json.loads((tmp_path / "t" / "tune.json").read_text())["best"]["values"]
+    assert between["k_speed"] == pytest.approx(best["k_speed"])
+    out = capsys.readouterr().out
+    assert re.search(r"between the tuned speeds \(not scored\)\n  at 1 +\d", out), out
+
+
+def test_a_fall_between_the_tuned_speeds_is_said(capsys: pytest.CaptureFixture[str]) -> None:
+    from legdsl.api.tune_cli import _say_between
+
+    _say_between([{"speed": 1.75, "outcome": "fell at 0.714 s", "running_speed": float("nan")}])
+    told = capsys.readouterr()
+    assert "at 1.75      n/a (fell at 0.714 s)" in told.out
+    assert "did not last at 1.75 m/s, between the tuned speeds" in told.err

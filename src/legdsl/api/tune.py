@@ -473,7 +473,9 @@ def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound
     )
     lines.append("running speed (m/s)   start                tuned")
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
-        lines.append(f"  at {before['speed']:<6.4g}    {_speed(before):<20} {_speed(after)}")
+        lines.append(
+            f"  at {before['speed']:<6.4g}    {tune_speed(before):<20} {tune_speed(after)}"
+        )
     lines.append("energy per metre (J/m), cost of transport (-)   start          tuned")
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
         lines.append(f"  at {before['speed']:<6.4g}    {_energy(before):<20} {_energy(after)}")
@@ -496,7 +498,7 @@ def _energy(row: dict[str, Any]) -> str:
     return "n/a" if not math.isfinite(per_metre) else f"{per_metre:.4g}, {cot:.3g}"
 
 
-def _speed(row: dict[str, Any]) -> str:
+def tune_speed(row: dict[str, Any]) -> str:
     """A run's measured speed and, if it did not last, how it ended."""
     speed = float(row.get("running_speed", math.nan))
     text = f"{speed:.4g}" if math.isfinite(speed) else "n/a"

@@ -8,12 +8,12 @@ import math
 import os
 import sys
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.table2 import virtual_legs
-from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
+from legdsl.api.sweep import Job, bare_in_si, parse_axis, run_jobs, seconds, units_of
 from legdsl.api.tune import (
     Bound,
     Objective,
@@ -23,11 +23,13 @@ from legdsl.api.tune import (
     report,
     shared_owners,
     tune,
+    tune_speed,
     used_owners,
     write_tuned,
     written_unit,
 )
 from legdsl.api.tune_journal import Journal
+from legdsl.api.workers import Workers
 from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
@@ -133,13 +135,16 @@ def cmd_tune(args: argparse.Namespace) -> int:
         print("legdsl: tune: stopped before the file's own values were measured: nothing "
               f"written to {out}", file=sys.stderr)  # fmt: skip
         raise
+    if result["ended"] == "finished":
+        result["between"] = _between(base, speeds, result["best"]["values"], args)
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
     if result["ended"] == "finished":
         journal.remove()
     print(report(result, units, bounds))
-    runs = len(speeds) + sum(h["runs"] for h in result["history"])
+    _say_between(result.get("between", []))
+    runs = len(speeds) + sum(h["runs"] for h in result["history"]) + len(result.get("between", []))
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"
     kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
@@ -149,6 +154,35 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if result["ended"] == "terminated":
         raise Interrupted(result.get("signal", "SIGTERM"))
     return 0
+
+
+def _between(base: Job, speeds: tuple[float, ...], values: dict[str, float],
+             args: argparse.Namespace) -> list[dict[str, Any]]:  # fmt: skip
+    """The tuned values run halfway between the tuned speeds (not scored): a tune fits the
+    speeds it is given, and a gait may still fall between them (the flat-footed biped tuned
+    at 0, 1, 1.5, 2 and 2.5 m/s fell at 1.75)."""
+    ordered = sorted(set(speeds))
+    halfway = [(a + b) / 2 for a, b in zip(ordered, ordered[1:], strict=False)]
+    jobs = [replace(base, index=i, values={**values, "speed": s},
+                    units={**base.units, "speed": "m/s"}) for i, s in enumerate(halfway)]  # fmt: skip
+    if not jobs:
+        return []
+    print(f"the tuned values halfway between the tuned speeds: {len(jobs)} more runs")
+    with Workers(args.jobs, args.dask) as pool:
+        done = {row["run"]: row for row in run_jobs(jobs, pool)}
+    return [done[i] | {"speed": s} for i, s in enumerate(halfway)]
+
+
+def _say_between(rows: list[dict[str, Any]]) -> None:
+    if not rows:
+        return
+    print("running speed (m/s) between the tuned speeds (not scored)")
+    for row in rows:
+        print(f"  at {row['speed']:<6.4g}    {tune_speed(row)}")
+    fell = [f"{row['speed']:.4g}" for row in rows if row["outcome"] != "ok"]
+    if fell:
+        print(f"legdsl: note: the tuned values did not last at {', '.join(fell)} m/s, between "
+              "the tuned speeds: add speeds there to --speeds and tune again", file=sys.stderr)  # fmt: skip
 
 
 def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
