@@ -118,14 +118,14 @@ def test_a_sweep_on_a_dask_local_cluster_gives_the_same_table(tmp_path: Path) ->
 
 def test_two_sweeps_never_write_one_directory_at_once(tmp_path: Path) -> None:
     """The second is refused while the first holds OUT/.sweep.lock (they would both append)."""
-    from legdsl.api.sweep_cli import _writer_lock
+    from legdsl.api.sweep_cli import writer_lock
     from legdsl.lang.errors import UsageError
 
-    held = _writer_lock(tmp_path)
+    held = writer_lock(tmp_path, "sweep")
     with pytest.raises(UsageError, match="another legdsl sweep is writing"):
-        _writer_lock(tmp_path)
+        writer_lock(tmp_path, "sweep")
     held.close()
-    _writer_lock(tmp_path).close()  # free again once the first is done
+    writer_lock(tmp_path, "sweep").close()  # free again once the first is done
 
 
 def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -> None:

@@ -483,3 +483,18 @@ def test_a_fall_between_the_tuned_speeds_is_said(capsys: pytest.CaptureFixture[s
     told = capsys.readouterr()
     assert "at 1.75      n/a (fell at 0.714 s)" in told.out
     assert "did not last at 1.75 m/s, between the tuned speeds" in told.err
+
+
+def test_a_second_tune_into_the_same_out_is_refused_while_the_first_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Two tunes given one --out both read and wrote its journal; the second is now told."""
+    import fcntl
+
+    out = tmp_path / "t"
+    out.mkdir()
+    with (out / ".tune.lock").open("w") as held:  # as the first tune holds it
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        assert tune(out, tmp_path / "generated") == 2
+    assert "another legdsl tune is writing" in capsys.readouterr().err
+    assert not (out / "tune.json").exists()

@@ -134,7 +134,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     load(args.file, args.creature, args.generated).session.control(args.controller)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    lock = _writer_lock(out)  # held until the sweep is done (two would append the same rows)
+    lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
     plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
             "from": args.t_from, "set": args.set, "runs": combos,
             # what the file says, so that rows of an edited file are not mixed with the new
@@ -210,15 +210,15 @@ def _plan_in(plan_file: Path) -> object:
         return None
 
 
-def _writer_lock(out: Path) -> IO[str]:
-    """An exclusive lock on ``OUT/.sweep.lock``, or a ``UsageError`` if another sweep holds it
-    (released by the system when the process ends, killed or not)."""
-    handle = (out / ".sweep.lock").open("w")
+def writer_lock(out: Path, command: str) -> IO[str]:
+    """An exclusive lock on ``OUT/.COMMAND.lock`` (``sweep``, ``tune``), or a ``UsageError``
+    if another of that command holds it (released by the system when the process ends,
+    killed or not)."""
+    handle = (out / f".{command}.lock").open("w")
     try:
         fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         handle.close()
-        raise UsageError(
-            f"another legdsl sweep is writing {out}; wait for it to finish, or choose another --out"
-        ) from None
+        raise UsageError(f"another legdsl {command} is writing {out}; wait for it to finish, "
+                         "or choose another --out") from None  # fmt: skip
     return handle

@@ -14,6 +14,7 @@ from typing import Any
 
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, bare_in_si, parse_axis, run_jobs, seconds, units_of
+from legdsl.api.sweep_cli import writer_lock
 from legdsl.api.tune import (
     Bound,
     Objective,
@@ -105,6 +106,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
                          "tune.json and tune.png")  # fmt: skip
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
+    lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
     units = units_of({b.name: params[b.name].dim for b in bounds})
     pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
     base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
@@ -130,6 +132,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
             dask=args.dask, journal=journal,
         )  # fmt: skip
     except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+        lock.close()
+        (out / ".tune.lock").unlink(missing_ok=True)
         if made and not any(out.iterdir()):
             out.rmdir()
         print("legdsl: tune: stopped before the file's own values were measured: nothing "
