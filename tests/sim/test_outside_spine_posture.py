@@ -1,0 +1,52 @@
+"""The flexing-spine quadruped whose stance hips servo the whole trunk's pitch
+(tests/good/outside/spine_quadruped_posture.leg; docs/quadruped.md, "A quadruped with a
+flexing spine"): spine_quadruped.leg's bound, which servoes the front half's pitch rate,
+falls at 3 m/s (8.4 s); with the library's servo_pitch_rate_trunk (the two halves'
+mass-weighted mean pitch rate) and its gains tuned, it bounds at 3 m/s."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.c_backend import available
+from legdsl.sim.run_loop import RunOptions
+
+OUTSIDE = ROOT / "tests" / "good" / "outside"
+
+pytestmark = pytest.mark.skipif(
+    available() is not None,
+    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
+)
+
+
+def _session(tmp_path_factory: pytest.TempPathFactory, name: str) -> RunSession:
+    generated = tmp_path_factory.mktemp(f"{name}_generated")
+    return RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
+
+
+def test_the_bound_on_the_trunks_mean_pitch_holds_3_m_s(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> None:
+    session = _session(tmp_path_factory, "spine_quadruped_posture")
+    opts = RunOptions(duration=6.0)
+    run = session.run("bound", ["speed=3m/s"], options=opts, backend="c").result
+    assert run.status == "ok", run.message
+    tr = run.trajectory
+    start = int(np.searchsorted(tr.t, 2.0))
+    vx = (tr.com[-1, 0] - tr.com[start, 0]) / (tr.t[-1] - tr.t[start])
+    assert abs(vx - 3.0) < 0.1 * 3.0, vx
+
+
+def test_the_bound_on_the_front_halfs_pitch_falls_at_3_m_s(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> None:
+    """What the trunk's servo mends: the shipped bound, servoing the root's (the front
+    half's) pitch rate through the spine, falls nose down before 10 s."""
+    session = _session(tmp_path_factory, "spine_quadruped")
+    opts = RunOptions(duration=10.0)
+    run = session.run("bound", ["speed=3m/s"], options=opts, backend="c").result
+    assert run.status != "ok"
+    assert run.trajectory.root_rpy[-1, 1] > np.radians(45)
