@@ -254,6 +254,10 @@ def _row(job: Job, run: Any) -> dict[str, Any]:
             s.label: s.value for s in metrics.summaries
         }
         row["strides"] = metrics.n_strides
+        # the stride-to-stride spread of the speed (not in the table): a mean on the command
+        # may hide a gait swinging 0.5 m/s about it over seconds
+        spread = [s.std for s in metrics.summaries if s.key == "running_speed"]
+        row["running_speed_std"] = spread[0] if spread else math.nan
     except UsageError:
         row["strides"] = 0
     for name in METRICS:

@@ -12,6 +12,9 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
   the hips as ``legdsl metrics --table2`` finds them, and the share of the pairs' stances
   whose members land more than 10 ms apart is added too (a trot that holds its speed with
   the diagonal feet landing apart is no trot),
+* plus ``--spread-weight`` times the stride-to-stride standard deviation of the running speed,
+  relative to the command as the error is (a mean on the command can hide a gait swinging
+  about it by a sixth over seconds),
 * plus ``--energy-weight`` times the run's cost of transport: its positive actuator work per
   metre divided by its weight ``m g`` (``legdsl.analysis.energy``), the energy per metre
   made dimensionless like the other terms,
@@ -74,6 +77,7 @@ class Objective:
     table2: str | None = None
     table2_weight: float = 1.0
     energy_weight: float = 0.0  # on the cost of transport (-)
+    spread_weight: float = 0.0  # on the speed's stride-to-stride spread, relative to the command
 
 
 def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
@@ -90,6 +94,9 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
         measured = float(row["running_speed"])
         # relative to the command's size: a backward command (< 0) is no negative error
         term = abs(measured - speed) / (abs(speed) or in_place) if math.isfinite(measured) else 2.0
+        spread = float(row.get("running_speed_std", math.nan))
+        if objective.spread_weight and math.isfinite(spread):  # a mean on the command may swing
+            term += objective.spread_weight * spread / (abs(speed) or in_place)
         if objective.table2 is not None:
             apart = pairs_apart(row["by_label"])
             term += objective.table2_weight * (
@@ -501,7 +508,10 @@ def _energy(row: dict[str, Any]) -> str:
 def tune_speed(row: dict[str, Any]) -> str:
     """A run's measured speed and, if it did not last, how it ended."""
     speed = float(row.get("running_speed", math.nan))
+    spread = float(row.get("running_speed_std", math.nan))
     text = f"{speed:.4g}" if math.isfinite(speed) else "n/a"
+    if math.isfinite(speed) and math.isfinite(spread):  # a mean on the command may swing about it
+        text += f" ± {spread:.2g}"
     return text if row["outcome"] == "ok" else f"{text} ({row['outcome']})"
 
 

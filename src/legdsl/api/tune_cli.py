@@ -72,6 +72,9 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument("--energy-weight", type=float, default=0.0,
                    help="add this times the cost of transport, positive actuator work / (m g d) "
                    "(dimensionless; 0)")  # fmt: skip
+    p.add_argument("--spread-weight", type=float, default=0.0,
+                   help="add this times the running speed's stride-to-stride standard deviation "
+                   "over the command (0)")  # fmt: skip
     p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
     p.add_argument("--from", dest="t_from", default=3.0, help="measure from (s, 3; or with a unit)")
     p.add_argument("--generations", type=int, default=10, help="CMA-ES generations (10)")
@@ -117,7 +120,13 @@ def cmd_tune(args: argparse.Namespace) -> int:
 
     load(source, args.creature, args.generated).session.control(args.controller)  # compile once
     objective = Objective(
-        speeds, args.time, args.t_from, args.table2, args.table2_weight, args.energy_weight
+        speeds,
+        args.time,
+        args.t_from,
+        args.table2,
+        args.table2_weight,
+        args.energy_weight,
+        args.spread_weight,
     )
     plan = {"creature": creature_fingerprint(model),
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
@@ -259,7 +268,8 @@ def _check_search(args: argparse.Namespace) -> None:
     if args.table2 is not None and args.table2 not in TABLE2:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
     for flag, weight in (("--energy-weight", args.energy_weight),
-                         ("--table2-weight", args.table2_weight)):  # fmt: skip
+                         ("--table2-weight", args.table2_weight),
+                         ("--spread-weight", args.spread_weight)):  # fmt: skip
         if not (math.isfinite(weight) and weight >= 0):
             raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
     args.time = seconds("--time", args.time)
