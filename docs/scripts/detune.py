@@ -13,7 +13,7 @@ import argparse
 from fractions import Fraction
 from pathlib import Path
 
-from legdsl.api.tune import write_tuned
+from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 
 

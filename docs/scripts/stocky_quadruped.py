@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from legdsl.api.tune import write_tuned
+from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 
 SOURCE = Path(__file__).resolve().parents[2] / "creatures" / "quadruped.leg"

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.api.tune import Bound, Objective, pairs_apart, report, score, write_tuned
+from legdsl.api.tune import Bound, Objective, pairs_apart, report, score
+from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 from legdsl.cli import main
 
@@ -88,7 +89,6 @@ def test_the_tuned_file_keeps_units_and_comments(tmp_path: Path) -> None:
 def test_a_parameter_of_a_shared_part_is_written_where_it_is_declared(tmp_path: Path) -> None:
     """The kangaroo's hop takes its gains from the shared part kangaroo_hop: the tuned file
     changes them there, and a value is never silently left as it was."""
-    from legdsl.api.tune import write_tuned
     from legdsl.check.source import check_model
 
     source = ROOT / "creatures" / "kangaroo.leg"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from legdsl.api.tune import write_tuned
+from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -46,7 +46,7 @@ def test_a_value_kept_is_written_as_short_as_before(tmp_path: Path) -> None:
 def test_a_parameter_of_a_used_file_is_named_with_that_file_plainly() -> None:
     """The refusal (now the note that it is overridden) named
     'tests/good/outside/../../../creatures/biped.leg'."""
-    from legdsl.api.tune import declared_in, used_owners
+    from legdsl.api.tuned_file import declared_in, used_owners
 
     spans = declared_in(KNEE, check_model(KNEE).controller("run"), ["k_trim"])
     assert used_owners(KNEE, spans) == {"k_trim": str(ROOT / "creatures" / "biped.leg")}

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.api.tune import write_tuned
+from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -15,21 +15,9 @@ from typing import Any
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, bare_in_si, parse_axis, run_jobs, seconds, units_of
 from legdsl.api.sweep_cli import writer_lock
-from legdsl.api.tune import (
-    Bound,
-    Objective,
-    declared_in,
-    dump,
-    plot_history,
-    report,
-    shared_owners,
-    tune,
-    tune_speed,
-    used_owners,
-    write_tuned,
-    written_unit,
-)
+from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, tune_speed
 from legdsl.api.tune_journal import Journal
+from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write_tuned, written_unit
 from legdsl.api.workers import Workers
 from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
