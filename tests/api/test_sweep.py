@@ -410,3 +410,25 @@ def test_a_range_is_read_as_set_reads_a_value() -> None:
     assert parse_axis("grid", "k_center=1 Hz, 2 Hz", dims).values == (1.0, 2.0)
     with pytest.raises(UsageError, match=r"k_center is .*, but '1 m' is a length"):
         parse_axis("param", "k_center=1 m:2 m", dims)
+
+
+def test_the_table_has_the_speeds_spread_and_an_older_table_resumes(tmp_path: Path) -> None:
+    """sweep.csv had the mean running speed only (tune's mean ± spread had no column); a
+    table written before the column existed is resumed, its rows kept with the column empty."""
+    from legdsl.api.sweep import METRICS, Job, run_sweep
+
+    jobs = [Job(index=i, source=str(HOPPER), creature=None, controller="hop",
+                values={"speed": s}, units={"speed": "m/s"}, fixed=(), duration=5.0,
+                start=1.0, generated=str(tmp_path / "generated"), keep=None)
+            for i, s in enumerate((0.5, 1.0))]  # fmt: skip
+    table = tmp_path / "sweep.csv"
+    old_columns = ["run", "speed", "outcome", "simulated", "strides",
+                   *(m for m in METRICS if m != "running_speed_std")]  # fmt: skip
+    table.write_text(",".join(old_columns) + "\n0,0.5,ok,2.0,3," + ",".join(["1"] * 11) + "\n")
+    rows = run_sweep(jobs, table, workers=1)
+    assert table.read_text().splitlines()[0].split(",")[5:7] == [
+        "running_speed",
+        "running_speed_std",
+    ]
+    assert rows[0]["running_speed_std"] == ""  # the older row: not measured then
+    assert isinstance(rows[1]["running_speed_std"], float) and rows[1]["running_speed_std"] >= 0

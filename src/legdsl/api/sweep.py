@@ -44,12 +44,12 @@ from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
-    "running_speed", "speed_error", "stride_duration", "stride_length", "flight_duration",
+    "running_speed", "running_speed_std", "speed_error", "stride_duration", "stride_length", "flight_duration",
     "stance_duration", "pitch_magnitude", "peak_vertical_acceleration", "positive_work",
     "energy_per_metre", "cost_of_transport",
 )  # fmt: skip
 METRIC_UNITS = {
-    "running_speed": "m/s", "speed_error": "m/s", "stride_duration": "s", "stride_length": "m",
+    "running_speed": "m/s", "running_speed_std": "m/s", "speed_error": "m/s", "stride_duration": "s", "stride_length": "m",
     "flight_duration": "s", "stance_duration": "s", "pitch_magnitude": "deg",
     "peak_vertical_acceleration": "g", "positive_work": "J", "energy_per_metre": "J/m",
     "cost_of_transport": "-",
@@ -249,15 +249,15 @@ def _row(job: Job, run: Any) -> dict[str, Any]:
         pairs = {"leg": first, "groups": list(job.groups)} if first else {}
         metrics = run.metrics(start=min(job.start, end), **pairs)
         values = {s.key: s.value for s in metrics.summaries}
+        # the stride-to-stride spread of the speed: a mean on the command may hide a gait
+        # swinging 0.5 m/s about it over seconds
+        spread = [s.std for s in metrics.summaries if s.key == "running_speed"]
+        values["running_speed_std"] = spread[0] if spread else math.nan
         # by label, and by key for the Table 2 rows measured under another name
         row["by_label"] = {s.key: s.value for s in metrics.summaries} | {
             s.label: s.value for s in metrics.summaries
         }
         row["strides"] = metrics.n_strides
-        # the stride-to-stride spread of the speed (not in the table): a mean on the command
-        # may hide a gait swinging 0.5 m/s about it over seconds
-        spread = [s.std for s in metrics.summaries if s.key == "running_speed"]
-        row["running_speed_std"] = spread[0] if spread else math.nan
     except UsageError:
         row["strides"] = 0
     for name in METRICS:
