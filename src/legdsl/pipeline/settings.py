@@ -47,8 +47,8 @@ class Given:
 
 
 def _spaced_unit(value: str) -> str | None:
-    """``150 N m/rad`` (a unit with spaces, as a file's ``150 N*m/rad`` is not written) as
-    it is written, ``150N*m/rad``; None for a text that is not that."""
+    """A value whose unit has spaces in it, ``150 N m/rad``, written joined as a unit is
+    (``150N*m/rad``); None for a text that is not that."""
     parts = value.split()
     if len(parts) < 3 or not _NUMBER.fullmatch(parts[0]):
         return None
