@@ -91,3 +91,16 @@ def test_a_unit_with_spaces_in_a_set_value_is_told_how_to_join_it(
     argv = ["run", HOPPER, "--controller", "hop", "--set", value, "--out", str(tmp_path / "r")]
     assert main(argv) == 2
     assert told in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv", [["run", HOPPER, "--scale", "2m"], ["scale", HOPPER, "--by", "2m",
+                                  "-o", "unused.leg"]])  # fmt: skip
+def test_a_length_given_for_the_scale_factor_is_told_what_l_is(
+    argv: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    # it was argparse's "invalid float value: '2m'"
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "the scale factor L is a plain number" in err and "not '2m': write 2" in err

@@ -260,7 +260,7 @@ def add_run_parser(sub: Any) -> Command:
     r.set_defaults(dt=None, control_dt=None, record_rate=None)
     r.add_argument(
         "--scale",
-        type=float,
+        type=_scale_factor,
         metavar="L",
         help="run as the creature scaled by L (Table 1 of Raibert & Hodgins 1991): the unscaled "
         "model with every input (--time, --dt, --control-dt, --record-rate, --set, --path, --drop) "
@@ -278,3 +278,9 @@ def add_run_parser(sub: Any) -> Command:
         help="also write the HTML player, DIR/animation.html (see legdsl animate)",
     )
     return cmd_run
+
+
+def _scale_factor(text: str) -> float:  # imported when given: the parser is built at every start
+    from legdsl.pipeline.scaled import scale_factor
+
+    return scale_factor(text)

@@ -17,6 +17,7 @@ from legdsl.lang.parser import parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
 from legdsl.pipeline.options import check_output_file
 from legdsl.pipeline.outputs import is_stream, named_as
+from legdsl.pipeline.scaled import scale_factor
 
 
 def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
@@ -30,7 +31,9 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
         epilog="Example: legdsl scale creatures/kangaroo.leg --by 2 -o kangaroo_x2.leg",
     )
     sc.add_argument("file", metavar="FILE", help="a .leg file")
-    sc.add_argument("--by", type=float, required=True, metavar="L", help="the length factor L")
+    sc.add_argument(
+        "--by", type=scale_factor, required=True, metavar="L", help="the length factor L"
+    )
     sc.add_argument("-o", "--output", required=True, metavar="OUT", help="the .leg file to write")
     return cmd_scale
 
