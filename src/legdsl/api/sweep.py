@@ -44,15 +44,15 @@ from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
-    "running_speed", "running_speed_std", "speed_error", "stride_duration", "stride_length", "flight_duration",
-    "stance_duration", "pitch_magnitude", "peak_vertical_acceleration", "positive_work",
-    "energy_per_metre", "cost_of_transport",
+    "running_speed", "running_speed_std", "speed_error", "stride_duration", "stride_length",
+    "flight_duration", "stance_duration", "pitch_magnitude", "peak_vertical_acceleration",
+    "positive_work", "energy_per_metre", "cost_of_transport",
 )  # fmt: skip
 METRIC_UNITS = {
-    "running_speed": "m/s", "running_speed_std": "m/s", "speed_error": "m/s", "stride_duration": "s", "stride_length": "m",
-    "flight_duration": "s", "stance_duration": "s", "pitch_magnitude": "deg",
-    "peak_vertical_acceleration": "g", "positive_work": "J", "energy_per_metre": "J/m",
-    "cost_of_transport": "-",
+    "running_speed": "m/s", "running_speed_std": "m/s", "speed_error": "m/s",
+    "stride_duration": "s", "stride_length": "m", "flight_duration": "s", "stance_duration": "s",
+    "pitch_magnitude": "deg", "peak_vertical_acceleration": "g", "positive_work": "J",
+    "energy_per_metre": "J/m", "cost_of_transport": "-",
 }  # fmt: skip
 
 

@@ -142,14 +142,17 @@ def tune(
             for b, u in zip(bounds, x, strict=True)
         }
 
-    def evaluate(pool: Workers, candidates: list[dict[str, float]]) -> list[Any]:
+    def runs(
+        pool: Workers, candidates: list[dict[str, float]], speeds: Sequence[float]
+    ) -> list[Any]:
+        """Each candidate's rows, one per speed, in order."""
         jobs = [
             replace(base, index=i, values={**c, "speed": s}, units={**base.units, "speed": "m/s"})
-            for i, (c, s) in enumerate((c, s) for c in candidates for s in objective.speeds)
+            for i, (c, s) in enumerate((c, s) for c in candidates for s in speeds)
         ]
         done = {row["run"]: row for row in run_jobs(jobs, pool)}
         rows = [done[i] for i in range(len(jobs))]
-        n = len(objective.speeds)
+        n = len(speeds)
         return [rows[k * n : (k + 1) * n] for k in range(len(candidates))]
 
     def search() -> Any:
@@ -188,13 +191,14 @@ def tune(
     start = {b.name: b.start for b in bounds}
     begun: tuple[float, list[Any]] | None = None  # the file's own values: objective, runs
     ended, signal_name = "finished", None
+    between: list[dict[str, Any]] | None = None  # the runs between the tuned speeds
     tune_began = time.perf_counter()  # the elapsed time told counts the start's runs too
     try:
         with Workers(workers, dask) as pool:
             if journal is not None and journal.start is not None:
                 start_rows = journal.start
             else:
-                (start_rows,) = evaluate(pool, [start])
+                (start_rows,) = runs(pool, [start], objective.speeds)
             begun = (score(start_rows, objective), start_rows)
             say(f"start: objective {begun[0]:.4g}")
             if history:
@@ -206,7 +210,7 @@ def tune(
             began, replayed = time.perf_counter(), len(history)
             while not es.stop():
                 xs = es.ask()
-                results = evaluate(pool, [values_of(x) for x in xs])
+                results = runs(pool, [values_of(x) for x in xs], objective.speeds)
                 scores = [score(r, objective) for r in results]
                 es.tell(xs, scores)
                 xs = [list(map(float, x)) for x in xs]
@@ -223,21 +227,45 @@ def tune(
             if len(history) < generations:  # else the report's few generations are unexplained
                 say(f"CMA-ES stopped after generation {len(history)} of {generations}: "
                     f"{why_stopped(es.stop())}")  # fmt: skip
+            # a tune fits the speeds it is given, and a gait may still fall between them (the
+            # flat-footed biped tuned at 0, 1, 1.5, 2 and 2.5 m/s fell at 1.75): the values
+            # kept run once more halfway between each two (not scored)
+            if halfway := halfway_speeds(objective.speeds):
+                say(f"the tuned values halfway between the tuned speeds: {len(halfway)} more runs")
+                between = []  # from here an interruption is in no generation
+                (rows,) = runs(pool, [kept(begun, best, start)[1]], halfway)
+                between = [row | {"speed": v} for row, v in zip(rows, halfway, strict=True)]
     except (KeyboardInterrupt, Interrupted) as stop:  # the workers are stopped by now
         if begun is None:  # not even the file's own values measured: nothing to keep
             raise
         ended, signal_name = STOPPED_BY[type(stop)], getattr(stop, "signal", None)
-        say(f"{ended} in generation {len(history) + 1} of {generations}: the best so far is kept")
-    start_score, start_rows = begun
-    if best is None or start_score <= best[0]:  # nothing found beats the file's own values
-        best = (start_score, start, start_rows)
+        where = f"generation {len(history) + 1} of {generations}" if between is None else (
+            "the runs between the tuned speeds")  # fmt: skip
+        say(f"{ended} in {where}: the best so far is kept")
+        between = None
+    best = kept(begun, best, start)
     return {
-        "start": {"values": start, "objective": start_score, "runs": start_rows},
+        "start": {"values": start, "objective": begun[0], "runs": begun[1]},
         "best": {"values": best[1], "objective": best[0], "runs": best[2]},
         "history": history,
         "ended": ended,
+        **({"between": between} if between is not None else {}),
         **({"signal": signal_name} if signal_name else {}),  # the one that terminated it
     }
+
+
+def kept(begun: tuple[float, list[Any]], best: tuple[float, dict[str, float], list[Any]] | None,
+         start: dict[str, float]) -> tuple[float, dict[str, float], list[Any]]:  # fmt: skip
+    """The tune's result: its best candidate, unless none beats the file's own values."""
+    if best is None or begun[0] <= best[0]:
+        return (begun[0], start, begun[1])
+    return best
+
+
+def halfway_speeds(speeds: Sequence[float]) -> list[float]:
+    """The speeds halfway between each two tuned ones, in order."""
+    ordered = sorted(set(speeds))
+    return [(a + b) / 2 for a, b in zip(ordered, ordered[1:], strict=False)]
 
 
 FLAT = ("tolfun", "tolflatfitness", "tolfunhist", "tolstagnation")

@@ -8,17 +8,16 @@ import math
 import os
 import sys
 from collections.abc import Callable
-from dataclasses import asdict, replace
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.table2 import virtual_legs
-from legdsl.api.sweep import Job, bare_in_si, parse_axis, run_jobs, seconds, units_of
+from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.sweep_cli import writer_lock
 from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, tune_speed
 from legdsl.api.tune_journal import Journal
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write_tuned, written_unit
-from legdsl.api.workers import Workers
 from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
@@ -130,14 +129,12 @@ def cmd_tune(args: argparse.Namespace) -> int:
         )  # fmt: skip
     except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
         lock.close()
-        (out / ".tune.lock").unlink(missing_ok=True)
+        Path(lock.name).unlink(missing_ok=True)
         if made and not any(out.iterdir()):
             out.rmdir()
         print("legdsl: tune: stopped before the file's own values were measured: nothing "
               f"written to {out}", file=sys.stderr)  # fmt: skip
         raise
-    if result["ended"] == "finished":
-        result["between"] = _between(base, speeds, result["best"]["values"], args)
     tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
     dump(result, out / "tune.json")
     plot_history(result["history"], out / "tune.png", result["start"]["objective"])
@@ -155,23 +152,6 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if result["ended"] == "terminated":
         raise Interrupted(result.get("signal", "SIGTERM"))
     return 0
-
-
-def _between(base: Job, speeds: tuple[float, ...], values: dict[str, float],
-             args: argparse.Namespace) -> list[dict[str, Any]]:  # fmt: skip
-    """The tuned values run halfway between the tuned speeds (not scored): a tune fits the
-    speeds it is given, and a gait may still fall between them (the flat-footed biped tuned
-    at 0, 1, 1.5, 2 and 2.5 m/s fell at 1.75)."""
-    ordered = sorted(set(speeds))
-    halfway = [(a + b) / 2 for a, b in zip(ordered, ordered[1:], strict=False)]
-    jobs = [replace(base, index=i, values={**values, "speed": s},
-                    units={**base.units, "speed": "m/s"}) for i, s in enumerate(halfway)]  # fmt: skip
-    if not jobs:
-        return []
-    print(f"the tuned values halfway between the tuned speeds: {len(jobs)} more runs")
-    with Workers(args.jobs, args.dask) as pool:
-        done = {row["run"]: row for row in run_jobs(jobs, pool)}
-    return [done[i] | {"speed": s} for i, s in enumerate(halfway)]
 
 
 def _say_between(rows: list[dict[str, Any]]) -> None:

@@ -166,9 +166,9 @@ _UNIT_NAMES: dict[str, str | None] = {
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 _UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
 _UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
-_PREFIXES = "kcdmuµμnMG"  # SI prefixes (micro as 'u', 'µ' or Greek 'μ') that run into a symbol as a product would ('mN', 'kJ')
-
-
+# SI prefixes (micro as 'u', 'µ' or Greek 'μ') that run into a symbol as a product would
+# ('mN', 'kJ')
+_PREFIXES = "kcdmuµμnMG"
 _SUPERSCRIPTS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 
 
