@@ -15,6 +15,10 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
 * plus ``--spread-weight`` times the stride-to-stride standard deviation of the running speed,
   relative to the command as the error is (a mean on the command can hide a gait swinging
   about it by a sixth over seconds),
+* plus ``--pitch-weight`` times the trunk's pitch magnitude in radians: the mean over the
+  strides (from ``--from``) of each stride's peak-to-peak pitch, ``pitch_magnitude`` of
+  ``legdsl metrics`` (a tune for speed alone left the fast knee biped pitching 12 to 14
+  degrees each stride),
 * plus ``--energy-weight`` times the run's cost of transport: its positive actuator work per
   metre divided by its weight ``m g`` (``legdsl.analysis.energy``), the energy per metre
   made dimensionless like the other terms,
@@ -70,6 +74,7 @@ class Objective:
     table2_weight: float = 1.0
     energy_weight: float = 0.0  # on the cost of transport (-)
     spread_weight: float = 0.0  # on the speed's stride-to-stride spread, relative to the command
+    pitch_weight: float = 0.0  # on the trunk's stride pitch magnitude (rad)
 
 
 def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
@@ -89,6 +94,9 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
         spread = float(row.get("running_speed_std", math.nan))
         if objective.spread_weight and math.isfinite(spread):  # a mean on the command may swing
             term += objective.spread_weight * spread / (abs(speed) or in_place)
+        pitch = float(row.get("pitch_magnitude", math.nan))  # degrees, as legdsl metrics says
+        if objective.pitch_weight and math.isfinite(pitch):  # held speed, trunk rocking
+            term += objective.pitch_weight * math.radians(pitch)
         if objective.table2 is not None:
             apart = pairs_apart(row["by_label"])
             term += objective.table2_weight * (
@@ -324,6 +332,11 @@ def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound
     lines.append("energy per metre (J/m), cost of transport (-)   start          tuned")
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
         lines.append(f"  at {before['speed']:<6.4g}    {_energy(before):<20} {_energy(after)}")
+    lines.append("pitch magnitude (deg)   start                tuned")
+    for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
+        lines.append(
+            f"  at {before['speed']:<6.4g}    {tune_pitch(before):<20} {tune_pitch(after)}"
+        )
     return "\n".join(lines)
 
 
@@ -351,6 +364,12 @@ def tune_speed(row: dict[str, Any]) -> str:
     if math.isfinite(speed) and math.isfinite(spread):  # a mean on the command may swing about it
         text += f" ± {spread:.2g}"
     return text if row["outcome"] == "ok" else f"{text} ({row['outcome']})"
+
+
+def tune_pitch(row: dict[str, Any]) -> str:
+    """A run's trunk pitch magnitude: the mean of its strides' peak-to-peak pitch (degrees)."""
+    pitch = float(row.get("pitch_magnitude", math.nan))
+    return f"{pitch:.3g}" if math.isfinite(pitch) else "n/a"
 
 
 def dump(result: dict[str, Any], path: Path) -> None:

@@ -15,7 +15,16 @@ from typing import Any
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.sweep_cli import writer_lock
-from legdsl.api.tune import Bound, Objective, dump, plot_history, report, tune, tune_speed
+from legdsl.api.tune import (
+    Bound,
+    Objective,
+    dump,
+    plot_history,
+    report,
+    tune,
+    tune_pitch,
+    tune_speed,
+)
 from legdsl.api.tune_journal import Journal
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write_tuned, written_unit
 from legdsl.check.source import check_model
@@ -37,7 +46,8 @@ def add_tune_parser(sub: Any) -> Command:
         description=(
             "Search the named parameters within their bounds by CMA-ES so that the controller "
             "holds each of --speeds (and, with --table2, comes close to the paper's rows; with "
-            "--energy-weight, spends less positive actuator work per metre); "
+            "--energy-weight, spends less positive actuator work per metre; with --pitch-weight, "
+            "rocks its trunk less from stride to stride); "
             "falls are penalised by how early they happen. Writes OUT/NAME.leg with the "
             "tuned values, OUT/tune.json and OUT/tune.png (after Ctrl-C or SIGTERM too, with the "
             "best so far; the same command run again then goes on from there)."
@@ -62,6 +72,9 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument("--spread-weight", type=float, default=0.0,
                    help="add this times the running speed's stride-to-stride standard deviation "
                    "over the command (0)")  # fmt: skip
+    p.add_argument("--pitch-weight", type=float, default=0.0,
+                   help="add this times the trunk's pitch magnitude in radians: the mean over "
+                   "the strides of each stride's peak-to-peak pitch (0)")  # fmt: skip
     p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
     p.add_argument("--from", dest="t_from", default=3.0, help="measure from (s, 3; or with a unit)")
     p.add_argument("--generations", type=int, default=10, help="CMA-ES generations (10)")
@@ -114,6 +127,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
         args.table2_weight,
         args.energy_weight,
         args.spread_weight,
+        args.pitch_weight,
     )
     plan = {"creature": creature_fingerprint(model),
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
@@ -159,7 +173,7 @@ def _say_between(rows: list[dict[str, Any]]) -> None:
         return
     print("running speed (m/s) between the tuned speeds (not scored)")
     for row in rows:
-        print(f"  at {row['speed']:<6.4g}    {tune_speed(row)}")
+        print(f"  at {row['speed']:<6.4g}    {tune_speed(row):<20} pitch {tune_pitch(row)} deg")
     fell = [f"{row['speed']:.4g}" for row in rows if row["outcome"] != "ok"]
     if fell:
         print(f"legdsl: note: the tuned values did not last at {', '.join(fell)} m/s, between "
@@ -237,7 +251,8 @@ def _check_search(args: argparse.Namespace) -> None:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
     for flag, weight in (("--energy-weight", args.energy_weight),
                          ("--table2-weight", args.table2_weight),
-                         ("--spread-weight", args.spread_weight)):  # fmt: skip
+                         ("--spread-weight", args.spread_weight),
+                         ("--pitch-weight", args.pitch_weight)):  # fmt: skip
         if not (math.isfinite(weight) and weight >= 0):
             raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
     args.time = seconds("--time", args.time)
