@@ -20,7 +20,7 @@ from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.ir.model import Model, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.lang.units import KINDS, UNITS, Dim, describe
 
 KIND_WORDS = {
     "coord": "joint coordinate", "path": "path", "com": "centre of mass",
@@ -215,6 +215,11 @@ class NameResolver:
                 f"{', '.join(contacts) or 'none'}){did_you_mean(name, contacts)}"
             )
         names = [*self.scope.names, *self.scope.signals, *local]
+        if name in UNITS and name not in names:  # '1 rad / m', '2*cm': a unit read as a name
+            return (
+                f"'{name}' is a unit, not a name: a unit follows its number with no operator "
+                f"or space inside it, as in '1 rad/{name}' or '2 {name}'"
+            )
         advice = did_you_mean(name, names) or (
             ": not a part of the creature, nor an input, parameter, signal, role, path "
             f"or record of the controller; declare it, as in 'param {name} = ...'"

@@ -18,6 +18,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from legdsl.lang.errors import Diagnostic, LegError, Span
+from legdsl.lang.habits import habit, missing_semicolon, punctuation
 from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import (
@@ -68,6 +69,20 @@ def _describe_expected(expected: set[str]) -> str:
     if len(ordered) > 8:
         ordered = ordered[:8] + ["..."]
     return "expected " + ", ".join(ordered)
+
+
+def _expected_words(err: UnexpectedInput) -> set[str]:
+    """What the parser could have taken where it stopped: keywords and punctuation as
+    written ('=', 'on'), other kinds of token by their names ('NAME')."""
+    words = set()
+    for name in set(getattr(err, "accepts", None) or getattr(err, "expected", None) or ()):
+        try:
+            pattern = lark_parser().get_terminal(name).pattern
+        except KeyError:
+            words.add(name)
+            continue
+        words.add(pattern.value if pattern.type == "str" else name)
+    return words
 
 
 def _found(token: Token) -> str:
@@ -388,6 +403,13 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         else None
     )
     mirror = _planeless_mirror(text, err.token) if isinstance(err, UnexpectedToken) else None
+    token = err.token if isinstance(err, UnexpectedToken) else None
+    expected_words = _expected_words(err)
+    other = habit(text, pos, token, expected_words) if pos is not None else None
+    punct = punctuation(text, pos, token, expected_words) if pos is not None else None
+    semi = missing_semicolon(text, pos, token, expected_words) if pos is not None else None
+    if semi is not None and friendly is not None and "table row reads" not in friendly:
+        semi = None  # the table's own sentence; it said a row's ':' was missing in an action
     if mirror is not None:
         span = offset_span(file, text, mirror[0], len("mirror"))
         message = (f"'mirror' needs its plane on its line: 'mirror sagittal' (y to -y, left to "
@@ -395,6 +417,9 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
                    f"'{mirror[1]}' was read as the plane")  # fmt: skip
     elif slip is not None and unit is None:  # 'µm' is a unit before it is a name's letter
         message = slip
+    elif other is not None and unit is None and spelt is None:
+        span = offset_span(file, text, other[0], other[1])
+        message = other[2]
     elif not_a_number is not None:
         word, start = not_a_number
         span = offset_span(file, text, start, len(word))
@@ -405,7 +430,8 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif unit is not None:
         word, start = unit
         span = offset_span(file, text, start, len(word))
-        message = unknown_unit(word)
+        number = re.search(r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*$", text[:start])
+        message = unknown_unit(word, number.group().strip() if number else None)
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
     elif spelt is not None:
@@ -418,8 +444,14 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
             f"a ',' is missing before '{name}': separate the assignments with commas, "
             f"as in '{previous}, {name} = ...'"
         )
+    elif semi is not None:
+        span = offset_span(file, text, semi[0], semi[1])
+        message = semi[2]
     elif friendly is not None:
         message = friendly
+    elif punct is not None:
+        span = offset_span(file, text, punct[0], punct[1])
+        message = punct[2]
     elif isinstance(err, UnexpectedToken):
         expected = _describe_expected(set(err.accepts or err.expected))
         message = f"unexpected {_found(err.token)}" + (f"; {expected}" if expected else "")

@@ -159,9 +159,25 @@ _UNIT_NAMES: dict[str, str | None] = {
     "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
     "degree": "deg", "radian": "rad", "revolution": "rev",
     "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
-    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": None, "rpm": "rev/min",
+    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": "m/s", "rpm": "rev/min",
     "t": None, "tonne": None, "ton": None, "oz": None, "ounce": None, "pound": None,
     "mi": None, "mile": None, "yd": None, "yard": None, "°": "deg",
+}  # fmt: skip
+# Units from elsewhere that legdsl has no symbol for: (factor to a unit it has, that unit)
+_FOREIGN: dict[str, tuple[float, str]] = {
+    "in": (0.0254, "m"), "inch": (0.0254, "m"), "ft": (0.3048, "m"), "feet": (0.3048, "m"),
+    "foot": (0.3048, "m"), "yd": (0.9144, "m"), "yard": (0.9144, "m"), "mi": (1609.344, "m"),
+    "mile": (1609.344, "m"), "lb": (0.45359237, "kg"), "pound": (0.45359237, "kg"),
+    "oz": (0.028349523125, "kg"), "ounce": (0.028349523125, "kg"), "t": (1000.0, "kg"),
+    "tonne": (1000.0, "kg"), "ton": (1000.0, "kg"), "h": (60.0, "min"), "hr": (60.0, "min"),
+    "hour": (60.0, "min"), "mph": (0.44704, "m/s"), "kph": (1 / 3.6, "m/s"),
+    "kmh": (1 / 3.6, "m/s"),
+}  # fmt: skip
+# SI prefixes legdsl has no symbol with: prefix -> (name, factor)
+_PREFIX_FACTORS: dict[str, tuple[str, float]] = {
+    "k": ("kilo", 1e3), "c": ("centi", 1e-2), "d": ("deci", 1e-1), "m": ("milli", 1e-3),
+    "u": ("micro", 1e-6), "µ": ("micro", 1e-6), "μ": ("micro", 1e-6), "n": ("nano", 1e-9),
+    "M": ("mega", 1e6), "G": ("giga", 1e9),
 }  # fmt: skip
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 _UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
@@ -185,6 +201,7 @@ def looks_like_unit(word: str) -> bool:
     return bool(parts) and all(
         p.lower().removesuffix("s") in _UNIT_NAMES
         or p.lower().removesuffix("s") in _UNIT_BY_LOWER
+        or p.lower() in _UNIT_BY_LOWER
         or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
         or (p[:1] in _PREFIXES and p[1:] in UNITS)
         or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
@@ -192,10 +209,14 @@ def looks_like_unit(word: str) -> bool:
     )
 
 
-def unknown_unit(word: str) -> str:
-    """The message for a word written as a unit that is none."""
+def unknown_unit(word: str, number: str | None = None) -> str:
+    """The message for a word written as a unit that is none; ``number``, the number
+    written before it, if known, for the value to write instead."""
     if word == "%":  # '--set k=30%', as a file's '30%' is told
         return "a percentage is written as a plain number: '0.5', not '50%'"
+    other = _other_system(word, number)
+    if other is not None:
+        return other
     symbols = ", ".join(UNITS)
     message = (
         f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "
@@ -203,6 +224,68 @@ def unknown_unit(word: str) -> str:
     )
     found = suggest_units(word)
     return message + (f"; did you mean {' or '.join(repr(f) for f in found)}?" if found else "")
+
+
+def _decimal(value: float) -> str:
+    """A number as a person writes it: '0.0003', '5e-09', '1500'."""
+    if value != 0 and not 1e-5 <= abs(value) < 1e6:
+        mantissa, exponent = f"{value:.6g}".split("e")
+        return f"{mantissa}e{int(exponent)}"
+    return f"{value:.10f}".rstrip("0").rstrip(".") if value % 1 else f"{value:.0f}"
+
+
+def _family(unit: str) -> tuple[str, str] | None:
+    """The kind of ``unit`` and legdsl's symbols for it: ('lengths', 'm, cm, mm, km')."""
+    dim = parse_unit(unit)[1]
+    names = {(0, 1, 0, 0): "lengths", (1, 0, 0, 0): "masses", (0, 0, 1, 0): "times",
+             (1, 1, -2, 0): "forces", (0, 0, -1, 0): "frequencies"}  # fmt: skip
+    if dim not in names:
+        return None
+    return names[dim], ", ".join(u for u, (_, d) in UNITS.items() if d == dim)
+
+
+def _other_system(word: str, number: str | None) -> str | None:
+    """A unit with a prefix legdsl lacks ('µm', 'dm', 'us', 'mN*m') or from another system
+    of units ('in', 'lb', 'h'): what legdsl writes instead, with the value if known."""
+    parts = re.split(r"([*/])", word)
+    atom = re.fullmatch(r"([^\W\d_]+)(\^-?\d+)?", parts[0])
+    if atom is None or any(p not in UNITS and p not in "*/" for p in parts[1:]):
+        return None
+    symbol, power = atom.group(1), atom.group(2) or ""
+    if symbol.lower() in _UNIT_BY_LOWER:  # 'Ms', 'KG': a unit with the wrong case
+        return None
+    singular = symbol.lower().removesuffix("s") if len(symbol) > 2 else symbol.lower()
+    if symbol in _FOREIGN or singular in _FOREIGN:
+        factor, base = _FOREIGN.get(symbol) or _FOREIGN[singular]
+        said = f"'{word}' is not a unit legdsl knows"
+    elif symbol[:1] in _PREFIX_FACTORS and symbol[1:] in UNITS and symbol not in UNITS:
+        name, factor = _PREFIX_FACTORS[symbol[:1]]
+        base = symbol[1:]
+        said = f"'{word}' is not a unit legdsl knows: it has no prefix '{symbol[:1]}' ({name})"
+    else:
+        return None
+    rest = "".join(parts[1:])
+    try:
+        exponent = int(power[1:]) if power else 1
+        unit = f"{base}{power}{rest}"
+        parse_unit(unit)
+    except (UnitError, ValueError):
+        return None
+    family = _family(base)
+    message = said + (f"; it writes {family[0]} in {family[1]}" if family else "")
+    if number is None:
+        return message + f"; write the value in {base}{power}{rest}"
+    value = float(number) * factor**exponent
+    ways = [f"'{_decimal(value)} {unit}'"]
+    if family and value:  # '0.3 mm' beside '0.0003 m': the one nearest 1
+        scaled = {
+            other: value * (UNITS[base][0] / UNITS[other][0]) ** exponent
+            for other in family[1].split(", ")
+        }
+        best = min(scaled, key=lambda u: abs(math.log10(abs(scaled[u]))))
+        if best != base:
+            ways.append(f"'{_decimal(scaled[best])} {best}{power}{rest}'")
+    return message + ": write " + " or ".join(ways)
 
 
 def suggest_unit(word: str) -> str | None:
@@ -222,8 +305,11 @@ def suggest_units(word: str) -> list[str]:
             out.append([part])
         elif undoubled is not None:  # a key pressed twice: 'kgg' is 'kg', not 'kg*g'
             out.append([undoubled])
-        elif len(part) > 1 and part.lower() in _UNIT_BY_LOWER:  # 'MS', 'HZ': its case
+        elif part.lower() in _UNIT_BY_LOWER:  # 'MS', 'HZ', 'S': its case
             out.append([_UNIT_BY_LOWER[part.lower()]])
+        elif re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d+", part):  # 'm/s2', 'kgm2': a power
+            run, power = re.fullmatch(rf"((?:{_UNIT_SYMBOL})+)(\d+)", part).groups()  # type: ignore[union-attr]
+            out.append(["*".join(split) + f"^{power}" for split in _splits(run)])
         elif singular in _UNIT_NAMES:
             symbol = _UNIT_NAMES[singular]
             if symbol is None:
