@@ -214,6 +214,13 @@ def takes_one_value(prop: ast.Prop) -> str:
     properties (the next one's name reads as a second value)."""
     said = f"'{prop.key.name}' takes one value"
     if isinstance(prop.value, ast.Many):
+        comma = _decimal_comma(*prop.value.values[:2])  # 'mass 5,5 kg', as in some locales
+        if comma is not None:
+            whole, fraction = comma
+            return (
+                f"{said}: '{whole},{fraction}' is two numbers; a decimal number is written "
+                f"with a point, '{whole}.{fraction}'"
+            )
         names = [v.ident.name for v in prop.value.values[1:] if isinstance(v, ast.NameValue)]
         if names:
             return (
@@ -222,6 +229,19 @@ def takes_one_value(prop: ast.Prop) -> str:
                 "'mass 3 kg  inertia 0.1 kg*m^2'"
             )
     return said
+
+
+def _decimal_comma(first: ast.Value, second: ast.Value) -> tuple[str, str] | None:
+    """The two texts of one number written with a decimal comma (a bare whole number, a ','
+    and the next number's digits with no space between them), else None."""
+    if not (isinstance(first, ast.Number) and isinstance(second, ast.Number)):
+        return None
+    touching = first.span.end_line == second.span.line and (
+        second.span.col == first.span.end_col + 1
+    )
+    if touching and first.text.isdigit() and second.text[:1].isdigit():
+        return first.text, second.text
+    return None
 
 
 def written_unit(text: str) -> str:
