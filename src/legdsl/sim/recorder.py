@@ -94,7 +94,7 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
     poses = dyn.body_poses(q)
     pos, rot = poses[0]
     traj.root_pos[row] = pos
-    traj.root_rpy[row] = rpy(rot)
+    traj.root_rpy[row] = rpy(rot, sim.model.planar)
     if sim._hips:
         feet = dyn.contact_positions(q)
         for i, (hip, foot) in enumerate(zip(sim._hips, sim._foot, strict=True)):
@@ -111,8 +111,12 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
     traj.work_negative[row] = sim.actuators.negative_work
 
 
-def rpy(r: tuple[float, ...]) -> tuple[float, float, float]:
-    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll)."""
+def rpy(r: tuple[float, ...], planar: bool = False) -> tuple[float, float, float]:
+    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll); a planar
+    creature's pitch over the whole turn (``legdsl.sim.sensors.euler_rates``)."""
+    if planar and r[8] < 0.0:
+        s = max(-1.0, min(1.0, -r[6]))
+        return 0.0, math.copysign(math.pi, s) - math.asin(s), 0.0
     return (
         math.atan2(r[7], r[8]),
         math.asin(max(-1.0, min(1.0, -r[6]))),

@@ -52,9 +52,16 @@ def _tick(clock: _LegClock, t: float, now: bool) -> None:
 
 
 def euler_rates(
-    rot: tuple[float, ...], omega: Vec
+    rot: tuple[float, ...], omega: Vec, planar: bool = False
 ) -> tuple[float, float, float, float, float, float]:
-    """Roll, pitch, yaw of R = Rz Ry Rx and their rates, from the world angular velocity."""
+    """Roll, pitch, yaw of R = Rz Ry Rx and their rates, from the world angular velocity.
+
+    A planar creature turns about y alone, so its pitch is read over the whole turn, in
+    (-180, 180] degrees: past 90 degrees the 3D reading folds (120 deg read as a roll and yaw
+    of 180 and a pitch of 60, its rate with the wrong sign), and a flip could not be followed."""
+    if planar and rot[8] < 0.0:  # past 90 degrees of pitch (below it, the 3D reading holds)
+        s = max(-1.0, min(1.0, -rot[6]))
+        return 0.0, math.copysign(math.pi, s) - math.asin(s), 0.0, 0.0, omega[1], 0.0
     roll = math.atan2(rot[7], rot[8])
     pitch = math.asin(max(-1.0, min(1.0, -rot[6])))
     yaw = math.atan2(rot[3], rot[0])
@@ -211,7 +218,7 @@ class Sensors:
         lin, ang = self._velocities(sim, cache)[i]
         if member in ("vx", "vy", "vz"):
             return float(lin["xyz".index(member[1])])
-        angles = euler_rates(rot, ang)
+        angles = euler_rates(rot, ang, self.model.planar)
         order = ("roll", "pitch", "yaw", "roll_rate", "pitch_rate", "yaw_rate")
         return angles[order.index(member)]
 

@@ -83,6 +83,7 @@ static inline __attribute__((always_inline)) double leg_cos_t(double x, leg_trig
                                                               int *err) {
     return leg_math1(isnan(x) ? cos(x) : leg_trig_find(table, x)->c, x, err);
 }
+#define LEG_PI 3.141592653589793 /* Python's math.pi (M_PI is not ISO C) */
 static inline double leg_tan_e(double x, int *err) { return leg_math1(tan(x), x, err); }
 static inline double leg_asin_e(double x, int *err) { return leg_math1(asin(x), x, err); }
 static inline double leg_acos_e(double x, int *err) { return leg_math1(acos(x), x, err); }

@@ -139,6 +139,13 @@ double leg_sense_body(leg_sim *s, int b, int member, int *err) {
     if (member < 3) return pose_b[member];
     const double *vel = velocity(kc, s, b, member >= 6, err);
     if (member < 6) return vel[member - 3];
+    if (kc->angles_of != b && LEG_PLANAR && pose_b[3 + 8] < 0.0) { /* a planar pitch past 90 deg */
+        double sp = leg_max(-1.0, leg_min(1.0, -pose_b[3 + 6]));
+        kc->angles[0] = kc->angles[2] = kc->angles[3] = kc->angles[5] = 0.0;
+        kc->angles[1] = copysign(LEG_PI, sp) - leg_asin(sp);
+        kc->angles[4] = vel[3 + 1];
+        kc->angles_of = b;
+    }
     if (kc->angles_of != b) { /* euler_rates, once a tick for all six of a body's readings */
         const double *rot = pose_b + 3, *omega = vel + 3;
         double roll = atan2(rot[7], rot[8]);
@@ -216,7 +223,6 @@ double leg_sense_leg(leg_sim *s, int leg, int member, int *err) {
 /* path_data at path_at[k]: shape (0 none, 1 circle, 2 polyline), closed, cx, cy, radius, turn,
  * lookahead, length, n vertices, then x y per vertex, then their arclengths (PathGeometry's).
  * path_state: 12 per path: progress, last_s, then the 10 MEMBERS' values. */
-#define PY_PI 3.141592653589793
 
 /* Python's float %: the sign of the divisor (CPython's float_rem) */
 static double py_mod(double x, double y, int *err) {
@@ -242,9 +248,9 @@ static void project(const double *g, double x, double y, double *out, int *err) 
         double dx = x - cx, dy = y - cy;
         double r = leg_hypot(dx, dy);
         double phi = r > 0 ? atan2(dy, dx) : 0.0;
-        double start = leg_div(-turn * PY_PI, 2.0);
-        out[0] = py_mod((phi - start) * turn, 2 * PY_PI, err) * radius;
-        double heading = phi + leg_div(turn * PY_PI, 2.0);
+        double start = leg_div(-turn * LEG_PI, 2.0);
+        out[0] = py_mod((phi - start) * turn, 2 * LEG_PI, err) * radius;
+        double heading = phi + leg_div(turn * LEG_PI, 2.0);
         out[4] = (radius - r) * turn;
         out[1] = cx + radius * leg_cos(phi);
         out[2] = cy + radius * leg_sin(phi);
@@ -280,10 +286,10 @@ static void project(const double *g, double x, double y, double *out, int *err) 
 static void path_at_s(const double *g, double s, double *out, int *err) {
     if (g[0] == 1.0) {
         double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
-        double phi = leg_div(-turn * PY_PI, 2.0) + leg_div(turn * s, radius);
+        double phi = leg_div(-turn * LEG_PI, 2.0) + leg_div(turn * s, radius);
         out[0] = cx + radius * leg_cos(phi);
         out[1] = cy + radius * leg_sin(phi);
-        out[2] = wrap(phi + leg_div(turn * PY_PI, 2.0), err);
+        out[2] = wrap(phi + leg_div(turn * LEG_PI, 2.0), err);
         return;
     }
     double length = g[7];

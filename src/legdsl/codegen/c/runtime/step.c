@@ -641,9 +641,15 @@ static int record_row(leg_sim *s, int64_t row) {
     body_poses_some(q, read, poses, err);
     const double *rot = poses + 3;
     for (int k = 0; k < 3; k++) s->rec_root_pos[3 * row + k] = poses[k];
-    s->rec_root_rpy[3 * row] = atan2(rot[7], rot[8]);
-    s->rec_root_rpy[3 * row + 1] = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
-    s->rec_root_rpy[3 * row + 2] = atan2(rot[3], rot[0]);
+    if (LEG_PLANAR && rot[8] < 0.0) { /* a planar pitch past 90 deg, over the whole turn */
+        double sp = leg_max(-1.0, leg_min(1.0, -rot[6]));
+        s->rec_root_rpy[3 * row] = s->rec_root_rpy[3 * row + 2] = 0.0;
+        s->rec_root_rpy[3 * row + 1] = copysign(LEG_PI, sp) - leg_asin(sp);
+    } else {
+        s->rec_root_rpy[3 * row] = atan2(rot[7], rot[8]);
+        s->rec_root_rpy[3 * row + 1] = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
+        s->rec_root_rpy[3 * row + 2] = atan2(rot[3], rot[0]);
+    }
     if (s->n_legs > 0) {
         double feet[NC3];
         contact_positions(q, feet, err);
