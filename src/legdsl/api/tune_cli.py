@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
+import signal
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -136,24 +138,26 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if journal.set_aside:  # the user may have meant to go on from it: say why not
         print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
               "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
-    try:
-        result = tune(
-            base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-            dask=args.dask, journal=journal,
-        )  # fmt: skip
-    except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
-        lock.close()
-        Path(lock.name).unlink(missing_ok=True)
-        if made and not any(out.iterdir()):
-            out.rmdir()
-        print("legdsl: tune: stopped before the file's own values were measured: nothing "
-              f"written to {out}", file=sys.stderr)  # fmt: skip
-        raise
-    tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
-    dump(result, out / "tune.json")
-    plot_history(result["history"], out / "tune.png", result["start"]["objective"])
-    if result["ended"] == "finished":
-        journal.remove()
+    with _Stops(out).installed() as stops:
+        try:
+            result = tune(
+                base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+                dask=args.dask, journal=journal,
+            )  # fmt: skip
+        except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+            lock.close()
+            Path(lock.name).unlink(missing_ok=True)
+            if made and not any(out.iterdir()):
+                out.rmdir()
+            print("legdsl: tune: stopped before the file's own values were measured: nothing "
+                  f"written to {out}", file=sys.stderr)  # fmt: skip
+            raise
+        stops.searching = False  # from here on a signal waits for the three files
+        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+        dump(result, out / "tune.json")
+        plot_history(result["history"], out / "tune.png", result["start"]["objective"])
+        if result["ended"] == "finished":
+            journal.remove()
     print(report(result, units, bounds))
     _say_between(result.get("between", []))
     runs = len(speeds) + sum(h["runs"] for h in result["history"]) + len(result.get("between", []))
@@ -165,7 +169,57 @@ def cmd_tune(args: argparse.Namespace) -> int:
         raise KeyboardInterrupt  # the command's status, now that its results are written
     if result["ended"] == "terminated":
         raise Interrupted(result.get("signal", "SIGTERM"))
+    if stops.late:  # it came as the files were written, the tune done: they are whole
+        print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
+              file=sys.stderr)  # fmt: skip
+        if stops.late[0] == "SIGINT":
+            raise KeyboardInterrupt
+        raise Interrupted(stops.late[0])
     return 0
+
+
+class _Stops:
+    """SIGINT and the ending signals (SIGTERM, SIGHUP...) for the length of a tune: the first
+    while it searches (or runs between the tuned speeds) stops it, ``tune`` keeping the best so
+    far; any other, and any once its files are being written, is noted and not obeyed until
+    they are whole. Before, a signal as ``tune.json`` or ``tune.png`` was written ended the
+    command with one of them, or both, missing; a second Ctrl-C as the workers were stopped
+    lost the best so far."""
+
+    def __init__(self, out: Path) -> None:
+        self.out = out
+        self.searching = True
+        self.stopped = False
+        self.late: list[str] = []  # the signals noted and not obeyed
+
+    def __call__(self, signum: int, frame: Any) -> None:
+        if self.searching and not self.stopped:
+            self.stopped = True
+            if signum == signal.SIGINT:
+                raise KeyboardInterrupt
+            raise Interrupted(signal.Signals(signum).name)
+        self.late.append(signal.Signals(signum).name)
+        print(f"legdsl: finishing {self.out}/ first; it takes a moment", file=sys.stderr,
+              flush=True)  # fmt: skip
+
+    @contextlib.contextmanager
+    def installed(self) -> Iterator[_Stops]:
+        """Installed for SIGINT and each ending signal but one ignored when legdsl started
+        (``nohup``), which stays ignored; not at all off the main thread."""
+        names = ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
+        ending = [getattr(signal, n) for n in names if hasattr(signal, n)]
+        previous: dict[int, Any] = {}
+        try:
+            for sig in (signal.SIGINT, *ending):
+                if sig == signal.SIGINT or signal.getsignal(sig) is not signal.SIG_IGN:
+                    previous[sig] = signal.signal(sig, self)
+        except ValueError:  # not the main thread (main() called from a thread): leave them be
+            pass
+        try:
+            yield self
+        finally:
+            for sig, before in previous.items():
+                signal.signal(sig, before)
 
 
 def _say_between(rows: list[dict[str, Any]]) -> None:

@@ -1,0 +1,48 @@
+"""Faults of the fault hunt of the newest features (faults24): `legdsl tune` stopped by a
+signal as it writes its results."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import legdsl.api.tune_cli as tune_cli
+from legdsl.cli import main
+
+HOPPER = Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg"
+
+
+def _tune(out: Path, generated: Path) -> int:
+    return main([
+        "tune", str(HOPPER), "--controller", "hop", "--param", "kp=50:300",
+        "--speeds", "1,1.5", "--time", "2", "--from", "1", "--generations", "1",
+        "--popsize", "4", "--jobs", "2", "--out", str(out), "--generated", str(generated),
+    ])  # fmt: skip
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_as_the_tune_writes_its_files_waits_for_them(
+    sig: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A SIGTERM (or Ctrl-C) that came once the tune had finished, as it wrote its files,
+    ended the command between them: tune.json there, saying "finished", and no tune.png, the
+    journal left behind. Now it is noted, the three files are written, then it is obeyed."""
+    drawn = tune_cli.plot_history
+
+    def signalled_while_drawing(*args: Any, **kwargs: Any) -> Path:
+        os.kill(os.getpid(), sig)  # delivered here, in the middle of the writing
+        return drawn(*args, **kwargs)
+
+    monkeypatch.setattr(tune_cli, "plot_history", signalled_while_drawing)
+    out = tmp_path / "t"
+    code = _tune(out, tmp_path / "generated")
+    assert code == 128 + sig
+    assert {p.name for p in out.iterdir()} >= {"hopper.leg", "tune.json", "tune.png"}
+    assert json.loads((out / "tune.json").read_text())["ended"] == "finished"
+    assert not (out / ".tune-journal.json").exists()  # the tune is done: nothing to go on from
+    assert "its files are whole" in capsys.readouterr().err
