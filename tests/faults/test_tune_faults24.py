@@ -46,3 +46,19 @@ def test_a_signal_as_the_tune_writes_its_files_waits_for_them(
     assert json.loads((out / "tune.json").read_text())["ended"] == "finished"
     assert not (out / ".tune-journal.json").exists()  # the tune is done: nothing to go on from
     assert "its files are whole" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("flag", ["--pitch-weight", "--spread-weight", "--energy-weight"])
+def test_a_weight_with_a_unit_is_told_what_a_weight_is(
+    flag: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'--pitch-weight 0.5deg' was argparse's "invalid float value: '0.5deg'"."""
+    with pytest.raises(SystemExit) as stop:
+        main([
+            "tune", str(HOPPER), "--controller", "hop", "--param", "kp=50:300", "--speeds",
+            "1", "--out", str(tmp_path / "t"), flag, "0.5deg",
+        ])  # fmt: skip
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "a weight is a plain number" in err and "write 0.5" in err
+    assert not (tmp_path / "t").exists()

@@ -35,7 +35,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
-from legdsl.pipeline.settings import require_controller
+from legdsl.pipeline.settings import parse_given, require_controller
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -67,14 +67,14 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument(
         "--table2", metavar="ROW", help="also approach this Table 2 row's animation column"
     )
-    p.add_argument("--table2-weight", type=float, default=1.0, help="its weight (1)")
-    p.add_argument("--energy-weight", type=float, default=0.0,
+    p.add_argument("--table2-weight", type=_weight, default=1.0, help="its weight (1)")
+    p.add_argument("--energy-weight", type=_weight, default=0.0,
                    help="add this times the cost of transport, positive actuator work / (m g d) "
                    "(dimensionless; 0)")  # fmt: skip
-    p.add_argument("--spread-weight", type=float, default=0.0,
+    p.add_argument("--spread-weight", type=_weight, default=0.0,
                    help="add this times the running speed's stride-to-stride standard deviation "
                    "over the command (0)")  # fmt: skip
-    p.add_argument("--pitch-weight", type=float, default=0.0,
+    p.add_argument("--pitch-weight", type=_weight, default=0.0,
                    help="add this times the trunk's pitch magnitude in radians: the mean over "
                    "the strides of each stride's peak-to-peak pitch (0)")  # fmt: skip
     p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
@@ -348,3 +348,20 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
             "than 0 (m/s)"
         )
     return speeds
+
+
+def _weight(text: str) -> float:
+    """A ``--...-weight`` as argparse reads it: a plain number; one with a unit is told what a
+    weight is, not argparse's "invalid float value"."""
+    try:
+        weight = float(text)
+    except ValueError:
+        try:
+            given = parse_given(text, text)
+        except UsageError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        raise argparse.ArgumentTypeError(
+            f"a weight is a plain number (every term of the objective is dimensionless), not "
+            f"{given.text!r}: write {given.number}"
+        ) from None
+    return weight  # its range is checked with the other options' (_check_search)
