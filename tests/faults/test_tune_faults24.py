@@ -62,3 +62,13 @@ def test_a_weight_with_a_unit_is_told_what_a_weight_is(
     err = capsys.readouterr().err
     assert "a weight is a plain number" in err and "write 0.5" in err
     assert not (tmp_path / "t").exists()
+
+
+def test_tune_json_is_strict_json(tmp_path: Path) -> None:
+    """A run that fell has no metrics: tune.json held Python's NaN for them, which jq and
+    JavaScript refuse; it is null now, as in run.json."""
+    out = tmp_path / "t"
+    assert _tune(out, tmp_path / "generated") == 0  # 2 s runs from 1 s: too few strides
+    text = (out / "tune.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in tune.json"))
