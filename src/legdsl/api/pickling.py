@@ -44,12 +44,13 @@ def creature_again(source: str, name: str, generated: str, was: tuple[str, ...])
     from legdsl.api import load
 
     if not Path(source).is_file():
-        raise UsageError(f"this creature came through pickle, but its file {source} is gone")
+        now = " (a folder is in its place)" if Path(source).is_dir() else ""
+        raise UsageError(f"this creature came through pickle, but its file {source} is gone{now}")
     creature = load(source, name, generated)
-    if _fingerprints(creature.model) != was:
-        raise UsageError(f"this creature came through pickle, but {source} has changed since: "
-                         "its creature or controllers are not the ones sent; load it again "
-                         "with legdsl.load and send that")  # fmt: skip
+    if _fingerprints(creature.model) != was:  # the file, or one it uses (its shared parts)
+        raise UsageError(f"this creature came through pickle, but {source} or a file it uses "
+                         "has changed since: its creature or controllers are not the ones sent; "
+                         "load it again with legdsl.load and send that")  # fmt: skip
     return creature
 
 

@@ -338,6 +338,11 @@ def read_table(table: Path) -> list[dict[str, Any]]:
         raise UsageError(damaged) from None
     if rows and (None in rows[-1].values() or None in rows[-1]):
         rows.pop()
+    for i, r in enumerate(rows):  # a row of too few or too many cells before the last one
+        if None in r.values() or None in r:  # (which DictReader fills with None) is no run's
+            raise UsageError(f"{table} is damaged at line {i + 2}: it has too "
+                             f"{'many' if None in r else 'few'} cells (edited, or written over); "
+                             "remove that line, and its run is run again")  # fmt: skip
     typed = [{k: _typed(v) for k, v in r.items()} for r in rows]
     if not all(isinstance(r.get("run"), int) and r["run"] >= 0 for r in typed):
         raise UsageError(damaged)

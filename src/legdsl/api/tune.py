@@ -373,4 +373,17 @@ def tune_pitch(row: dict[str, Any]) -> str:
 
 
 def dump(result: dict[str, Any], path: Path) -> None:
-    write_atomic(path, json.dumps(result, indent=2, default=float) + "\n")
+    """``tune.json``, strict JSON: a metric a run did not measure (one that fell) is null, as in
+    run.json, not Python's ``NaN``, which ``jq`` and JavaScript refuse."""
+    write_atomic(path, json.dumps(_finite(result), indent=2, allow_nan=False) + "\n")
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v) for v in value]
+    if isinstance(value, str | bool | int) or value is None:
+        return value
+    number = float(value)  # a float, or a numpy number (as json's default=float took them)
+    return number if math.isfinite(number) else None

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
+import signal
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -33,7 +35,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
-from legdsl.pipeline.settings import require_controller
+from legdsl.pipeline.settings import parse_given, require_controller
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -65,14 +67,14 @@ def add_tune_parser(sub: Any) -> Command:
     p.add_argument(
         "--table2", metavar="ROW", help="also approach this Table 2 row's animation column"
     )
-    p.add_argument("--table2-weight", type=float, default=1.0, help="its weight (1)")
-    p.add_argument("--energy-weight", type=float, default=0.0,
+    p.add_argument("--table2-weight", type=_weight, default=1.0, help="its weight (1)")
+    p.add_argument("--energy-weight", type=_weight, default=0.0,
                    help="add this times the cost of transport, positive actuator work / (m g d) "
                    "(dimensionless; 0)")  # fmt: skip
-    p.add_argument("--spread-weight", type=float, default=0.0,
+    p.add_argument("--spread-weight", type=_weight, default=0.0,
                    help="add this times the running speed's stride-to-stride standard deviation "
                    "over the command (0)")  # fmt: skip
-    p.add_argument("--pitch-weight", type=float, default=0.0,
+    p.add_argument("--pitch-weight", type=_weight, default=0.0,
                    help="add this times the trunk's pitch magnitude in radians: the mean over "
                    "the strides of each stride's peak-to-peak pitch (0)")  # fmt: skip
     p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
@@ -136,24 +138,26 @@ def cmd_tune(args: argparse.Namespace) -> int:
     if journal.set_aside:  # the user may have meant to go on from it: say why not
         print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
               "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
-    try:
-        result = tune(
-            base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-            dask=args.dask, journal=journal,
-        )  # fmt: skip
-    except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
-        lock.close()
-        Path(lock.name).unlink(missing_ok=True)
-        if made and not any(out.iterdir()):
-            out.rmdir()
-        print("legdsl: tune: stopped before the file's own values were measured: nothing "
-              f"written to {out}", file=sys.stderr)  # fmt: skip
-        raise
-    tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
-    dump(result, out / "tune.json")
-    plot_history(result["history"], out / "tune.png", result["start"]["objective"])
-    if result["ended"] == "finished":
-        journal.remove()
+    with _Stops(out).installed() as stops:
+        try:
+            result = tune(
+                base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+                dask=args.dask, journal=journal,
+            )  # fmt: skip
+        except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+            lock.close()
+            Path(lock.name).unlink(missing_ok=True)
+            if made and not any(out.iterdir()):
+                out.rmdir()
+            print("legdsl: tune: stopped before the file's own values were measured: nothing "
+                  f"written to {out}", file=sys.stderr)  # fmt: skip
+            raise
+        stops.searching = False  # from here on a signal waits for the three files
+        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+        dump(result, out / "tune.json")
+        plot_history(result["history"], out / "tune.png", result["start"]["objective"])
+        if result["ended"] == "finished":
+            journal.remove()
     print(report(result, units, bounds))
     _say_between(result.get("between", []))
     runs = len(speeds) + sum(h["runs"] for h in result["history"]) + len(result.get("between", []))
@@ -165,7 +169,57 @@ def cmd_tune(args: argparse.Namespace) -> int:
         raise KeyboardInterrupt  # the command's status, now that its results are written
     if result["ended"] == "terminated":
         raise Interrupted(result.get("signal", "SIGTERM"))
+    if stops.late:  # it came as the files were written, the tune done: they are whole
+        print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
+              file=sys.stderr)  # fmt: skip
+        if stops.late[0] == "SIGINT":
+            raise KeyboardInterrupt
+        raise Interrupted(stops.late[0])
     return 0
+
+
+class _Stops:
+    """SIGINT and the ending signals (SIGTERM, SIGHUP...) for the length of a tune: the first
+    while it searches (or runs between the tuned speeds) stops it, ``tune`` keeping the best so
+    far; any other, and any once its files are being written, is noted and not obeyed until
+    they are whole. Before, a signal as ``tune.json`` or ``tune.png`` was written ended the
+    command with one of them, or both, missing; a second Ctrl-C as the workers were stopped
+    lost the best so far."""
+
+    def __init__(self, out: Path) -> None:
+        self.out = out
+        self.searching = True
+        self.stopped = False
+        self.late: list[str] = []  # the signals noted and not obeyed
+
+    def __call__(self, signum: int, frame: Any) -> None:
+        if self.searching and not self.stopped:
+            self.stopped = True
+            if signum == signal.SIGINT:
+                raise KeyboardInterrupt
+            raise Interrupted(signal.Signals(signum).name)
+        self.late.append(signal.Signals(signum).name)
+        print(f"legdsl: finishing {self.out}/ first; it takes a moment", file=sys.stderr,
+              flush=True)  # fmt: skip
+
+    @contextlib.contextmanager
+    def installed(self) -> Iterator[_Stops]:
+        """Installed for SIGINT and each ending signal but one ignored when legdsl started
+        (``nohup``), which stays ignored; not at all off the main thread."""
+        names = ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
+        ending = [getattr(signal, n) for n in names if hasattr(signal, n)]
+        previous: dict[int, Any] = {}
+        try:
+            for sig in (signal.SIGINT, *ending):
+                if sig == signal.SIGINT or signal.getsignal(sig) is not signal.SIG_IGN:
+                    previous[sig] = signal.signal(sig, self)
+        except ValueError:  # not the main thread (main() called from a thread): leave them be
+            pass
+        try:
+            yield self
+        finally:
+            for sig, before in previous.items():
+                signal.signal(sig, before)
 
 
 def _say_between(rows: list[dict[str, Any]]) -> None:
@@ -294,3 +348,20 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
             "than 0 (m/s)"
         )
     return speeds
+
+
+def _weight(text: str) -> float:
+    """A ``--...-weight`` as argparse reads it: a plain number; one with a unit is told what a
+    weight is, not argparse's "invalid float value"."""
+    try:
+        weight = float(text)
+    except ValueError:
+        try:
+            given = parse_given(text, text)
+        except UsageError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        raise argparse.ArgumentTypeError(
+            f"a weight is a plain number (every term of the objective is dimensionless), not "
+            f"{given.text!r}: write {given.number}"
+        ) from None
+    return weight  # its range is checked with the other options' (_check_search)

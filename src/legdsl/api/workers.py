@@ -12,7 +12,11 @@ purpose. Every result is the same wherever it was computed: a run depends only o
 
 from __future__ import annotations
 
+import ctypes
+import multiprocessing
+import os
 import signal
+import sys
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -118,3 +122,18 @@ def _worker() -> None:
     ``Workers.__exit__``), and SIGTERM ends it at once, whatever handler it was forked with."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _end_with_parent()
+
+
+def _end_with_parent() -> None:
+    """SIGTERM when the parent ends, however it ends: a parent killed by SIGKILL has no
+    ``__exit__`` to stop its workers, and a forked worker, left waiting for work forever,
+    would keep the copy of ``OUT/.tune.lock`` (or ``.sweep.lock``) it inherited, refusing
+    every later tune or sweep into that ``--out`` (Linux's ``PR_SET_PDEATHSIG``)."""
+    if not sys.platform.startswith("linux"):
+        return
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
+    parent = multiprocessing.parent_process()
+    if parent is not None and os.getppid() != parent.pid:  # it ended before the prctl
+        os._exit(1)
