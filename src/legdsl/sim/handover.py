@@ -58,11 +58,19 @@ class Pair:
 
 
 def _contact_events(e: ir.Expr) -> list[ir.Event]:
-    """The contact events a condition requires: the event itself, or those of an ``and``."""
+    """The contact events a condition requires: the event itself, or those of an ``and``;
+    of an ``or``, those of its first alternative, the way the table enters the state when
+    its feet do as expected (the others are fallbacks: the outside knee quadruped's bound
+    enters FLIGHT ``on liftoff(active) or touchdown(idle)``; read as no fact, its FLIGHT
+    knew the active pair down, the table had no liftoff and the gallop took over from it at
+    once, in a stance of the wrong pair: docs/quadruped.md, "Changing gait" of the knee
+    quadruped)."""
     if isinstance(e, ir.Event):
         return [e]
     if isinstance(e, ir.Binary) and e.op == "and":
         return _contact_events(e.left) + _contact_events(e.right)
+    if isinstance(e, ir.Binary) and e.op == "or":
+        return _contact_events(e.left)
     return []
 
 
