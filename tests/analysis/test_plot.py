@@ -135,3 +135,29 @@ def test_a_window_reaching_past_the_run_or_into_a_stance_draws_only_the_run_insi
     assert main(["plot", str(run), "--from", "0.3", "--to", "5"]) == 0, capsys.readouterr().err
     assert limits["figure6"] == pytest.approx((0.3, 1.0))
     assert limits["footfall"] == pytest.approx((0.3, 1.0))
+
+
+def test_a_flip_s_pitch_is_drawn_as_the_turn_it_makes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A planar creature's pitch is recorded in (-180, 180] degrees; a somersault is drawn as
+    one climb to 360, not a jump from 180 to -180."""
+    import matplotlib.figure
+
+    from legdsl.sim.trajectory import Trajectory
+
+    run = _run(tmp_path)
+    tr = Trajectory.load(run)
+    turned = np.linspace(0.0, 2 * np.pi, len(tr.t))
+    tr.root_rpy[:, 1] = np.remainder(turned + np.pi, 2 * np.pi) - np.pi
+    tr.save(run)
+    drawn: list[matplotlib.figure.Figure] = []
+    save = matplotlib.figure.Figure.savefig
+    monkeypatch.setattr(
+        matplotlib.figure.Figure,
+        "savefig",
+        lambda fig, *a, **k: (drawn.append(fig), save(fig, *a, **k)),
+    )
+    assert main(["plot", str(run)]) == 0
+    pitch = drawn[0].axes[1].lines[0].get_ydata()
+    assert np.all(np.diff(pitch) > 0) and pitch[-1] == pytest.approx(360.0)

@@ -93,7 +93,8 @@ def plot_run(
         height.plot(t, ground[window], color="0.5", linewidth=1.0, label="ground under com")
         height.legend(loc="lower right", fontsize=8)
         height.set_ylabel("height, world z (m)")
-    pitch.plot(t, np.degrees(tr.root_rpy[window, 1]), color="k", label="pitch")
+    # unwrapped: a planar flip's pitch, read in (-180, 180], is drawn as the turn it makes
+    pitch.plot(t, np.degrees(np.unwrap(tr.root_rpy[window, 1])), color="k", label="pitch")
     pitch.set_ylabel("body pitch (deg)")
 
     heading = tr.root_rpy[window, 2]
