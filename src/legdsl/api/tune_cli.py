@@ -35,7 +35,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
-from legdsl.pipeline.settings import parse_given, require_controller
+from legdsl.pipeline.settings import plain_number, require_controller
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -351,17 +351,8 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
 
 
 def _weight(text: str) -> float:
-    """A ``--...-weight`` as argparse reads it: a plain number; one with a unit is told what a
-    weight is, not argparse's "invalid float value"."""
-    try:
-        weight = float(text)
-    except ValueError:
-        try:
-            given = parse_given(text, text)
-        except UsageError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-        raise argparse.ArgumentTypeError(
-            f"a weight is a plain number (every term of the objective is dimensionless), not "
-            f"{given.text!r}: write {given.number}"
-        ) from None
-    return weight  # its range is checked with the other options' (_check_search)
+    """A ``--...-weight`` as argparse reads it: a plain number (its range is checked with the
+    other options', ``_check_search``); one with a unit is told what a weight is."""
+    return plain_number(
+        text, "a weight is a plain number (every term of the objective is dimensionless)"
+    )

@@ -4,6 +4,8 @@ creature's), inside parentheses."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 
 def opening(before: str) -> int:
     """Where the '(' is that the ')' ending ``before`` closes."""
@@ -15,8 +17,8 @@ def opening(before: str) -> int:
     return 0
 
 
-def innermost(masked: str, pos: int) -> str:
-    """The first word of the line that opens the innermost block still open at ``pos``."""
+def _enclosing(masked: str, pos: int) -> Iterator[str]:
+    """The first word of the line opening each block still open at ``pos``, innermost first."""
     depth = 0
     for i in range(pos - 1, -1, -1):
         if masked[i] == "}":
@@ -25,25 +27,22 @@ def innermost(masked: str, pos: int) -> str:
             depth -= 1
         elif masked[i] == "{":
             header = masked[masked.rfind("\n", 0, i) + 1 : i].split()
-            return header[0] if header else ""
-    return ""
+            yield header[0] if header else ""
+
+
+def innermost(masked: str, pos: int) -> str:
+    """The first word of the line that opens the innermost block still open at ``pos``."""
+    return next(_enclosing(masked, pos), "")
 
 
 def in_expression(masked: str, pos: int) -> bool:
     """Whether ``pos`` is inside a controller, shared part or action (where values are
     expressions), rather than a creature or a scene."""
-    depth = 0
-    for i in range(pos - 1, -1, -1):
-        if masked[i] == "}":
-            depth += 1
-        elif masked[i] == "{" and depth:
-            depth -= 1
-        elif masked[i] == "{":
-            header = masked[masked.rfind("\n", 0, i) + 1 : i].split()
-            if header and header[0] in ("controller", "shared", "action", "table", "each"):
-                return True
-            if header and header[0] in ("creature", "scene", "template"):
-                return False
+    for word in _enclosing(masked, pos):
+        if word in ("controller", "shared", "action", "table", "each"):
+            return True
+        if word in ("creature", "scene", "template"):
+            return False
     return False
 
 

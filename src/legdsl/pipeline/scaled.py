@@ -12,7 +12,6 @@ velocities, forces, energies, events) is multiplied by its factor before it is w
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import math
 import re
@@ -26,7 +25,7 @@ from legdsl.ir.scene import Scene
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim
-from legdsl.pipeline.settings import Settings, parse_given
+from legdsl.pipeline.settings import Settings, plain_number
 from legdsl.sim.machine import InputChange
 from legdsl.sim.run_loop import RunOptions, RunResult, default_control_dt
 from legdsl.sim.trajectory import Trajectory
@@ -58,18 +57,11 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
 
 def scale_factor(text: str) -> float:
     """``--scale L``, ``--by L`` as argparse reads it: a plain number, the length ratio; a
-    length (``2m``) is told what L is, not argparse's "invalid float value"."""
-    try:
-        return float(text)
-    except ValueError:
-        pass
-    try:
-        given = parse_given(text, text)
-    except UsageError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    raise argparse.ArgumentTypeError(
-        f"the scale factor L is a plain number, the ratio of the scaled creature's lengths to "
-        f"this one's (2: twice as large), not {given.text!r}: write {given.number}"
+    length (``2m``) is told what L is."""
+    return plain_number(
+        text,
+        "the scale factor L is a plain number, the ratio of the scaled creature's lengths to "
+        "this one's (2: twice as large)",
     )
 
 

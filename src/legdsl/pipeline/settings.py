@@ -13,6 +13,7 @@ always was for actuator settings. Values are stored in SI units.
 
 from __future__ import annotations
 
+import argparse
 import math
 import re
 from collections.abc import Sequence
@@ -61,6 +62,20 @@ def _spaced_unit(value: str) -> str | None:
     except UnitError:
         return None
     return number + unit
+
+
+def plain_number(text: str, what: str) -> float:
+    """An option that is a plain number, as argparse reads it; one written with a unit is told
+    ``what`` the number is (a sentence), not argparse's "invalid float value"."""
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    try:
+        given = parse_given(text, text)
+    except UsageError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    raise argparse.ArgumentTypeError(f"{what}, not {given.text!r}: write {given.number}")
 
 
 def parse_given(value: str, where: str) -> Given:
