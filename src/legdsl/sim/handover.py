@@ -156,15 +156,36 @@ def split(fact: Fact, feet: Mapping[str, Clock]) -> bool:
     return fact.down and any(down) and not all(down)
 
 
-def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bool:
+def lands_on(pairs: Sequence[Pair], k: int) -> frozenset[str]:
+    """The feet the table lands on next after ``pairs[k]``: those of the first touchdown fact
+    learned after it, round the cycle (none if it learns none)."""
+    n = len(pairs)
+    for j in range(1, n + 1):
+        facts = pairs[(k + j) % n].facts
+        if facts and facts[0].down and facts[0] not in pairs[k].facts:
+            return facts[0].feet
+    return frozenset()
+
+
+def on_liftoff(
+    pairs: Sequence[Pair],
+    feet: Mapping[str, Clock],
+    t: float,
+    soon: frozenset[str] = frozenset(),
+) -> bool:
     """Whether a controller whose table runs through ``pairs`` can take over at ``t`` as a
     foot leaves the ground: a pair of it contradicts no contact fact, none of its roles has
-    only some of its feet down (``split``), and one of its facts is a liftoff made true at
-    ``t`` (``take_over`` then chooses that pair). A role whose feet disagree waits: the
+    only some of its feet down (``split``), one of its facts is a liftoff made true at
+    ``t`` (``take_over`` then chooses that pair), and the feet about to land (``soon``) are
+    among those it lands on next (``lands_on``). A role whose feet disagree waits: the
     quadruped's trot taking over from the gallop as ``toe_fl`` lifted, with ``toe_fr`` of
     its diagonal (fr, rl) still down, started in that pair's LOADING, which waits for its
     compression while ``toe_fr`` left 7.6 ms later, and lost a step; the gallop's front pair
-    landing a foot at a time looks the same to the contacts (docs/runtime.md)."""
+    landing a foot at a time looks the same to the contacts (docs/runtime.md). A foot about
+    to land that the new table does not land on next was aimed at the ground by the old one:
+    the outside knee quadruped's bound and gallop leave the rear pair with the front pair
+    0 to 100 ms from the ground, and the trot (to land a diagonal) taking over there fell
+    within 0.6 s; the gallop (to land the front pair) takes over there."""
 
     def lifted_now(f: Fact) -> bool:
         return not f.down and any(feet[c].liftoff == t for c in f.feet if c in feet)
@@ -173,7 +194,8 @@ def on_liftoff(pairs: Sequence[Pair], feet: Mapping[str, Clock], t: float) -> bo
         _score(p.facts, feet)[0] == 0
         and not any(split(f, feet) for f in p.facts)
         and any(map(lifted_now, p.facts))
-        for p in pairs
+        and soon <= lands_on(pairs, k)
+        for k, p in enumerate(pairs)
     )
 
 

@@ -54,6 +54,12 @@ FLIGHT_WAIT = 0.5  # s
 # that turning before a foot lands (the quadruped's gallop leaves its rear pair pitching
 # nose down at about 3.5 rad/s, for its own front pair to catch; the trot fell on it).
 FLIGHT_TURN_MOST = 2.5  # rad/s
+# ...and every foot that did not just lift off at least this long a free fall from the
+# ground, or one the new controller lands on next: a foot about to land is one the old gait
+# aimed (the outside knee quadruped's bound and gallop leave the rear pair with the front pair
+# 0 to 100 ms from the ground, their front pair with the rear one 75 ms or more, the shipped
+# gaits' flights 145 ms or more; the trot taking over with the front pair about to land fell).
+FLIGHT_FALL_LEAST = 0.12  # s
 
 
 @dataclass(frozen=True)
@@ -99,15 +105,35 @@ def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     return spec.name in declared or (not spec.name and len(declared) == 1)
 
 
-def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> bool:
-    """Whether every foot is up, the centre of mass moves up and the root body turns about
-    the horizontal slower than ``FLIGHT_TURN_MOST``."""
+def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> frozenset[str] | None:
+    """If every foot is up, the centre of mass moves up and the root body turns about the
+    horizontal slower than ``FLIGHT_TURN_MOST``, the feet that will land soon: those that did
+    not just lift off and would fall to the ground within ``FLIGHT_FALL_LEAST`` as they move
+    now (a leg's soles count as its foot); else None."""
     if any(clock.down for clock in feet.values()):
-        return False
+        return None
     w = sim.dyn.body_velocities(sim.q, sim.v)[0][1]  # the root's world angular velocity
     if math.hypot(float(w[0]), float(w[1])) > FLIGHT_TURN_MOST:
-        return False
-    return float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) > 0.0
+        return None
+    if float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) <= 0.0:
+        return None
+    g = math.sqrt(sum(float(x) ** 2 for x in sim.model.gravity))
+    foot = {sole: leg.foot for leg in sim.model.legs for sole in leg.soles}
+    soon: set[str] = set()
+    for contact, p, v in zip(
+        sim.contact_names,
+        sim.dyn.contact_positions(sim.q),
+        sim.dyn.contact_velocities(sim.q, sim.v),
+        strict=True,
+    ):
+        name = foot.get(contact, contact)
+        if name in feet and feet[name].liftoff == sim.t:
+            continue  # it leaves the ground now
+        h = max(float(p[2]) - sim.ground.height(float(p[0]), float(p[1])), 0.0)
+        vz = float(v[2])
+        if (vz + math.sqrt(vz * vz + 2.0 * g * h)) / g < FLIGHT_FALL_LEAST:
+            soon.add(name)
+    return frozenset(soon)
 
 
 class SwitchingMachine:
@@ -188,9 +214,10 @@ class SwitchingMachine:
             t, sim.ground.touching
         )  # this tick's contacts (it is idempotent)
         feet = self.current.feet()
-        if t < switch.t + FLIGHT_WAIT - 1e-12 and not _calm_flight(sim, feet):
-            return False
-        return on_liftoff(pairs, feet, t)
+        if t >= switch.t + FLIGHT_WAIT - 1e-12:
+            return on_liftoff(pairs, feet, t)
+        soon = _calm_flight(sim, feet)
+        return soon is not None and on_liftoff(pairs, feet, t, soon)
 
     def _cycle(self, controller: str) -> list[Pair]:
         if controller not in self._pairs:
