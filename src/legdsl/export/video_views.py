@@ -7,7 +7,9 @@
   camera; the links' triangle meshes are projected, shaded by a fixed light, sorted back to
   front and drawn with their shadows on the ground.
 
-The camera follows the mass centre horizontally at a fixed height. The overlays are those
+The camera follows the mass centre horizontally at a fixed height, raised smoothly only where
+the creature would leave the frame at the top (``legdsl.export.player.camera``, the player's
+rule). The overlays are those
 of the player: controller state, commanded and actual speed, ground-force arrows,
 footprints and the mass-centre trail. ``legdsl.export.video`` turns the frames into a file.
 """
@@ -21,6 +23,7 @@ import numpy as np
 
 from legdsl.export.motion import Footprint, Motion, Snapshot, slope_tangent, terrain_height
 from legdsl.export.player import camera_hints, grid_step
+from legdsl.export.player.camera import camera_lift
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
 
 SKY = "#eef0f3"
@@ -53,6 +56,8 @@ class View:
         self.tilt = slope_tangent(motion.terrain)
         self.look_height = hints["lookHeight"]  # above the slope's plane, which the camera follows
         self.distance = hints["distance"]
+        # per frame, how far the camera's target rises to keep the whole creature in frame
+        self.lift = camera_lift(motion, self.look_height, self.distance, self.size)
         self.weight = motion.weight
         self.text = ax.text(
             0.012, 0.975, "", transform=ax.transAxes, va="top", ha="left", fontsize=11,
@@ -64,6 +69,13 @@ class View:
         """The height of the slope's plane at ``x`` (0 without a slope: steps and boxes are
         drawn as blocks on the floor)."""
         return self.tilt * x
+
+    def target_height(self, snap: Snapshot) -> float:
+        """The height the camera looks at: fixed above the ground's plane, raised by the lift
+        (interpolated between frames, as the player does)."""
+        cx = float(snap.com[0])
+        raised = float(np.interp(snap.t, self.motion.times, self.lift)) if self.lift.any() else 0.0
+        return float(self.look_height + self.plane_z(cx) + raised)
 
     def caption(self, snap: Snapshot) -> str:
         m = self.motion
@@ -138,7 +150,7 @@ class SideView(View):
         super().update(snap)
         cx = float(snap.com[0])
         x0, x1 = cx - self.width / 2, cx + self.width / 2
-        z0 = self.look_height + self.plane_z(cx) - self.height / 2
+        z0 = self.target_height(snap) - self.height / 2
         self.ax.set_xlim(x0, x1)
         self.ax.set_ylim(z0, z0 + self.height)
         top = self._profile(x0 - 1, x1 + 1)
@@ -333,7 +345,7 @@ class PerspectiveView(View):
         super().update(snap)
         cam = self.camera
         cx, cy = float(snap.com[0]), float(snap.com[1])
-        target = np.array([cx, cy, self.look_height + self.plane_z(cx)])
+        target = np.array([cx, cy, self.target_height(snap)])
         cam.aim(target, self.tilt)
         m = self.motion
         reach = 4.0 * self.distance

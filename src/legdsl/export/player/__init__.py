@@ -95,7 +95,10 @@ def ground_extent(motion: Motion, size: float) -> tuple[float, float, float, flo
 
 
 def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[str, Any]:
+    from legdsl.export.player.camera import camera_lift
+
     hints = camera_hints(motion)
+    lift = camera_lift(motion, hints["lookHeight"], hints["distance"], hints["size"])
     poses = np.concatenate([motion.positions, motion.quaternions], axis=2)
     bodies = []
     for body in motion.bodies:
@@ -149,6 +152,9 @@ def player_data(motion: Motion, overlays: tuple[str, ...] = OVERLAYS) -> dict[st
             for k, (name, points) in enumerate(zip(motion.path_names, motion.paths, strict=True))
         ],
         "weight": motion.weight,
+        # per frame, how far the camera's target rises to keep the creature in frame
+        # (player/camera.py); null when it never does
+        "cameraLift": _b64(lift) if lift.any() else None,
         "overlays": [o for o in overlays if o in OVERLAYS],
         **hints,
     }

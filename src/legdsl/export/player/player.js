@@ -20,6 +20,8 @@ const poses = f32(data.poses); // frames x bodies x 7
 const contactPos = f32(data.contactPositions); // frames x contacts x 3
 const forces = f32(data.forces); // frames x contacts x 3
 const com = f32(data.com); // frames x 3
+// frames: how far the camera's target rises above lookHeight to keep the creature in frame
+const lift = data.cameraLift ? f32(data.cameraLift) : new Float32Array(times.length);
 const speed = f32(data.speed);
 const speedCommand = f32(data.speedCommand);
 const state = new Int16Array(bytes(data.state));
@@ -73,7 +75,7 @@ function draw2d(t, note) {
   let f = 0;
   while (f + 1 < nFrames && times[f + 1] <= t) f++;
   const scale = h / (2.4 * data.size);
-  const cx = com[3 * f], cz = data.lookHeight + slopeZ(cx);
+  const cx = com[3 * f], cz = data.lookHeight + lift[f] + slopeZ(cx);
   const X = (x) => w / 2 + (x - cx) * scale, Z = (z) => h / 2 - (z - cz) * scale;
   g.fillStyle = "#eef0f3"; g.fillRect(0, 0, w, h);
   const slope2d = data.ground.terrain.find((k) => k.kind === "slope");
@@ -344,7 +346,9 @@ scene.add(trail, comMarker);
 // ------------------------------------------------------------------ camera
 // The camera orbits a target that follows the mass centre horizontally, at
 // a fixed height above the ground's plane (a slope's): hops and drops show as
-// motion on the screen, and a climb stays in the picture.
+// motion on the screen, and a climb stays in the picture. Where the creature would leave
+// the default view at the top (a somersault's legs), the target rises smoothly by the
+// run's `lift` (computed with the run, as the video's views use it: player/camera.py).
 const lookHeight = data.lookHeight;
 const defaults = data.planar
   ? { azimuth: -Math.PI / 2, elevation: 0.08, distance: data.distance }
@@ -360,12 +364,12 @@ const target = new THREE.Vector3();
 // (a level orbit looked from under a steep slope, and a drag to -0.2 rad went under level
 // ground): the elevation is raised to the least that keeps it there.
 const tilt = slope ? slope.angle : 0;
-function lowestElevation(distance) {
-  const above = lookHeight * Math.cos(tilt); // the target's distance from the plane
+function lowestElevation(distance, raised) {
+  const above = (lookHeight + raised) * Math.cos(tilt); // the target's distance from the plane
   return Math.asin(Math.min(1, Math.max(-1, (0.1 * data.size - above) / distance)));
 }
-function placeCamera() {
-  const e = Math.max(orbit.elevation, lowestElevation(orbit.distance));
+function placeCamera(raised) {
+  const e = Math.max(orbit.elevation, lowestElevation(orbit.distance, raised));
   const c = Math.cos(e);
   const x = orbit.distance * c * Math.cos(orbit.azimuth), z = orbit.distance * Math.sin(e);
   camera.position.set(
@@ -432,8 +436,9 @@ function draw() {
     links[b].quaternion.slerpQuaternions(qa, qb, a);
   }
   const cx = mix(com, f * 3, g * 3, a, 0), cy = mix(com, f * 3, g * 3, a, 1), cz = mix(com, f * 3, g * 3, a, 2);
-  target.set(cx, data.planar ? 0 : cy, lookHeight + slopeZ(cx));
-  placeCamera();
+  const raised = mix(lift, f, g, a, 0);
+  target.set(cx, data.planar ? 0 : cy, lookHeight + raised + slopeZ(cx));
+  placeCamera(raised);
 
   for (let c = 0; c < nContacts; c++) {
     const i = (f * nContacts + c) * 3, j = (g * nContacts + c) * 3;
@@ -608,6 +613,7 @@ const api = {
   redraw: () => draw(),
   getView: () => ({ ...orbit }),
   cameraPosition: () => camera.position.toArray(),
+  cameraTarget: () => target.toArray(),
   // Each path's name and whether it is drawn as followed (not faded) at the current time.
   pathsShown: () => ribbons.map((r) => [r.userData.path.name, r.material === pathMaterial]),
   isFlat: () => flat.on,

@@ -1,0 +1,111 @@
+"""The height the default view's camera follows: fixed, raised only to keep the creature in frame.
+
+The player and the videos look at a target that follows the mass centre horizontally at a
+fixed height (``camera_hints``' ``lookHeight`` above the ground's plane), so that hops and
+drops show as motion on the screen. A creature that jumps high for its size (the planar
+biped's somersault, its legs above a 1.35 m mass centre) would leave the frame at the top:
+``camera_lift`` gives, per frame, how much the target rises so that every link's extent stays
+inside the default view with a margin. It is zero while the creature stays in frame (the
+camera keeps its height), and where it is not it is smoothed in time, rising before it is
+needed and coming down after, with no jump between frames.
+
+The player reads the lift per stored frame (``cameraLift``) and the video's views
+interpolate it the same way, so both follow the same height.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from legdsl.export.motion import Motion, quaternion_to_matrix, slope_tangent
+from legdsl.export.shapes import body_mesh
+
+FIELD_OF_VIEW = 35.0  # degrees, vertical, as in the player
+MARGIN = 0.05  # of the frame's height, kept free above the creature
+PLANAR_VIEW = (-math.pi / 2, 0.08)  # the player's default (azimuth, elevation), planar
+SPATIAL_VIEW = (-math.pi / 3, 0.33)  # and for 3D creatures
+EASE = 0.5  # of the creature's natural time sqrt(size / g): how early the camera starts rising
+GRAVITY = 9.81  # m/s^2, for the natural time only
+
+
+def hull_points(motion: Motion) -> list[np.ndarray]:
+    """Each body's mesh vertices in its own frame, without repeats."""
+    return [np.unique(body_mesh(b).positions.round(9), axis=0) for b in motion.bodies]
+
+
+def world_points(motion: Motion) -> np.ndarray:
+    """(F, N, 3): every body's mesh vertices in world coordinates at every frame."""
+    out = []
+    for b, local in enumerate(hull_points(motion)):
+        rot = np.array([quaternion_to_matrix(q) for q in motion.quaternions[:, b]])  # (F, 3, 3)
+        out.append(np.einsum("fij,nj->fni", rot, local) + motion.positions[:, b, None, :])
+    return np.concatenate(out, axis=1)
+
+
+def camera_axes(
+    azimuth: float, elevation: float, tilt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The eye's offset from the target (unit), and the camera's up and forward directions,
+    as ``video_views._Camera.aim`` and the player's ``placeCamera`` place them."""
+    c = math.cos(elevation)
+    offset = np.array([c * math.cos(azimuth), c * math.sin(azimuth), math.sin(elevation)])
+    if tilt:
+        a = math.atan(tilt)
+        x, z = offset[0], offset[2]
+        offset[0], offset[2] = x * math.cos(a) - z * math.sin(a), x * math.sin(a) + z * math.cos(a)
+    forward = -offset
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    return offset, up, forward
+
+
+def needed_lift(motion: Motion, look_height: float, distance: float) -> np.ndarray:
+    """(F,): how far the target must rise at each frame for the creature's highest point to be
+    a margin under the frame's top (negative: that far to spare).
+
+    Planar creatures: the video's side view, an orthographic frame ``2 d tan(fov / 2)`` high
+    centred on the target. 3D creatures: the perspective default view; raising the target by
+    h raises the eye by h, so a point at camera coordinates (y up, z depth) is in when
+    ``y - h up_z <= T (z - h forward_z)``, T the tangent of the allowed half-angle.
+    """
+    points = world_points(motion)
+    tilt = slope_tangent(motion.terrain)
+    com = motion.com
+    base = look_height + tilt * com[:, 0]  # the target's height without a lift
+    half = math.tan(math.radians(FIELD_OF_VIEW / 2))
+    if motion.planar:
+        height = 2 * distance * half
+        return np.asarray(points[..., 2].max(axis=1) - (base + height * (0.5 - MARGIN)))
+    azimuth, elevation = SPATIAL_VIEW
+    offset, up, forward = camera_axes(azimuth, elevation, tilt)
+    target = np.column_stack([com[:, 0], com[:, 1], base])
+    rel = points - (target + distance * offset)[:, None, :]
+    y, z = rel @ up, rel @ forward
+    t = half * (1 - 2 * MARGIN)
+    need = (y - t * z) / (up[2] - t * forward[2])
+    need = np.where(z > 0, need, -np.inf)  # points behind the eye are not framed anyway
+    return np.asarray(need.max(axis=1))
+
+
+def camera_lift(motion: Motion, look_height: float, distance: float, size: float) -> np.ndarray:
+    """(F,) m: how far the camera's target rises above its fixed height at each frame.
+
+    The least smooth curve over the needed lift: its running maximum over a window of
+    ``EASE`` natural times either side, averaged over the same window with a Hann
+    weighting, is at least the need at every frame (every sample averaged is a maximum over
+    a window that holds that frame) and changes smoothly; where the need is never positive
+    within the window, the lift is exactly zero.
+    """
+    need = np.maximum(needed_lift(motion, look_height, distance), 0.0)
+    if not need.any() or motion.frames < 2:
+        return need
+    step = float(np.median(np.diff(motion.times)))
+    n = max(1, round(EASE * math.sqrt(size / GRAVITY) / step))
+    padded = np.pad(need, n, mode="edge")
+    peak = np.lib.stride_tricks.sliding_window_view(padded, 2 * n + 1).max(axis=1)
+    weights = np.hanning(2 * n + 3)[1:-1]  # no zero taps
+    weights /= weights.sum()
+    return np.asarray(np.convolve(np.pad(peak, n, mode="edge"), weights, mode="valid"))
