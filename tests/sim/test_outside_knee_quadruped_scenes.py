@@ -59,6 +59,23 @@ def test_the_trot_lands_a_diagonal_after_its_flight() -> None:
         assert lands_on(pairs, k) == frozenset(feet[f] for f in lands), name
 
 
+def _switched(
+    session: RunSession, tmp_path: Path, start: str, speeds: list[str], switch: str, time: float
+) -> tuple[dict, float]:
+    """A run of ``start`` switched once (C backend): the new controller's segment from
+    run.json, and its speed from 3 s after it took over to the end."""
+    run = session.run(
+        start, speeds, options=RunOptions(duration=time), switches=[switch], backend="c"
+    )
+    assert run.result.status == "ok", run.result.message
+    info = json.loads((run.write(tmp_path / "out") / "run.json").read_text())
+    (seg,) = info["segments"][1:]
+    tr = run.result.trajectory
+    later = tr.t >= seg["from"] + 3.0
+    t, x = tr.t[later], tr.com[later][:, 0]
+    return seg, float((x[-1] - x[0]) / (t[-1] - t[0]))
+
+
 def test_the_gallop_takes_over_from_the_bound_in_a_flight(
     session: RunSession, tmp_path: Path
 ) -> None:
@@ -66,21 +83,10 @@ def test_the_gallop_takes_over_from_the_bound_in_a_flight(
     switches at 12 s, after the trot; this keeps the test short): the gallop waits for a
     liftoff into a flight (3.094 s), does not fall, and runs within 5% of 3 m/s from 3 s
     after it took over (3.057 m/s measured)."""
-    run = session.run(
-        "bound",
-        ["speed=2.5m/s", "speed=3m/s@3s"],
-        options=RunOptions(duration=9.0),
-        switches=["3s=gallop"],
-        backend="c",
+    seg, speed = _switched(
+        session, tmp_path, "bound", ["speed=2.5m/s", "speed=3m/s@3s"], "3s=gallop", 9.0
     )
-    assert run.result.status == "ok", run.result.message
-    info = json.loads((run.write(tmp_path / "out") / "run.json").read_text())
-    (seg,) = info["segments"][1:]
     assert seg["controller"] == "gallop" and seg["state"] == "FLIGHT" and seg["from"] > 3.0
-    tr = run.result.trajectory
-    later = tr.t >= seg["from"] + 3.0
-    t, x = tr.t[later], tr.com[later][:, 0]
-    speed = (x[-1] - x[0]) / (t[-1] - t[0])
     assert abs(speed - 3.0) < 0.15, speed
 
 
@@ -93,20 +99,9 @@ def test_the_trot_takes_over_from_the_gallop_in_its_long_flight(
     fell at 5.24 s. It now waits for a flight whose feet it does not land on are 0.12 s of
     free fall from the ground at least (the front pair's liftoff at 4.950 s), does not fall,
     and runs within 5% of 1.5 m/s from 3 s after it took over (1.529 m/s measured)."""
-    run = session.run(
-        "gallop",
-        ["speed=3m/s", "speed=1.5m/s@4.6s"],
-        options=RunOptions(duration=8.6),
-        switches=["4.6s=trot"],
-        backend="c",
+    seg, speed = _switched(
+        session, tmp_path, "gallop", ["speed=3m/s", "speed=1.5m/s@4.6s"], "4.6s=trot", 8.6
     )
-    assert run.result.status == "ok", run.result.message
-    info = json.loads((run.write(tmp_path / "out") / "run.json").read_text())
-    (seg,) = info["segments"][1:]
     assert seg["controller"] == "trot" and seg["state"] == "FLIGHT", seg
     assert seg["from"] > 4.9, seg["from"]
-    tr = run.result.trajectory
-    later = tr.t >= seg["from"] + 3.0
-    t, x = tr.t[later], tr.com[later][:, 0]
-    speed = (x[-1] - x[0]) / (t[-1] - t[0])
     assert abs(speed - 1.5) < 0.075, speed
