@@ -13,7 +13,8 @@ controller's machine is made and takes over:
   ``FLIGHT_TURN_MOST``: the new controller then places its own feet before any lands,
   instead of taking over a stance the old gait began (the quadruped's trot taking over from
   the gallop in the gallop's rear stance fell within 0.4 s: docs/quadruped.md, "Changing
-  gait");
+  gait). The four constants are for a creature standing ``REFERENCE_HEIGHT``; times scale
+  with the creature's natural time, rates with its inverse (``natural_scale``: docs/scaling.md);
 * it starts in the (binding, state) that matches which feet are down (``legdsl.sim.handover``),
   entering it as if its event had just held (its entry records are computed);
 * its records start from the old controller's where the names match (0 otherwise, and 0 for
@@ -44,6 +45,12 @@ from legdsl.ir.paths import PathSpec
 from legdsl.sim.handover import Clock, Pair, cycle, lifts_off, on_liftoff
 from legdsl.sim.machine import InputChange, Integral, StateMachine, resolve_paths
 
+# The four numbers below are for a creature standing REFERENCE_HEIGHT over its lowest foot at
+# the start (the quadruped 0.81 m, the biped 0.83 m); a creature standing h waits and falls
+# in times sqrt(h / REFERENCE_HEIGHT) as long and turns at rates as much slower
+# (``natural_scale``), as Table 1 scales its motion, so that a creature scaled by L (``legdsl
+# scale``) changes gait at the moments the original does, times sqrt(L) (docs/scaling.md).
+REFERENCE_HEIGHT = 0.81  # m: the quadruped's, whose gait changes are the most sensitive
 # How long a switch waits at most for a liftoff to take over at: a stride of the slowest
 # shipped gait (the quadruped's trot steps every 0.4 s, the biped's run every 0.45 s).
 HANDOVER_WAIT = 1.0  # s
@@ -60,6 +67,19 @@ FLIGHT_TURN_MOST = 2.5  # rad/s
 # 0 to 100 ms from the ground, their front pair with the rear one 75 ms or more, the shipped
 # gaits' flights 145 ms or more; the trot taking over with the front pair about to land fell).
 FLIGHT_FALL_LEAST = 0.12  # s
+
+
+def natural_scale(sim: Any) -> float:
+    """sqrt(h / ``REFERENCE_HEIGHT``), h the height of the root over its lowest foot in the
+    creature's start pose (``Model.q0``: as ``legdsl scale`` scales it, L times as high; a
+    ``--drop`` lifts the feet with it): the factor on the handover's times (and 1 over it on its
+    rates). 1 for a creature without feet or with its root welded to the world."""
+    model = sim.model
+    if model.joints[0].kind == "fixed" or not sim.contact_names:
+        return 1.0
+    root = float(sim.dyn.body_poses(model.q0)[0][0][2])
+    height = root - min(float(p[2]) for p in sim.dyn.contact_positions(model.q0))
+    return math.sqrt(height / REFERENCE_HEIGHT) if height > 0.0 else 1.0
 
 
 @dataclass(frozen=True)
@@ -105,15 +125,16 @@ def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     return spec.name in declared or (not spec.name and len(declared) == 1)
 
 
-def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> frozenset[str] | None:
+def _calm_flight(sim: Any, feet: Mapping[str, Clock], unit: float) -> frozenset[str] | None:
     """If every foot is up, the centre of mass moves up and the root body turns about the
     horizontal slower than ``FLIGHT_TURN_MOST``, the feet that will land soon: those that did
     not just lift off and would fall to the ground within ``FLIGHT_FALL_LEAST`` as they move
-    now (a leg's soles count as its foot); else None."""
+    now (a leg's soles count as its foot); else None. Both for the creature's size: times
+    ``unit`` (``natural_scale``) as long, rates as much slower."""
     if any(clock.down for clock in feet.values()):
         return None
     w = sim.dyn.body_velocities(sim.q, sim.v)[0][1]  # the root's world angular velocity
-    if math.hypot(float(w[0]), float(w[1])) > FLIGHT_TURN_MOST:
+    if math.hypot(float(w[0]), float(w[1])) > FLIGHT_TURN_MOST / unit:
         return None
     if float(sim.dyn.center_of_mass_velocity(sim.q, sim.v)[2]) <= 0.0:
         return None
@@ -131,7 +152,7 @@ def _calm_flight(sim: Any, feet: Mapping[str, Clock]) -> frozenset[str] | None:
             continue  # it leaves the ground now
         h = max(float(p[2]) - sim.ground.height(float(p[0]), float(p[1])), 0.0)
         vz = float(v[2])
-        if (vz + math.sqrt(vz * vz + 2.0 * g * h)) / g < FLIGHT_FALL_LEAST:
+        if (vz + math.sqrt(vz * vz + 2.0 * g * h)) / g < FLIGHT_FALL_LEAST * unit:
             soon.add(name)
     return frozenset(soon)
 
@@ -174,6 +195,7 @@ class SwitchingMachine:
         self._pairs: dict[str, list[Pair]] = {}  # each controller's cycle, for the handover
         self.finished: list[tuple[str, StateMachine]] = []
         self.name = first
+        self.unit: float | None = None  # natural_scale, from the first tick this machine takes
         self.current = self._machine(first, 0.0)
         self.segments: list[dict[str, Any]] = [self._segment(0.0)]
 
@@ -204,8 +226,8 @@ class SwitchingMachine:
 
     def _ready(self, switch: Switch, sim: Any) -> bool:
         """Whether the controller of a due ``switch`` takes over now (``HANDOVER_WAIT``)."""
-        t = sim.t
-        if t >= switch.t + HANDOVER_WAIT - 1e-12 or sim.ground is None:
+        t, unit = sim.t, self._unit(sim)
+        if t >= switch.t + HANDOVER_WAIT * unit - 1e-12 or sim.ground is None:
             return True
         pairs = self._cycle(switch.controller)
         if not lifts_off(pairs):
@@ -214,10 +236,15 @@ class SwitchingMachine:
             t, sim.ground.touching
         )  # this tick's contacts (it is idempotent)
         feet = self.current.feet()
-        if t >= switch.t + FLIGHT_WAIT - 1e-12:
+        if t >= switch.t + FLIGHT_WAIT * unit - 1e-12:
             return on_liftoff(pairs, feet, t)
-        soon = _calm_flight(sim, feet)
+        soon = _calm_flight(sim, feet, unit)
         return soon is not None and on_liftoff(pairs, feet, t, soon)
+
+    def _unit(self, sim: Any) -> float:
+        if self.unit is None:
+            self.unit = natural_scale(sim)
+        return self.unit
 
     def _cycle(self, controller: str) -> list[Pair]:
         if controller not in self._pairs:
@@ -278,6 +305,7 @@ class SwitchingMachine:
 
     def __call__(self, sim: Any) -> None:
         t = sim.t
+        self._unit(sim)
         self._command(t)
         # a switch still waiting when the next comes due never takes over: the later one asked
         # for is the one wanted now (else the run would change twice on one tick)
@@ -327,7 +355,9 @@ class SwitchingMachine:
             return command_at, math.inf, math.inf
         switch = self._waiting[0]
         waits = has_ground and lifts_off(self._cycle(switch.controller))
-        return command_at, switch.t, switch.t + HANDOVER_WAIT if waits else switch.t
+        if not waits or self.unit is None:  # (before its first tick: every tick from switch.t)
+            return command_at, switch.t, switch.t
+        return command_at, switch.t, switch.t + HANDOVER_WAIT * self.unit
 
     @property
     def first(self) -> StateMachine:
