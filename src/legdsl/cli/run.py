@@ -219,7 +219,8 @@ def add_run_parser(sub: Any) -> Command:
         help="from time T on, drive the creature with another of its controllers (6s=gallop): it "
         "takes over at the next liftoff (into a flight, the body rising and turning slowly, within "
         "0.5 s if one comes; "
-        "else any, within 1 s), in the state that matches the feet down, "
+        "else any, within 1 s; for a creature standing 0.81 m, sqrt of its height ratio as long "
+        "for others), in the state that matches the feet down, "
         "keeps the records whose names match (but those it declares 'own') and the commanded inputs, and "
         "--set NAME=V@T still applies (a command at T goes with the switch); repeatable",
     )

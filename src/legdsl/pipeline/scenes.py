@@ -183,10 +183,11 @@ def switches_not_made(run: Any) -> list[str]:
     machine = run.machine
     if not isinstance(machine, SwitchingMachine):
         return []
+    wait = HANDOVER_WAIT * (machine.unit or 1.0)  # for this creature's size
     lines = [
         f"the switch to {gone.controller} at {gone.t:g} s was still waiting for a liftoff when "
         f"the one to {by.controller} at {by.t:g} s came due, and never took over (a switch "
-        f"waits up to {HANDOVER_WAIT:g} s): give the later one a later time to see both"
+        f"waits up to {wait:.3g} s): give the later one a later time to see both"
         for gone, by in machine.superseded
     ]
     over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
@@ -196,7 +197,7 @@ def switches_not_made(run: Any) -> list[str]:
         s = "es" if len(left) > 1 else ""
         lines.append(
             f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
-            f"over (a switch waits up to {HANDOVER_WAIT:g} s for a liftoff); give a longer "
+            f"over (a switch waits up to {wait:.3g} s for a liftoff); give a longer "
             "--time to see it"
         )
     return lines
