@@ -266,7 +266,9 @@ def test_bad_scale_factors_are_user_errors(
     assert main(["run", hopper, *gen, "--scale", "-1", "--time", "0.01", "--out", out]) == 2
     assert main(["run", hopper, *gen, "--scale", "2", "--animate", "--out", out]) == 2
     err = capsys.readouterr().err
-    assert "the scale factor is a positive number" in err
+    assert "the scale factor is a positive, finite number" in err
+    assert main(["scale", hopper, "--by", "1e400", "-o", out]) == 2  # read as inf
+    assert "--by inf: the scale factor is a positive, finite number" in capsys.readouterr().err
     assert "--animate draws the file's creature" in err
     assert not Path(out).exists()
 

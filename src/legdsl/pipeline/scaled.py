@@ -69,7 +69,7 @@ def check_scale(scale: float | None) -> None:
     if scale is None:
         return
     if not 0 < scale < math.inf:
-        raise UsageError(f"--scale {scale:g}: the scale factor is a positive number")
+        raise UsageError(f"--scale {scale:g}: the scale factor is a positive, finite number")
     # Table 1's factors reach L^5 (an inertia): it and 1 / L^5 must both be doubles
     if not all(0 < factor(_INERTIA, f) < math.inf for f in (scale, 1 / scale)):
         raise UsageError(
