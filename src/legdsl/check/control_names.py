@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, is_dataclass
 from typing import Any
 
-from legdsl.check.values import did_you_mean, place_of, stdlib_name
+from legdsl.check.values import TRUTHS, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import BOOL, ONE, Type
@@ -219,6 +219,11 @@ class NameResolver:
             return (
                 f"'{name}' is a unit, not a name: a unit follows its number with no operator "
                 f"or space inside it, as in '1 rad/{name}' or '2 {name}'"
+            )
+        if name in TRUTHS and name not in names:  # 'and True', as Python writes it
+            return (
+                f"legdsl has no '{name}': a condition is a comparison, as in 'trunk.z > 2 m', "
+                "and a switch is a number, as in 'param on = 1'"
             )
         advice = did_you_mean(name, names) or (
             ": not a part of the creature, nor an input, parameter, signal, role, path "

@@ -26,7 +26,13 @@ from legdsl.check.paths import check_path
 from legdsl.check.record_readers import settle_by_readers
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
-from legdsl.check.values import MAX_NAME, did_you_mean, owning_creature, too_long
+from legdsl.check.values import (
+    MAX_NAME,
+    constant_advice,
+    did_you_mean,
+    owning_creature,
+    too_long,
+)
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import Constant, Type
 from legdsl.ir.model import Model
@@ -370,9 +376,13 @@ class ControllerChecker:
         if unit is not None:  # '1 N*m/rdd' reads as 1 N*m divided by a name
             self.err(unit.span, unknown_unit(unit.name))
             return None
+        advice = constant_advice(expr)
         self.err(
-            expr.span,
-            "an input or parameter is a number with its unit, e.g. '1.5 m/s'; use a 'signal' for an expression",
+            advice[0] if advice else expr.span,
+            advice[1]
+            if advice
+            else "an input or parameter is a number with its unit, e.g. '1.5 m/s'; use a "
+            "'signal' for an expression",
         )
         return None
 

@@ -15,7 +15,8 @@ from pathlib import Path
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import KINDS, Dim, describe, out_of_range, parse_unit
+from legdsl.lang.habits import inverse_unit
+from legdsl.lang.units import KINDS, Dim, UnitError, describe, out_of_range, parse_unit
 
 STDLIB = Path(__file__).parents[1] / "stdlib"
 
@@ -204,15 +205,27 @@ class ValueChecker:
     def one_scalar(self, prop: ast.Prop, kind: str, what: str) -> float | None:
         """The one number of a property (``mass 1.5 kg``) of dimension ``kind``."""
         if not isinstance(prop.value, ast.One):
-            self.err(prop.value.span, takes_one_value(prop))
+            self.err(prop.value.span, takes_one_value(prop, unit_hint(kind)))
             return None
         return self.scalar(prop.value.value, kind, what)
 
 
-def takes_one_value(prop: ast.Prop) -> str:
+def takes_one_value(prop: ast.Prop, unit: str = "") -> str:
     """A property given several values; ``mass 3 kg, shape box(...)`` is a ',' between two
-    properties (the next one's name reads as a second value)."""
+    properties (the next one's name reads as a second value); ``mass value="10"``, an
+    attribute as a URDF writes it. ``unit``: the unit its value takes, for the example."""
     said = f"'{prop.key.name}' takes one value"
+    if isinstance(prop.value, ast.Assigns) and len(prop.value.items) == 1:
+        item = prop.value.items[0]
+        number = _number_text(item.value)
+        if number is not None:
+            unit = "" if unit == "no unit" or written_unit(number) else unit
+            value = f"{number} {unit}".strip()
+            shown = f'"{item.value.text}"' if isinstance(item.value, ast.String) else number
+            return (
+                f"{said}, written after its name without '=': '{prop.key.name} {value}', not "
+                f"'{item.target.name}={shown}'"
+            )
     if isinstance(prop.value, ast.Many):
         comma = _decimal_comma(*prop.value.values[:2])  # 'mass 5,5 kg', as in some locales
         if comma is not None:
@@ -229,6 +242,56 @@ def takes_one_value(prop: ast.Prop) -> str:
                 "'mass 3 kg  inertia 0.1 kg*m^2'"
             )
     return said
+
+
+def _number_text(value: ast.Value) -> str | None:
+    """A number's text, also one written in quotes ('"10"'); None for anything else."""
+    if isinstance(value, ast.Number):
+        return value.text
+    if isinstance(value, ast.String) and re.fullmatch(
+        r"-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", value.text
+    ):
+        return value.text
+    return None
+
+
+# what other languages write for a truth value; legdsl has none
+TRUTHS = ("True", "False", "true", "false", "TRUE", "FALSE")
+
+
+def constant_advice(expr: ast.Expr) -> tuple[Span, str] | None:
+    """How to write an input's or a parameter's value that is not a number with its unit,
+    where it looks like one written as elsewhere: '2*cm', '1 /s' (a unit after an operator),
+    'True' (legdsl has no truth values). (where, the sentence)"""
+    if isinstance(expr, ast.EName) and expr.ident.name in TRUTHS:
+        return (
+            expr.span,
+            f"legdsl has no '{expr.ident.name}': a parameter is a number with its unit (for a "
+            "switch, 1 or 0, as in 'param k = 1'), and a condition is a comparison, as in "
+            "'trunk.z > 2 m'",
+        )
+    ops: list[str] = []
+    node: ast.Expr = expr
+    while isinstance(node, ast.EBinary) and node.op in ("*", "/"):
+        if not isinstance(node.right, ast.EName):
+            return None
+        ops.append(f"{node.op}{node.right.ident.name}")
+        node = node.left
+    if not ops or not isinstance(node, ast.EQuantity):
+        return None
+    number = node.text[: len(node.text) - len(written_unit(node.text))].strip()
+    unit = written_unit(node.text) + "".join(reversed(ops))
+    try:
+        parse_unit(unit.lstrip("*/"))
+    except UnitError:
+        return None
+    if unit.startswith("/"):
+        inverse = inverse_unit(unit[1:])
+        also = f" or '{number} Hz'" if inverse == "s^-1" else ""
+        return expr.span, f"a unit starts with a symbol, not '/': write '{number} {inverse}'{also}"
+    if unit.startswith("*"):
+        return expr.span, f"a unit follows its number without '*': write '{number} {unit[1:]}'"
+    return expr.span, f"a unit is written without spaces: write '{number} {unit}'"
 
 
 def _decimal_comma(first: ast.Value, second: ast.Value) -> tuple[str, str] | None:

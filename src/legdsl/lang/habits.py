@@ -4,7 +4,8 @@
 processor gives (a Unicode minus, '±', '½', a non-breaking space, '×', '≥', smart quotes),
 an operator of C or Python ('&&', '||', '!', '**', ':=', '=>', 'np.clip'), a unit written
 as other tools write it ('500 /s', '10*kg', '(1 + 2) cm', 'deg.'), a decimal comma ('0,5'),
-arithmetic in a creature's value, a trailing comma, a misspelt keyword at a line's start.
+arithmetic in a creature's value, a trailing comma, a misspelt keyword at a line's start
+(and more of a creature's values: ``value_slips``).
 Each answer is (offset, length, sentence); None when no habit fits.
 """
 
@@ -19,6 +20,7 @@ from lark import Token
 from legdsl.lang.context import in_expression, in_parentheses, innermost, opening
 from legdsl.lang.spellings import mask
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
+from legdsl.lang.value_slips import value_slip
 
 Found = tuple[int, int, str]
 
@@ -67,11 +69,11 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
             return found
     if token is None:
         return None
-    for find_token in (_unit_habit, _decimal_comma, _value_habit, _keyword):
+    for find_token in (_unit_habit, _decimal_comma, _value_habit):
         found = find_token(text, masked, pos, kind)
         if found is not None:
             return found
-    return None
+    return value_slip(text, masked, pos, kind, expected) or _keyword(text, masked, pos, kind)
 
 
 def punctuation(text: str, pos: int, token: Token | None, expected: set[str]) -> Found | None:
@@ -282,7 +284,7 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
     if kind == "SLASH" and number is not None and before != masked[:pos]:
         unit = _UNIT_AFTER.match(masked, pos + 1)
         if unit is not None:  # '500 /s'
-            inverse = _inverse(unit.group(1))
+            inverse = inverse_unit(unit.group(1))
             also = f" or '{number.group()} Hz'" if inverse == "s^-1" else ""
             return (
                 pos,
@@ -329,7 +331,7 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
     return None
 
 
-def _inverse(unit: str) -> str:
+def inverse_unit(unit: str) -> str:
     """'s' -> 's^-1 (or Hz)', 's^2' -> 's^-2'; the first symbol of ``unit`` divided into 1."""
     atom = re.match(r"([A-Za-z]+)(?:\^(-?\d+))?", unit)
     assert atom is not None

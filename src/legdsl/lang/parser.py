@@ -20,6 +20,7 @@ from legdsl.lang.errors import LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
 from legdsl.lang.spellings import other_numbers
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
+from legdsl.lang.unit_words import unit_word
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
 
 __all__ = ["grammar_dir", "parse", "parse_file"]
@@ -353,7 +354,6 @@ def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.Sourc
     while True:
         try:
             tree = lark_parser().parse(read, start="start")
-            break
         except UnexpectedInput as err:
             error = syntax_error(file, read, err)
             repaired = repaired_unit(read, err) if len(pending) < MAX_REPAIRS else None
@@ -361,10 +361,20 @@ def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.Sourc
                 raise LegError(pending + error.diagnostics, {file: text}) from None
             pending.extend(error.diagnostics)
             read = repaired
+            continue
+        _check_nesting(tree, file, text)
+        built = _build(tree, file, text)
+        # a unit the parser read as the next property ('length 0.5 meters')
+        word = unit_word(file, read, built) if len(pending) < MAX_REPAIRS else None
+        if word is None:
+            break
+        pending.append(word[0])
+        if word[1] is None:
+            break
+        read = word[1]
     if pending and not recover:
         raise LegError(pending, {file: text})
-    _check_nesting(tree, file, text)
-    return replace(_build(tree, file, text), pending=tuple(pending))
+    return replace(built, pending=tuple(pending))
 
 
 def _check_nesting(tree: Tree, file: str, text: str) -> None:

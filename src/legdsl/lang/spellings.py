@@ -28,7 +28,7 @@ def offset_span(file: str, text: str, start: int, length: int) -> Span:
 
 # The unit written after a number, loosely: symbols with spaces, parentheses or '**'
 # between them ('9.81 m s^-2', '200 N s/m', 'm/(s^2)', 'm/s**2'), which legdsl does not read.
-_LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)-?\d+)?(?![A-Za-z0-9_])"
+_LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)?-?\d+)?(?![A-Za-z0-9_])"
 _LOOSE_SEP = r"(?:[ \t]*[*/][ \t]*\(?[ \t]*|[ \t]+\(?[ \t]*|[ \t]*\([ \t]*)"
 _LOOSE_UNIT = re.compile(
     r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*"
@@ -48,7 +48,7 @@ def _tidy_unit(written: str) -> str | None:
     """``written`` in legdsl's spelling: '*' between symbols, '^' for powers, no
     parentheses ('/' divides by the one symbol after it), a lone trailing negative power
     as a division ('m*s^-2' is 'm/s^2'); None if that is no unit legdsl reads."""
-    text = written.replace("**", "^")
+    text = re.sub(r"(?<=[A-Za-z])(-?\d)", r"^\1", written.replace("**", "^"))
     parts = re.findall(r"[A-Za-z]+(?:\^-?\d+)?|[*/()]|[ \t]+", text)
     out: list[str] = []
     group: str | None = None  # the operator before an open parenthesis
@@ -103,13 +103,19 @@ def unit_spelling(text: str, pos: int) -> UnitSpelling | None:
         tidy = _tidy_unit(written)
         if tidy is None or tidy == written:
             continue
+        also = ""
         if "(" in written or ")" in written:
             why = "a unit takes no parentheses ('/' divides by the one symbol after it)"
         elif "**" in written:
             why = "a power in a unit is written with '^'"
+        elif re.search(r"[A-Za-z]-?\d", written):  # 'm s-2', as SI tables write it
+            why = "a unit's symbols are joined by '*' or '/', and a power is written with '^'"
+            last = re.search(r"/([A-Za-z]+)(?:\^(\d+))?$", tidy)
+            if last is not None and "/" not in written:  # as written, with its power
+                also = f" (or '{tidy[: last.start()]}*{last[1]}^-{last[2] or 1}')"
         else:
             why = "a unit is written without spaces, its symbols joined by '*' or '/'"
-        return UnitSpelling(written, start, tidy, f"{why}: write '{tidy}', not '{written}'")
+        return UnitSpelling(written, start, tidy, f"{why}: write '{tidy}'{also}, not '{written}'")
     return None
 
 

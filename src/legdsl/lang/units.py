@@ -195,8 +195,10 @@ def _plain_unit(word: str) -> str:
     return re.sub(r"[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+", lambda m: "^" + m.group().translate(_SUPERSCRIPTS), word)
 
 
-def looks_like_unit(word: str) -> bool:
-    """Whether a word after a number was meant as a unit (and is not, say, a property name)."""
+def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
+    """Whether a word after a number was meant as a unit (and is not, say, a property name);
+    not ``fuzzy``: only as a unit's case, plural, name or symbols run together, not by a
+    near spelling ('com', a property, is near 'cm')."""
     parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
     return bool(parts) and all(
         p.lower().removesuffix("s") in _UNIT_NAMES
@@ -204,7 +206,7 @@ def looks_like_unit(word: str) -> bool:
         or p.lower() in _UNIT_BY_LOWER
         or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
         or (p[:1] in _PREFIXES and p[1:] in UNITS)
-        or difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8)
+        or (fuzzy and difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8))
         for p in parts
     )
 
@@ -286,6 +288,17 @@ def _other_system(word: str, number: str | None) -> str | None:
         if best != base:
             ways.append(f"'{_decimal(scaled[best])} {best}{power}{rest}'")
     return message + ": write " + " or ".join(ways)
+
+
+def stand_in_unit(word: str) -> str | None:
+    """legdsl's unit of the kind of a unit from another system or with a prefix legdsl lacks
+    ('ft' -> 'm', 'dm' -> 'm'), to read in its place once it is reported; else None."""
+    singular = word.lower().removesuffix("s") if len(word) > 2 else word.lower()
+    if word in _FOREIGN or singular in _FOREIGN:
+        return (_FOREIGN.get(word) or _FOREIGN[singular])[1]
+    if word[:1] in _PREFIX_FACTORS and word[1:] in UNITS and word not in UNITS:
+        return word[1:]
+    return None
 
 
 def suggest_unit(word: str) -> str | None:

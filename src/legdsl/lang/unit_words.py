@@ -1,0 +1,109 @@
+"""A unit that the parser read as the next property: '0.5 meters', '0.1 kgm2', '9.81 m s-2'.
+
+A creature's property is a name and a value, so a word after a number that is no unit
+legdsl knows starts the next property ('length 0.5 meters  com 0.2 m' reads a property
+'meters'), and the file parses. ``unit_word`` finds such a word after a property's number,
+on its line, where it looks plainly like a unit (a unit's case, plural, name or symbols run
+together, or symbols with spaces between them as tables write them), and says how to write
+it, at the word; ``parse`` reads on with the unit it suggests in its place, as it does for a
+misspelt unit at a syntax error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from legdsl.lang import ast
+from legdsl.lang.errors import Diagnostic
+from legdsl.lang.spellings import offset_span, unit_spelling
+from legdsl.lang.units import (
+    UnitError,
+    looks_like_unit,
+    parse_unit,
+    stand_in_unit,
+    suggest_unit,
+    unknown_unit,
+)
+
+
+def _offset(text: str, line: int, col: int) -> int:
+    start = 0
+    for _ in range(line - 1):
+        start = text.index("\n", start) + 1
+    return start + col - 1
+
+
+def _prop_runs(tree: ast.SourceFile) -> Iterator[list[ast.Prop]]:
+    """Each list of properties written one after another: a creature's own, a body's, a
+    leg's, a block's, in templates too."""
+    for creature in tree.creatures:
+        yield [i for i in creature.items if isinstance(i, ast.Prop)]
+        parts: list[object] = list(creature.items)
+        for template in (i for i in creature.items if isinstance(i, ast.TemplateDecl)):
+            parts.extend(template.items)
+        for part in parts:
+            if isinstance(part, ast.BodyDecl | ast.LegDecl | ast.BlockDecl):
+                yield list(part.props)
+
+
+def _number(prop: ast.Prop) -> ast.Number | None:
+    if not isinstance(prop.value, ast.One):
+        return None
+    value = prop.value.value
+    while isinstance(value, ast.Neg):
+        value = value.value
+    return value if isinstance(value, ast.Number) else None
+
+
+def unit_word(file: str, text: str, tree: ast.SourceFile) -> tuple[Diagnostic, str | None] | None:
+    """The first unit read as a property's name in ``tree`` (parsed from ``text``): its
+    diagnostic, and ``text`` with the unit it suggests in its place, every later position
+    kept (None when the suggestion does not fit)."""
+    for props in _prop_runs(tree):
+        for before, prop in zip(props, props[1:], strict=False):
+            number = _number(before)
+            key = prop.key
+            if number is None or key.span.line != number.span.end_line:
+                continue
+            end = _offset(text, number.span.end_line, number.span.end_col)
+            start = _offset(text, key.span.line, key.span.col)
+            if text[end:start].strip(" \t"):
+                continue
+            found = _diagnose(file, text, number, key.name, start)
+            if found is not None:
+                return found
+    return None
+
+
+def _diagnose(
+    file: str, text: str, number: ast.Number, word: str, start: int
+) -> tuple[Diagnostic, str | None] | None:
+    spelt = unit_spelling(text, start)
+    if spelt is not None and spelt.start < start:  # '9.81 m s-2': the unit goes on past 'm'
+        span = offset_span(file, text, spelt.start, len(spelt.written))
+        fits = len(spelt.suggestion) <= len(spelt.written)
+        end = spelt.start + len(spelt.written)
+        repaired = text[: spelt.start] + spelt.suggestion.ljust(len(spelt.written)) + text[end:]
+        return Diagnostic(span, spelt.message), repaired if fits else None
+    if not number.quantity.unitless or not looks_like_unit(word, fuzzy=False):
+        return None
+    try:
+        parse_unit(word)
+        return None
+    except UnitError:
+        pass
+    diagnostic = Diagnostic(
+        offset_span(file, text, start, len(word)), unknown_unit(word, number.text)
+    )
+    suggestion = suggest_unit(word) or stand_in_unit(word)
+    if suggestion is None:
+        return diagnostic, None
+    if len(suggestion) <= len(word):
+        return diagnostic, text[:start] + suggestion.ljust(len(word)) + text[start + len(word) :]
+    # '0.1 kgm2' as '1 kg*m^2': 1 passes every check of sign, and the value is reported
+    first = _offset(text, number.span.line, number.span.col)
+    written = start + len(word) - first
+    read = f"1 {suggestion}" if len(suggestion) + 2 <= written else f"1{suggestion}"
+    if len(read) > written:
+        return diagnostic, None
+    return diagnostic, text[:first] + read.ljust(written) + text[start + len(word) :]

@@ -1,0 +1,120 @@
+"""More habits from other tools in a creature's values, for ``habits``: an exponent with no
+digits ('9.81e m/s^2'), a range written with ':' ('-60 deg : 60 deg'), a unit in quotes
+('10 "kg"'), a list ended with a ',' ('joints hip, knee,  foot toe'). Each answer is
+(offset, length, sentence); None when the slip is not there.
+"""
+
+from __future__ import annotations
+
+import re
+
+from legdsl.lang.context import in_expression
+from legdsl.lang.units import UnitError, parse_unit, suggest_unit, unit_pattern
+
+Found = tuple[int, int, str]
+
+_NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def value_slip(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
+    """The first of this module's slips that made the parse fail at ``pos``."""
+    for find in (_bare_exponent, _range_colon, _quoted_unit, _trailing_list_comma):
+        found = find(text, masked, pos, kind, expected)
+        if found is not None:
+            return found
+    return None
+
+
+def _bare_exponent(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
+    """'9.81e m/s^2': an 'e' with no power of ten after it, read as a name."""
+    line_start = masked.rfind("\n", 0, pos) + 1
+    found = None
+    for m in re.finditer(
+        r"(?<![\w.])(\d+\.?\d*|\.\d+)[eE](?![\w+-])", masked[line_start : pos + 1]
+    ):
+        found = m
+    if found is None:
+        return None
+    start = line_start + found.start()
+    unit = re.match(rf"[ \t]*({unit_pattern()})", masked[line_start + found.end() :])
+    value = found.group(1) + (f" {unit.group(1)}" if unit else "")
+    return (
+        start,
+        found.end() - found.start(),
+        (
+            f"'{found.group()}' is no number: an 'e' takes the power of ten after it, as in "
+            f"'{found.group(1)}e3'; without one, write '{value}'"
+        ),
+    )
+
+
+_END = rf"-?[ \t]*{_NUMBER}(?:[ \t]*{unit_pattern()})?"
+
+
+def _range_colon(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
+    """'limits -60 deg : 60 deg': a range written as some languages slice."""
+    if kind != "COLON" or "to" not in expected:
+        return None
+    low = re.search(rf"(?:([A-Za-z_]\w*)[ \t]+)?({_END})[ \t]*$", masked[:pos])
+    high = re.match(rf"[ \t]*({_END})", masked[pos + 1 :])
+    if low is None or high is None:
+        return None
+    key = f"{low.group(1)} " if low.group(1) else ""
+    return (
+        pos,
+        1,
+        (
+            "a range is written 'LOW to HIGH', not with ':': write "
+            f"'{key}{low.group(2)} to {high.group(1)}'"
+        ),
+    )
+
+
+def _quoted_unit(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
+    """'10 "kg"': a unit in quotes, as a data file holds it."""
+    if kind != "STRING":
+        return None
+    number = re.search(rf"(?<![\w.])({_NUMBER})[ \t]*$", masked[:pos])
+    quoted = re.match(r'"([^"\n]*)"', text[pos:])
+    if number is None or quoted is None:
+        return None
+    unit: str | None = quoted.group(1).strip()
+    try:
+        parse_unit(unit or "")
+    except UnitError:
+        unit = suggest_unit(unit or "")
+    if not unit:
+        return None
+    return (
+        pos,
+        quoted.end(),
+        f"a unit is written without quotes, after its number: write '{number.group(1)} {unit}'",
+    )
+
+
+def _trailing_list_comma(
+    text: str, masked: str, pos: int, kind: str, expected: set[str]
+) -> Found | None:
+    """'joints hip, knee,  foot toe': the ',' after a list's last value makes the next
+    property's name one more value, and the parse fails further on."""
+    if in_expression(masked, pos):
+        return None
+    line_start = masked.rfind("\n", 0, pos) + 1
+    for m in re.finditer(
+        r"(\w)[ \t]*(,)[ \t]*([A-Za-z_]\w*)[ \t]+[A-Za-z_]\w*(?!\w)(?![ \t]*[=(,.)])",
+        masked[line_start:pos],
+    ):
+        comma = line_start + m.start(2)
+        listed = re.search(
+            r"([A-Za-z_]\w*)[ \t]+([^,{}=\n]+(?:,[^,{}=\n]+)*)$", masked[line_start:comma]
+        )
+        shown = f" ('{listed.group(1)} {listed.group(2).strip()}')" if listed else ""
+        return (
+            comma,
+            1,
+            (
+                f"a list ends without a ','{shown}: the ',' before '{m.group(3)}' makes it one "
+                "more value of the list; remove it"
+            ),
+        )
+    return None
