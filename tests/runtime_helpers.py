@@ -9,8 +9,15 @@ import numpy as np
 import pytest
 
 from legdsl.pipeline.session import RunSession
+from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS
+
+# A module of C-backend runs: skipped, saying how to get one, where no C compiler is found.
+needs_c_compiler = pytest.mark.skipif(
+    available() is not None,
+    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
+)
 
 _CACHE: dict[str, RunSession] = {}
 

@@ -10,20 +10,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import ROOT
-from runtime_helpers import assert_same
+from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.analysis.pairs import hip_positions, pair_groups
 from legdsl.check.source import check_file
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
 LEG = ROOT / "tests" / "good" / "outside" / "spine_quadruped.leg"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 
 @pytest.fixture(scope="module")

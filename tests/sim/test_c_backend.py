@@ -20,17 +20,13 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED, ROOT
-from runtime_helpers import assert_same
+from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.ir.model import Terrain
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions, RunResult
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 # (creature, controller, --set) of the shipped controllers, with a speed they hold
 CHOSEN_RUNS = [

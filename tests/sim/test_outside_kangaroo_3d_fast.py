@@ -12,20 +12,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 from conftest import ROOT
+from runtime_helpers import needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.trajectory import Trajectory
 
 OUTSIDE = ROOT / "tests" / "good" / "outside"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 
 def run_at_4(name: str, generated: Path) -> Trajectory:

@@ -8,20 +8,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 from conftest import ROOT
-from runtime_helpers import assert_same
+from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
 LEG = ROOT / "tests" / "good" / "outside" / "knee_biped.leg"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 
 def test_the_knee_biped_runs_the_same_on_both_backends_and_keeps_its_trunk_up(

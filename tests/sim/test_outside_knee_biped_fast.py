@@ -15,18 +15,15 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import ROOT
+from runtime_helpers import needs_c_compiler
 
 from legdsl.analysis.metrics import compute_metrics
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
 OUTSIDE = ROOT / "tests" / "good" / "outside"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 
 def stances(events: list[dict[str, Any]]) -> list[tuple[float, float]]:

@@ -10,18 +10,14 @@ from pathlib import Path
 
 import pytest
 from conftest import ROOT
-from runtime_helpers import assert_same
+from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
 LEG = ROOT / "tests" / "good" / "outside" / "knee_quadruped_gaits.leg"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 # the pairs each gait's virtual legs are, as indices of (fl, fr, rl, rr), and the pairs that
 # must not be down together (the two virtual legs take turns)

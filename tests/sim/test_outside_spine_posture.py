@@ -9,17 +9,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import ROOT
+from runtime_helpers import needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions
 
 OUTSIDE = ROOT / "tests" / "good" / "outside"
 
-pytestmark = pytest.mark.skipif(
-    available() is not None,
-    reason=f"the C backend's tests need a C compiler: {available()} (apt-get install gcc)",
-)
+pytestmark = needs_c_compiler
 
 
 def _session(tmp_path_factory: pytest.TempPathFactory, name: str) -> RunSession:
