@@ -8,6 +8,7 @@ import os
 from typing import Any
 
 from legdsl.ir.model import Model
+from legdsl.sim.sensors import rpy
 from legdsl.sim.trajectory import Trajectory, empty
 
 
@@ -109,16 +110,3 @@ def record_row(sim: Any, traj: Trajectory, row: int) -> None:
         traj.speed_command[row] = sim.controller.speed_command(sim.t)
     traj.work_positive[row] = sim.actuators.positive_work
     traj.work_negative[row] = sim.actuators.negative_work
-
-
-def rpy(r: tuple[float, ...], planar: bool = False) -> tuple[float, float, float]:
-    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll); a planar
-    creature's pitch over the whole turn (``legdsl.sim.sensors.euler_rates``)."""
-    if planar and r[8] < 0.0:
-        s = max(-1.0, min(1.0, -r[6]))
-        return 0.0, math.copysign(math.pi, s) - math.asin(s), 0.0
-    return (
-        math.atan2(r[7], r[8]),
-        math.asin(max(-1.0, min(1.0, -r[6]))),
-        math.atan2(r[3], r[0]),
-    )

@@ -51,20 +51,30 @@ def _tick(clock: _LegClock, t: float, now: bool) -> None:
     clock.touching = now
 
 
-def euler_rates(
-    rot: tuple[float, ...], omega: Vec, planar: bool = False
-) -> tuple[float, float, float, float, float, float]:
-    """Roll, pitch, yaw of R = Rz Ry Rx and their rates, from the world angular velocity.
+def rpy(r: tuple[float, ...], planar: bool = False) -> tuple[float, float, float]:
+    """Roll, pitch, yaw of a row-major rotation R = Rz(yaw) Ry(pitch) Rx(roll).
 
     A planar creature turns about y alone, so its pitch is read over the whole turn, in
     (-180, 180] degrees: past 90 degrees the 3D reading folds (120 deg read as a roll and yaw
-    of 180 and a pitch of 60, its rate with the wrong sign), and a flip could not be followed."""
-    if planar and rot[8] < 0.0:  # past 90 degrees of pitch (below it, the 3D reading holds)
-        s = max(-1.0, min(1.0, -rot[6]))
-        return 0.0, math.copysign(math.pi, s) - math.asin(s), 0.0, 0.0, omega[1], 0.0
-    roll = math.atan2(rot[7], rot[8])
-    pitch = math.asin(max(-1.0, min(1.0, -rot[6])))
-    yaw = math.atan2(rot[3], rot[0])
+    of 180 and a pitch of 60), and a flip could not be followed."""
+    if planar and r[8] < 0.0:  # past 90 degrees of pitch (below it, the 3D reading holds)
+        s = max(-1.0, min(1.0, -r[6]))
+        return 0.0, math.copysign(math.pi, s) - math.asin(s), 0.0
+    return (
+        math.atan2(r[7], r[8]),
+        math.asin(max(-1.0, min(1.0, -r[6]))),
+        math.atan2(r[3], r[0]),
+    )
+
+
+def euler_rates(
+    rot: tuple[float, ...], omega: Vec, planar: bool = False
+) -> tuple[float, float, float, float, float, float]:
+    """``rpy`` and the angles' rates, from the world angular velocity (a planar creature's
+    pitch rate past 90 degrees is its turning rate about y)."""
+    roll, pitch, yaw = rpy(rot, planar)
+    if planar and rot[8] < 0.0:
+        return roll, pitch, yaw, 0.0, omega[1], 0.0
     # body-frame angular velocity: R^T omega
     bx = rot[0] * omega[0] + rot[3] * omega[1] + rot[6] * omega[2]
     by = rot[1] * omega[0] + rot[4] * omega[1] + rot[7] * omega[2]

@@ -139,6 +139,12 @@ static inline double leg_max(double a, double b) {
 static inline double leg_min(double a, double b) {
     return a != a || b != b ? NAN : b < a ? b : a;
 }
+/* A planar creature's pitch past 90 deg, over the whole turn, from its rotation's row-major
+ * entries (sensors.rpy): the 3D reading folds back there. */
+static inline double leg_whole_turn_pitch(const double *rot, int *err) {
+    double s = leg_max(-1.0, leg_min(1.0, -rot[6]));
+    return copysign(LEG_PI, s) - leg_asin_e(s, err);
+}
 
 #define leg_div(a, b) leg_div_e((a), (b), err)
 #ifdef LEG_TRIG_LOCAL /* a function that declared leg_trig_here = leg_trig_table() */

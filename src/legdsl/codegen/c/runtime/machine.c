@@ -140,9 +140,8 @@ double leg_sense_body(leg_sim *s, int b, int member, int *err) {
     const double *vel = velocity(kc, s, b, member >= 6, err);
     if (member < 6) return vel[member - 3];
     if (kc->angles_of != b && LEG_PLANAR && pose_b[3 + 8] < 0.0) { /* a planar pitch past 90 deg */
-        double sp = leg_max(-1.0, leg_min(1.0, -pose_b[3 + 6]));
         kc->angles[0] = kc->angles[2] = kc->angles[3] = kc->angles[5] = 0.0;
-        kc->angles[1] = copysign(LEG_PI, sp) - leg_asin(sp);
+        kc->angles[1] = leg_whole_turn_pitch(pose_b + 3, err);
         kc->angles[4] = vel[3 + 1];
         kc->angles_of = b;
     }

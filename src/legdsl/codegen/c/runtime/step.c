@@ -642,9 +642,8 @@ static int record_row(leg_sim *s, int64_t row) {
     const double *rot = poses + 3;
     for (int k = 0; k < 3; k++) s->rec_root_pos[3 * row + k] = poses[k];
     if (LEG_PLANAR && rot[8] < 0.0) { /* a planar pitch past 90 deg, over the whole turn */
-        double sp = leg_max(-1.0, leg_min(1.0, -rot[6]));
         s->rec_root_rpy[3 * row] = s->rec_root_rpy[3 * row + 2] = 0.0;
-        s->rec_root_rpy[3 * row + 1] = copysign(LEG_PI, sp) - leg_asin(sp);
+        s->rec_root_rpy[3 * row + 1] = leg_whole_turn_pitch(rot, err);
     } else {
         s->rec_root_rpy[3 * row] = atan2(rot[7], rot[8]);
         s->rec_root_rpy[3 * row + 1] = leg_asin(leg_max(-1.0, leg_min(1.0, -rot[6])));
