@@ -13,7 +13,7 @@ from __future__ import annotations
 import contextlib
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from types import ModuleType
 from typing import Any, Protocol
 
@@ -341,15 +341,17 @@ class Simulation:
         pos, rot = self.dyn.body_poses(self.q)[0]
         return pos, rot
 
-    def standing_height(self) -> float:
-        """How far the root stands above its lowest foot at the start (its own height if
-        footless); 0, no fall limit, for a root welded to the world, which cannot fall."""
+    def standing_height(self, q: Sequence[float] | None = None) -> float:
+        """How far the root stands above its lowest foot at the start, or in the pose ``q``
+        (its own height if footless); 0, no fall limit, for a root welded to the world,
+        which cannot fall."""
         if self.model.joints[0].kind == "fixed":
             return 0.0
-        root = self._root_pose()[0]
+        q = self.q if q is None else q
+        root = self.dyn.body_poses(q)[0][0]
         if not self.contact_names:
             return root[2] - self._ground_under(root)
-        return root[2] - min(p[2] for p in self.dyn.contact_positions(self.q))
+        return root[2] - min(p[2] for p in self.dyn.contact_positions(q))
 
     def _ground_under(self, point: Vec) -> float:
         return self.ground.height(point[0], point[1]) if self.ground is not None else 0.0

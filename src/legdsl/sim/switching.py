@@ -74,11 +74,9 @@ def natural_scale(sim: Any) -> float:
     creature's start pose (``Model.q0``: as ``legdsl scale`` scales it, L times as high; a
     ``--drop`` lifts the feet with it): the factor on the handover's times (and 1 over it on its
     rates). 1 for a creature without feet or with its root welded to the world."""
-    model = sim.model
-    if model.joints[0].kind == "fixed" or not sim.contact_names:
+    if not sim.contact_names:
         return 1.0
-    root = float(sim.dyn.body_poses(model.q0)[0][0][2])
-    height = root - min(float(p[2]) for p in sim.dyn.contact_positions(model.q0))
+    height = sim.standing_height(sim.model.q0)  # 0 for a root welded to the world
     return math.sqrt(height / REFERENCE_HEIGHT) if height > 0.0 else 1.0
 
 
