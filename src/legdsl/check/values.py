@@ -15,7 +15,7 @@ from pathlib import Path
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.habits import inverse_unit
+from legdsl.lang.habits import unit_after_slash, unit_after_star
 from legdsl.lang.units import KINDS, Dim, UnitError, describe, out_of_range, parse_unit
 
 STDLIB = Path(__file__).parents[1] / "stdlib"
@@ -286,11 +286,9 @@ def constant_advice(expr: ast.Expr) -> tuple[Span, str] | None:
     except UnitError:
         return None
     if unit.startswith("/"):
-        inverse = inverse_unit(unit[1:])
-        also = f" or '{number} Hz'" if inverse == "s^-1" else ""
-        return expr.span, f"a unit starts with a symbol, not '/': write '{number} {inverse}'{also}"
+        return expr.span, unit_after_slash(number, unit[1:])
     if unit.startswith("*"):
-        return expr.span, f"a unit follows its number without '*': write '{number} {unit[1:]}'"
+        return expr.span, unit_after_star(number, unit[1:])
     return expr.span, f"a unit is written without spaces: write '{number} {unit}'"
 
 

@@ -284,24 +284,11 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
     if kind == "SLASH" and number is not None and before != masked[:pos]:
         unit = _UNIT_AFTER.match(masked, pos + 1)
         if unit is not None:  # '500 /s'
-            inverse = inverse_unit(unit.group(1))
-            also = f" or '{number.group()} Hz'" if inverse == "s^-1" else ""
-            return (
-                pos,
-                unit.end() - pos,
-                (f"a unit starts with a symbol, not '/': write '{number.group()} {inverse}'{also}"),
-            )
+            return pos, unit.end() - pos, unit_after_slash(number.group(), unit.group(1))
     if kind == "STAR" and number is not None:
         unit = _UNIT_AFTER.match(masked, pos + 1)
         if unit is not None and before == masked[:pos]:  # '10*kg'
-            return (
-                pos,
-                unit.end() - pos,
-                (
-                    f"a unit follows its number without '*': write '{number.group()} "
-                    f"{unit.group(1)}'"
-                ),
-            )
+            return pos, unit.end() - pos, unit_after_star(number.group(), unit.group(1))
     if kind == "UNIT" and not re.match(r"[ \t]*[(=]", masked[pos + len(token_text) :]):
         written = token_text
         if before.endswith(")"):  # '(1 + 2) cm'
@@ -329,6 +316,18 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
         written = dotted.group()
         return pos, 1, f"a unit ends without '.': write '{written}', not '{written}.'"
     return None
+
+
+def unit_after_slash(number: str, unit: str) -> str:
+    """How to write '500 /s' (a unit opened by '/'), in a file's value or an expression."""
+    inverse = inverse_unit(unit)
+    also = f" or '{number} Hz'" if inverse == "s^-1" else ""
+    return f"a unit starts with a symbol, not '/': write '{number} {inverse}'{also}"
+
+
+def unit_after_star(number: str, unit: str) -> str:
+    """How to write '10*kg' (a unit joined to its number by '*')."""
+    return f"a unit follows its number without '*': write '{number} {unit}'"
 
 
 def inverse_unit(unit: str) -> str:
