@@ -320,7 +320,7 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
 
 def unit_after_slash(number: str, unit: str) -> str:
     """How to write '500 /s' (a unit opened by '/'), in a file's value or an expression."""
-    inverse = inverse_unit(unit)
+    inverse = _inverse_unit(unit)
     also = f" or '{number} Hz'" if inverse == "s^-1" else ""
     return f"a unit starts with a symbol, not '/': write '{number} {inverse}'{also}"
 
@@ -330,7 +330,7 @@ def unit_after_star(number: str, unit: str) -> str:
     return f"a unit follows its number without '*': write '{number} {unit}'"
 
 
-def inverse_unit(unit: str) -> str:
+def _inverse_unit(unit: str) -> str:
     """'s' -> 's^-1 (or Hz)', 's^2' -> 's^-2'; the first symbol of ``unit`` divided into 1."""
     atom = re.match(r"([A-Za-z]+)(?:\^(-?\d+))?", unit)
     assert atom is not None
