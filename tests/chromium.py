@@ -103,6 +103,11 @@ class Chromium:
     def open(self, url: str) -> None:
         self.call("Page.navigate", url=url)
 
+    def open_player(self, page: Path) -> None:
+        """Open a player written to ``page`` and wait until it says it is ready."""
+        self.open(page.as_uri())
+        self.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+
     def wait_for(self, expression: str, timeout: float | None = None) -> None:
         deadline = time.monotonic() + (timeout or self.timeout)
         while time.monotonic() < deadline:

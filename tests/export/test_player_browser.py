@@ -52,8 +52,7 @@ def test_the_player_draws_and_plays_the_run(browser: Chromium, name: str, tmp_pa
     page = tmp_path / "animation.html"
     write_player(motion, page)
     browser.events.clear()
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     assert browser.errors() == []
     assert browser.evaluate("legdsl.threeVersion") == "170"
     assert browser.evaluate("legdsl.frames") == motion.frames
@@ -164,8 +163,7 @@ def test_the_followed_path_is_drawn(browser: Chromium, tmp_path: Path) -> None:
     page = tmp_path / "animation.html"
     write_player(motion, page)
     browser.events.clear()
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     assert browser.errors() == []
     png = browser.screenshot()
     keep(png, "player-path.png", tmp_path)
@@ -185,8 +183,7 @@ def test_a_lost_webgl_context_falls_back_to_a_flat_drawing(
     page = tmp_path / "animation.html"
     write_player(motion, page)
     browser.events.clear()
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     browser.evaluate("legdsl.loseContext()")
     browser.wait_for("legdsl.isFlat()", timeout=10)
     browser.evaluate("legdsl.setTime(0.3)")

@@ -33,8 +33,7 @@ def open_player(browser: Chromium, motion: Motion, tmp_path: Path) -> None:
     page = tmp_path / "animation.html"
     write_player(motion, page)
     browser.events.clear()
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     assert browser.errors() == []
 
 

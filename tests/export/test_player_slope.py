@@ -58,8 +58,7 @@ def test_the_player_keeps_a_creature_up_the_slope_in_the_picture(
 ) -> None:
     page = tmp_path / "animation.html"
     write_player(up_the_slope, page)
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     assert browser.errors() == []
     browser.evaluate(f"legdsl.setTime({up_the_slope.duration})")
     x, y, z = (float(v) for v in up_the_slope.com[-1])
@@ -99,8 +98,7 @@ def test_the_orbit_camera_stays_above_a_steep_slope(
     )
     page = tmp_path / "animation.html"
     write_player(steep, page)
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     if view:
         browser.evaluate(f"legdsl.setView({{{', '.join(f'{k}: {v!r}' for k, v in view.items())}}})")
     size = camera_hints(steep)["size"]

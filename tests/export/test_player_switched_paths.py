@@ -51,8 +51,7 @@ def test_each_path_is_drawn_followed_over_its_own_spans(
 ) -> None:
     page = tmp_path / "animation.html"
     write_player(switched, page)
-    browser.open(page.as_uri())
-    browser.wait_for("window.legdsl && window.legdsl.ready", timeout=30)
+    browser.open_player(page)
     assert browser.errors() == []
     hud = "document.getElementById('hud').textContent"
     browser.evaluate("legdsl.setTime(0.2)")
