@@ -14,7 +14,8 @@ def main() -> int:
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
         return 130  # legdsl.cli.common.EXIT_INTERRUPTED, which could not be imported
-    except MemoryError:  # a memory limit (ulimit -v) too low even to load numpy
+    except (MemoryError, SystemError):  # a memory limit (ulimit -v) too low to load numpy:
+        # the import machinery then fails as SystemError ("... without setting an exception")
         print("legdsl: out of memory: raise the memory limit (ulimit -v)", file=sys.stderr)
         return 2
     return command_line()

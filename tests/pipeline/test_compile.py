@@ -5,6 +5,8 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -183,29 +185,50 @@ def test_generated_module_api(name: str) -> None:
     assert imports == ["import math"]  # plain floats and math only
 
 
-def test_controllers_lowered_in_other_processes_are_those_lowered_here(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """A creature with several controllers has them lowered in a pool of processes while its
-    dynamics are lowered here; the files and the lowered controllers are the same as when
-    everything is done in this process (LEGDSL_COMPILE_JOBS=1)."""
-    from legdsl.pipeline.compile import _controller_pool
-
+@pytest.fixture(scope="module")
+def three_controllers(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The hopper with the hop twice more, with other gains."""
     text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
-    path = tmp_path / "hopper.leg"  # the hop twice more, with other gains
+    path = tmp_path_factory.mktemp("three") / "hopper.leg"
     path.write_text(
         text + "\ncontroller slow extends hop { input speed = 0.5 m/s }\n"
         "controller stiff extends hop { param kp = 200 N*m/rad }\n",
         encoding="utf-8",
     )
-    monkeypatch.setenv("LEGDSL_COMPILE_JOBS", "2")
-    assert _controller_pool(3) is not None
-    pooled = compile_model(path)
+    return path
+
+
+@pytest.mark.parametrize("jobs", ["2", "3"])
+def test_controllers_lowered_in_other_processes_are_those_lowered_here(
+    three_controllers: Path, monkeypatch: pytest.MonkeyPatch, jobs: str
+) -> None:
+    """A creature with several controllers has them lowered in other processes (one, or two
+    taking turns) while its dynamics are lowered here; the files and the lowered controllers
+    are the same as when everything is done in this process (LEGDSL_COMPILE_JOBS=1)."""
+    monkeypatch.setenv("LEGDSL_COMPILE_JOBS", jobs)
+    elsewhere = compile_model(three_controllers)
     monkeypatch.setenv("LEGDSL_COMPILE_JOBS", "1")
-    assert _controller_pool(3) is None
-    here = compile_model(path)
-    assert [name for name, _ in pooled.files] == [name for name, _ in here.files]
-    assert pooled.files == here.files
-    assert len(pooled.lowered) == 3
-    for a, b in zip(pooled.lowered, here.lowered, strict=True):
+    here = compile_model(three_controllers)
+    assert [name for name, _ in elsewhere.files] == [name for name, _ in here.files]
+    assert elsewhere.files == here.files
+    assert len(elsewhere.lowered) == 3
+    for a, b in zip(elsewhere.lowered, here.lowered, strict=True):
         assert a == b
+
+
+def test_a_compile_that_cannot_start_threads_finishes(three_controllers: Path) -> None:
+    """Under ``ulimit -v`` a thread may not start ("can't start new thread"): a process pool's
+    manager thread then died and ``legdsl run`` waited for ever for a controller. No thread is
+    needed now, and a process that cannot start leaves its controllers to this one."""
+    script = (
+        "import threading, sys\n"
+        'def refused(self): raise RuntimeError("can\'t start new thread")\n'
+        "threading.Thread.start = refused\n"
+        "from legdsl.pipeline.compile import compile_model\n"
+        f"print(len(compile_model({str(three_controllers)!r}).lowered))\n"
+    )
+    env = dict(os.environ, LEGDSL_COMPILE_JOBS="2")
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=60
+    )
+    assert proc.returncode == 0 and proc.stdout == "3\n", proc.stderr

@@ -32,6 +32,7 @@ from legdsl.cli.process import (
     OUT_OF_MEMORY,
     TERM_UNWINDS,
     QuietWhenClosed,
+    a_library_failed,
     cannot_import,
     current_directory_exists,
     exit_status,
@@ -444,6 +445,9 @@ def _main(argv: Sequence[str] | None) -> int:
         return EXIT_USER_ERROR
     except ImportError as e:  # a Python without legdsl's dependencies, or too little memory
         print(f"legdsl: {cannot_import(e)}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except SystemError as e:  # the import machinery itself short of memory (ulimit -v)
+        print(f"legdsl: {a_library_failed(e)}", file=sys.stderr)
         return EXIT_USER_ERROR
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first

@@ -43,6 +43,16 @@ def cannot_import(e: ImportError) -> str:
     )
 
 
+def a_library_failed(e: SystemError) -> str:
+    """Python's own "returned NULL without setting an exception": a C library that could not
+    allocate as it loaded (under ``ulimit -v`` the import machinery itself fails this way), not
+    a fault of the user's file; the words Python said are kept in case memory is not why."""
+    return (
+        f"out of memory while loading a library (Python said: {e}): raise the memory limit "
+        "(ulimit -v) and run again"
+    )
+
+
 def current_directory_exists() -> bool:
     """False in a directory removed under the shell (``cd d; rm -rf ../d``), where every
     relative path would fail later as a file "not found" in '.'."""

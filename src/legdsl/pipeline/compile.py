@@ -9,15 +9,12 @@ modules are stale). Writing ``generated/NAME/`` is ``legdsl.pipeline.generated``
 
 from __future__ import annotations
 
+import functools
 import hashlib
-import multiprocessing
 import os
 import pickle
-import sys
-import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,6 +31,7 @@ from legdsl.lang.errors import LegError
 from legdsl.lang.parser import parse_file
 from legdsl.lower.control import LoweredController, lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
+from legdsl.pipeline.forked import Forked
 
 Progress = Callable[[str], None]
 
@@ -111,12 +109,7 @@ def compile_checked(
     lowers its dynamics (``compile_jobs``): they depend on the model alone."""
     say = progress or (lambda _: None)
     source = source_label(model.source)
-    pool = _controller_pool(len(model.controllers))
-    pending = (
-        [pool.submit(_pickled_controller_files, model, c, source) for c in model.controllers]
-        if pool
-        else []
-    )
+    others = _controller_processes(model, source)
     try:
         say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
         start = time.perf_counter()
@@ -134,9 +127,9 @@ def compile_checked(
         controllers: tuple[LoweredController, ...] = ()
         for k, controller in enumerate(model.controllers):
             say(f"{model.name}: lowering controller {controller.name}")
-            if pool:
+            if others:
                 with evaluate(False):  # rebuilt as printed: evaluating them again is seconds
-                    lowered_controller, text, c_text = pickle.loads(pending[k].result())
+                    lowered_controller, text, c_text = pickle.loads(others.result(k))
             else:
                 lowered_controller, text, c_text = _controller_files(model, controller, source)
             controllers += (lowered_controller,)
@@ -145,8 +138,8 @@ def compile_checked(
                 (f"control_{controller.name}.c", c_text),
             )
     finally:
-        if pool:
-            pool.shutdown(cancel_futures=True)
+        if others:
+            others.close()
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
     files += ((SUMS, sha256_sums(files)),)
@@ -181,18 +174,15 @@ def compile_jobs() -> int:
     return int(asked) if asked.isdigit() and int(asked) > 0 else (os.cpu_count() or 1)
 
 
-def _controller_pool(controllers: int) -> ProcessPoolExecutor | None:
-    """A pool of ``compile_jobs() - 1`` processes (at most one per controller) for the
-    controllers, beside this one lowering the dynamics, which are the longest part: a worker
-    per core as well took the quadruped 9.6 to 11.3 s on 2 cores instead of 7.5 to 8.8 s. Forked (no
-    import of sympy again) where this process has one thread; spawned where it has more (a
-    Dask worker compiling a stale creature), as forking a threaded process may deadlock."""
-    workers = min(compile_jobs() - 1, controllers)
-    if workers < 1:
+def _controller_processes(model: Model, source: str) -> Forked | None:
+    """``compile_jobs() - 1`` processes (at most one per controller) lowering the controllers,
+    beside this one lowering the dynamics, which are the longest part: a worker per core as
+    well took the quadruped 9.6 to 11.3 s on 2 cores instead of 7.5 to 8.8 s."""
+    processes = min(compile_jobs() - 1, len(model.controllers))
+    if processes < 1:
         return None
-    # (macOS forks unsafely under its system frameworks: Python spawns there by default too)
-    how = "fork" if threading.active_count() == 1 and sys.platform.startswith("linux") else "spawn"
-    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(how))
+    work = functools.partial(_pickled_controller_files, model, source=source)
+    return Forked(work, model.controllers, processes)
 
 
 def _controller_files(
@@ -211,5 +201,5 @@ def _controller_files(
 
 
 def _pickled_controller_files(model: Model, controller: Controller, source: str) -> bytes:
-    """``_controller_files`` in a pool's process, pickled here (see ``compile_checked``)."""
+    """``_controller_files`` in another process, pickled there (see ``compile_checked``)."""
     return pickle.dumps(_controller_files(model, controller, source))

@@ -1,0 +1,86 @@
+"""Work handed to other processes without a pool's threads: the compiler lowers a creature's
+controllers there while it lowers the dynamics (``legdsl.pipeline.compile``).
+
+``concurrent.futures.ProcessPoolExecutor`` feeds its processes from two threads of this one;
+where a thread cannot start (``ulimit -v``: "can't start new thread") its manager dies and the
+futures it held never finish, so ``legdsl run`` hung for ever. Here the processes are started
+from this thread, each answers through its own pipe, and whatever a process could not do (it
+would not start, or it died) is done here instead: the result is the same, only slower.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import pickle
+import sys
+import threading
+from collections.abc import Callable, Sequence
+from multiprocessing.connection import Connection
+from typing import Any
+
+Work = Callable[[Any], bytes]  # an item's result, pickled (what crosses the pipe)
+
+
+class Forked:
+    """``work`` on ``items[k]`` in one of up to ``processes`` processes (item k in process
+    k mod n, which answers its items in order); ``result(k)`` waits for it."""
+
+    def __init__(self, work: Work, items: Sequence[Any], processes: int) -> None:
+        self.work, self.items = work, items
+        self._pipes: list[Connection | None] = []
+        self._processes: list[multiprocessing.process.BaseProcess] = []
+        # Forked (no import of sympy again) where this process has one thread; spawned where
+        # it has more (a Dask worker compiling a stale creature), as forking a threaded
+        # process may deadlock. (macOS forks unsafely under its system frameworks: Python
+        # spawns there by default too.)
+        alone = threading.active_count() == 1 and sys.platform.startswith("linux")
+        context = (
+            multiprocessing.get_context("fork") if alone else multiprocessing.get_context("spawn")
+        )
+        for first in range(min(processes, len(items))):
+            try:
+                reading, writing = context.Pipe(duplex=False)
+                process = context.Process(
+                    target=_answer, args=(work, items[first::processes], writing), daemon=True
+                )
+                process.start()
+            except (OSError, MemoryError, RuntimeError):  # no memory or processes left
+                break
+            writing.close()  # here: so that a process that dies is an end of file
+            self._pipes.append(reading)
+            self._processes.append(process)
+
+    def result(self, k: int) -> bytes:
+        """Item k's result: from its process, or worked here if it has none (or lost it)."""
+        pipe = self._pipes[k % len(self._pipes)] if self._pipes else None
+        if pipe is not None:
+            try:
+                failed, answer = pickle.loads(pipe.recv_bytes())
+            except (EOFError, OSError):  # the process died (out of memory, killed)
+                self._pipes[k % len(self._pipes)] = None
+            else:
+                if failed:
+                    raise answer
+                return answer
+        return self.work(self.items[k])
+
+    def close(self) -> None:
+        """Stop the processes (those still working after an error here) and close the pipes."""
+        for process in self._processes:
+            if process.is_alive():
+                process.terminate()
+            process.join()
+        for pipe in self._pipes:
+            if pipe is not None:
+                pipe.close()
+
+
+def _answer(work: Work, items: Sequence[Any], pipe: Connection) -> None:
+    """In the process: each item's result in turn, or the exception that stopped it."""
+    for item in items:
+        try:
+            answer = (False, work(item))
+        except Exception as e:  # raised again where the result is asked for
+            pipe.send_bytes(pickle.dumps((True, e)))
+            return
+        pipe.send_bytes(pickle.dumps(answer))
