@@ -427,6 +427,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     return status
 
 
+def _short_of_memory(e: MemoryError | ImportError | SystemError) -> str:
+    """What a process short of memory is told: a library that could not be loaded (or a Python
+    without it), the import machinery failing ("error return without exception set"), or an
+    allocation refused."""
+    if isinstance(e, ImportError):
+        return cannot_import(e)
+    if isinstance(e, SystemError):
+        return a_library_failed(e)
+    return OUT_OF_MEMORY
+
+
 def _main(argv: Sequence[str] | None) -> int:
     try:  # the parsers import their commands' modules: a Ctrl-C may come meanwhile
         from legdsl.sim.run_loop import Interrupted
@@ -440,15 +451,9 @@ def _main(argv: Sequence[str] | None) -> int:
     except KeyboardInterrupt:
         print("legdsl: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except MemoryError:  # a memory limit (ulimit -v) too low to load numpy and the compiler
-        print(f"legdsl: {OUT_OF_MEMORY}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    except ImportError as e:  # a Python without legdsl's dependencies, or too little memory
-        print(f"legdsl: {cannot_import(e)}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    except SystemError as e:  # the import machinery itself short of memory (ulimit -v)
-        print(f"legdsl: {a_library_failed(e)}", file=sys.stderr)
-        return EXIT_USER_ERROR
+    except (MemoryError, ImportError, SystemError) as e:  # a memory limit (ulimit -v) too low
+        print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)  # to load numpy and sympy,
+        return EXIT_USER_ERROR  # or a Python without legdsl's dependencies
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first
             from legdsl.pipeline.options import check_output_file, not_an_input
@@ -474,10 +479,10 @@ def _main(argv: Sequence[str] | None) -> int:
     except Interrupted as e:
         print(f"legdsl: terminated ({e.signal})", file=sys.stderr)
         return exit_status(e.signal)
-    except MemoryError:
-        if args.debug:
+    except (MemoryError, ImportError, SystemError) as e:  # ImportError: a library loaded late
+        if args.debug:  # (matplotlib for a plot) that could not be mapped under ulimit -v
             traceback.print_exc()
-        print(f"legdsl: {OUT_OF_MEMORY}", file=sys.stderr)
+        print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)
         return EXIT_USER_ERROR
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
