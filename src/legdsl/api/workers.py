@@ -17,6 +17,7 @@ import multiprocessing
 import os
 import signal
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -36,9 +37,12 @@ class Workers:
         self._client: Any = None
         self._cluster: Any = None
         self._started: set[Any] = set()  # the local processes, to read how one ended
+        self._hook = threading.excepthook
 
     def __enter__(self) -> Workers:
         if self.dask is None:
+            self._hook = threading.excepthook  # restored at __exit__
+            threading.excepthook = _quiet_when_refused
             return self  # the processes start with the first as_completed
         try:
             from distributed import Client, LocalCluster
@@ -57,6 +61,8 @@ class Workers:
         return self
 
     def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        if self.dask is None:
+            threading.excepthook = self._hook
         if self._pool is not None:
             if kind is None:
                 self._pool.shutdown()
@@ -89,7 +95,9 @@ class Workers:
             # kept here: the executor forgets a process that died before its exit code is read
             self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
             while pending:
-                ready, pending = wait(pending, return_when=FIRST_COMPLETED)
+                ready, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
+                if not ready:
+                    self._check_manager()
                 for future in ready:
                     try:
                         result = future.result()
@@ -103,6 +111,18 @@ class Workers:
         for future in as_completed(self._client.map(fn, list(items), pure=False)):
             yield future.result()
 
+    def _check_manager(self) -> None:
+        """The executor feeds its processes from a thread that dies, its futures never to end,
+        where a thread it starts cannot (``ulimit -v``: "can't start new thread"): a sweep
+        waited for ever. Said as the shortage it is."""
+        manager = getattr(self._pool, "_executor_manager_thread", None)
+        if manager is not None and not manager.is_alive():
+            raise UsageError(
+                f"a thread could not start (out of memory?); what was done is kept, and the "
+                f"same command again goes on from there: raise the memory limit (ulimit -v), "
+                f"or give fewer --jobs than {self.workers}"
+            )
+
     def _killed(self) -> None:
         """A worker killed from outside (SIGKILL: the system's out-of-memory killer, most
         often) is no bug of legdsl's: say so, and what to do (a crash is left as it is)."""
@@ -115,6 +135,14 @@ class Workers:
                 f"and the same command again goes on from there: give fewer --jobs than "
                 f"{self.workers}, or free memory"
             ) from None
+
+
+def _quiet_when_refused(args: threading.ExceptHookArgs) -> None:
+    """The executor's thread that could not start another is told of by ``_check_manager``, in
+    a line; Python would print its traceback first."""
+    refused = args.exc_type is RuntimeError and "can't start new thread" in str(args.exc_value)
+    if not refused:
+        threading.__excepthook__(args)
 
 
 def _worker() -> None:

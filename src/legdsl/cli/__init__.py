@@ -31,6 +31,7 @@ from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
     OUT_OF_MEMORY,
     TERM_UNWINDS,
+    THREAD_REFUSED,
     QuietWhenClosed,
     a_library_failed,
     cannot_import,
@@ -38,6 +39,7 @@ from legdsl.cli.process import (
     exit_status,
     sigterm_unwinds,
     streams_that_cannot_fail,
+    thread_refused,
 )
 from legdsl.cli.run import add_run_parser
 from legdsl.lang.errors import LegError, UsageError
@@ -501,6 +503,9 @@ def _main(argv: Sequence[str] | None) -> int:
     except Exception as e:  # a bug in legdsl, not in the user's file
         if args.debug:
             traceback.print_exc()
+        elif thread_refused(e):  # batched runs' threads, under ulimit -v or ulimit -u
+            print(f"legdsl: {THREAD_REFUSED}", file=sys.stderr)
+            return EXIT_USER_ERROR
         else:
             print(
                 f"legdsl: internal error ({type(e).__name__}: {e}); this is a bug in legdsl, "
