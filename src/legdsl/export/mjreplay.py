@@ -27,13 +27,16 @@ from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.optional import not_installed
 
 
 def _mujoco() -> Any:
     os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: offscreen on Mesa
     try:
         import mujoco
-    except ImportError:
+    except ImportError as e:
+        if not not_installed(e, "mujoco"):
+            raise
         raise UsageError(
             "replaying in MuJoCo needs the mujoco package: pip install mujoco"
         ) from None

@@ -56,3 +56,25 @@ def messages_for(*outputs: str | Path | None) -> TextIO:
     """Where a command's messages go: standard error if one of its outputs is standard
     output, else standard output."""
     return sys.stderr if any(to_stdout(p) for p in outputs) else sys.stdout
+
+
+# Address space a library takes beyond what a command has taken before it loads it (measured
+# under ulimit -v on 2 cores): matplotlib with its fonts and a figure drawn (80 MB for legdsl
+# plot of a hopper's run), usd-core with its threads (930 MB; below, it dies of a segmentation
+# fault or an abort, with nothing said).
+ROOM_TO_DRAW = 84 * 2**20
+ROOM_FOR_USD = 1000 * 2**20
+
+
+def room_for(what: str, needed: int) -> None:
+    """Refuse (``UsageError``) to do ``what`` where ``ulimit -v`` leaves less than ``needed``
+    bytes: short of memory while it loads a library, Python can spin for ever without
+    answering SIGTERM, and OpenBLAS or usd-core end the process with nothing written."""
+    from legdsl.sim.recorder import _address_space_left  # the recorder's measure of it
+
+    left = _address_space_left()
+    if left is not None and left < needed:
+        raise UsageError(
+            f"out of memory to {what}: the memory limit (ulimit -v) leaves {left // 2**20} MB "
+            f"where it takes about {needed // 2**20} MB; raise it and run again"
+        )

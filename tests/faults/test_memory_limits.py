@@ -1,0 +1,108 @@
+"""Commands under a memory limit (``ulimit -v``) too low for what they load: ``legdsl plot``
+at 220 MB spun for ever (Python short of memory while importing matplotlib, deaf to
+SIGTERM), ``export-motion --format usda`` below about 1.2 GB died of a segmentation fault with
+nothing said, a library that could not be mapped was "not installed", and a trajectory.npz
+that could not be read for memory was "damaged: run the creature again". Each is now one line
+that says to raise the limit; the failures are simulated, the limit is not set."""
+
+from __future__ import annotations
+
+import importlib.abc
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import CREATURES
+
+import legdsl.sim.recorder as recorder
+from legdsl.cli import main
+
+
+@pytest.fixture(scope="module")
+def run(generated: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("limits") / "run"
+    argv = ["run", str(CREATURES / "hopper.leg"), "--time", "0.2", "--generated", str(generated)]
+    assert main([*argv, "--out", str(out)]) == 0
+    return out
+
+
+def _left(monkeypatch: pytest.MonkeyPatch, megabytes: int) -> None:
+    monkeypatch.setattr(recorder, "_address_space_left", lambda: megabytes * 2**20)
+
+
+def test_plot_refuses_to_draw_without_room_for_matplotlib(
+    run: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _left(monkeypatch, 28)
+    assert main(["plot", str(run), "-o", str(tmp_path / "f.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("legdsl: out of memory to draw the run: the memory limit (ulimit -v)")
+    assert "raise it" in err and list(tmp_path.iterdir()) == []
+
+
+def test_usd_export_refuses_without_room_for_usd_core(
+    run: Path,
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    _left(monkeypatch, 850)
+    monkeypatch.delitem(sys.modules, "pxr", raising=False)  # as in a new process
+    out = tmp_path / "m.usda"
+    argv = ["export-motion", str(run), "--format", "usda", "-o", str(out)]
+    assert main([*argv, "--generated", str(generated)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("legdsl: out of memory to export USD (usd-core)"), err
+    assert not out.exists()
+
+
+class _Unmappable(importlib.abc.MetaPathFinder):
+    """pygltflib installed but not loadable, as under ulimit -v."""
+
+    def find_spec(self, name: str, *_: object) -> None:
+        if name == "pygltflib":
+            raise ImportError("failed to map segment from shared object", name=name)
+
+
+def test_a_library_that_cannot_be_loaded_is_not_said_to_be_missing(
+    run: Path,
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    monkeypatch.delitem(sys.modules, "pygltflib", raising=False)
+    monkeypatch.setattr(sys, "meta_path", [_Unmappable(), *sys.meta_path])
+    argv = ["export-motion", str(run), "--format", "glb", "-o", str(tmp_path / "m.glb")]
+    assert main([*argv, "--generated", str(generated)]) == 2
+    err = capsys.readouterr().err
+    assert "pip install 'legdsl[export]'" not in err
+    assert "cannot load pygltflib (failed to map segment" in err and "ulimit -v" in err
+
+
+def test_a_missing_library_is_still_said_to_be_missing(
+    run: Path,
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    monkeypatch.setitem(sys.modules, "pygltflib", None)  # import raises ModuleNotFoundError
+    argv = ["export-motion", str(run), "--format", "glb", "-o", str(tmp_path / "m.glb")]
+    assert main([*argv, "--generated", str(generated)]) == 2
+    assert "needs pygltflib: pip install 'legdsl[export]'" in capsys.readouterr().err
+
+
+def test_a_trajectory_read_short_of_memory_is_not_called_damaged(
+    run: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    def refused(*_: object, **__: object) -> object:
+        raise MemoryError("Unable to allocate output buffer.")
+
+    monkeypatch.setattr(np, "load", refused)
+    assert main(["metrics", str(run)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("legdsl: out of memory"), err
+    assert "run the creature again" not in err
