@@ -106,3 +106,53 @@ def test_a_trajectory_read_short_of_memory_is_not_called_damaged(
     err = capsys.readouterr().err
     assert err.startswith("legdsl: out of memory"), err
     assert "run the creature again" not in err
+
+
+def test_a_sweep_whose_heat_map_cannot_be_drawn_says_its_table_is_whole(
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    import legdsl.api.sweep_cli as sweep_cli
+
+    def unmappable(*_: object) -> None:
+        raise ImportError("ft2font.so: failed to map segment from shared object", name="ft2font")
+
+    monkeypatch.setattr(sweep_cli, "plot_sweep", unmappable)
+    out = tmp_path / "sweep"
+    argv = ["sweep", str(CREATURES / "hopper.leg"), "--controller", "hop", "--grid",
+            "speed=0.5:1:2", "--time", "0.2", "--from", "0.1", "--jobs", "1"]  # fmt: skip
+    assert main([*argv, "--generated", str(generated), "--out", str(out)]) == 2
+    said = capsys.readouterr()
+    assert said.out.startswith("2 runs (") and "sweep.png" not in said.out
+    assert "its table is whole, its heat map not drawn: cannot load ft2font" in said.err
+    assert "Traceback" not in said.err and len(said.err.splitlines()) == 1
+    assert len((out / "sweep.csv").read_text().splitlines()) == 3
+    assert not (out / "sweep.png").exists()
+
+
+def test_a_tune_whose_plot_cannot_be_drawn_keeps_and_names_its_files(
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    import legdsl.api.tune_cli as tune_cli
+
+    def short(*_: object, **__: object) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(tune_cli, "plot_history", short)
+    out = tmp_path / "tune"
+    argv = ["tune", str(CREATURES / "hopper.leg"), "--controller", "hop", "--param",
+            "k_speed=0.02:0.2", "--speeds", "1", "--time", "0.3", "--from", "0.1",
+            "--generations", "1", "--popsize", "2", "--jobs", "1"]  # fmt: skip
+    assert main([*argv, "--generated", str(generated), "--out", str(out)]) == 2
+    said = capsys.readouterr()
+    assert "tune.json" in said.out and "tune.png" not in said.out.splitlines()[-1]
+    assert said.err.splitlines()[-1] == (
+        "legdsl: tune: tune.png not drawn: out of memory to draw the convergence plot: "
+        "raise the memory limit (ulimit -v) and run again"
+    )
+    assert (out / "tune.json").is_file() and (out / "hopper.leg").is_file()
