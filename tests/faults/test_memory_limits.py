@@ -156,3 +156,30 @@ def test_a_tune_whose_plot_cannot_be_drawn_keeps_and_names_its_files(
         "raise the memory limit (ulimit -v) and run again"
     )
     assert (out / "tune.json").is_file() and (out / "hopper.leg").is_file()
+
+
+def test_ffmpeg_short_of_memory_is_not_an_internal_error(
+    run: Path,
+    tmp_path: Path,
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """ffmpeg inherits ulimit -v: x264 could not allocate, "internal error (RuntimeError...)"."""
+    import legdsl.export.video as video
+
+    ffmpeg = tmp_path / "ffmpeg"
+    ffmpeg.write_text(
+        "#!/bin/sh\ncat > /dev/null\necho 'x264 [error]: malloc of size 2029952 failed' >&2\n"
+        "echo 'Error encoding a frame: Generic error in an external library' >&2\nexit 187\n"
+    )
+    ffmpeg.chmod(0o755)
+    monkeypatch.setattr(video, "ffmpeg_exe", lambda: str(ffmpeg))
+    out = tmp_path / "v.mp4"
+    assert main(["animate", str(run), "--video", str(out), "--generated", str(generated)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(
+        "legdsl: ffmpeg ran out of memory encoding the video (it said: x264 [error]: malloc of"
+    ), err
+    assert "ulimit -v" in err and "internal error" not in err
+    assert {p.name for p in tmp_path.iterdir()} == {"ffmpeg"}
