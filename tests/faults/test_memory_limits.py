@@ -183,3 +183,31 @@ def test_ffmpeg_short_of_memory_is_not_an_internal_error(
     ), err
     assert "ulimit -v" in err and "internal error" not in err
     assert {p.name for p in tmp_path.iterdir()} == {"ffmpeg"}
+
+
+def test_mujoco_short_of_memory_is_not_an_internal_error(
+    run: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``replay --mujoco -o`` at 280 MB: "internal error (FatalError: Could not allocate
+    memory)"; at 320 MB OpenGL failed for want of room, and only EGL was blamed."""
+    mujoco = pytest.importorskip("mujoco")
+
+    def no_arena(*_: object) -> None:
+        raise mujoco.FatalError("Could not allocate memory")
+
+    monkeypatch.setattr(mujoco, "MjData", no_arena)
+    assert main(["replay", str(run), "--mujoco", "-o", str(tmp_path / "r.mp4")]) == 2
+    assert capsys.readouterr().err.startswith("legdsl: out of memory: raise the memory limit")
+    monkeypatch.undo()
+
+    def no_context(*_: object) -> None:
+        raise RuntimeError("Cannot initialize a EGL device display")
+
+    _left(monkeypatch, 40)
+    monkeypatch.setattr(mujoco, "Renderer", no_context)
+    assert main(["replay", str(run), "--mujoco", "-o", str(tmp_path / "r.mp4")]) == 2
+    err = capsys.readouterr().err
+    assert "could not start" in err and err.rstrip().endswith(
+        "or raise the memory limit (ulimit -v), which OpenGL shares"
+    )
+    assert list(tmp_path.iterdir()) == []
