@@ -211,3 +211,20 @@ def test_mujoco_short_of_memory_is_not_an_internal_error(
         "or raise the memory limit (ulimit -v), which OpenGL shares"
     )
     assert list(tmp_path.iterdir()) == []
+
+
+def test_too_little_memory_to_start_does_not_ask_for_a_shorter_time(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``legdsl check`` at 180 MB said "or ask for less (a shorter --time, ...)"."""
+    import legdsl.cli as cli
+
+    def short() -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(cli, "_parser", short)
+    assert main(["check", str(CREATURES / "hopper.leg")]) == 2
+    assert capsys.readouterr().err == (
+        "legdsl: out of memory to load legdsl and its libraries (numpy, sympy): raise the memory "
+        "limit (ulimit -v) and run again\n"
+    )

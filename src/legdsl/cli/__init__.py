@@ -30,6 +30,7 @@ from legdsl.cli.common import (
 from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
     OUT_OF_MEMORY,
+    OUT_OF_MEMORY_TO_LOAD,
     TERM_UNWINDS,
     THREAD_REFUSED,
     QuietWhenClosed,
@@ -429,15 +430,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     return status
 
 
-def _short_of_memory(e: MemoryError | ImportError | SystemError) -> str:
+def _short_of_memory(e: MemoryError | ImportError | SystemError, loading: bool = False) -> str:
     """What a process short of memory is told: a library that could not be loaded (or a Python
-    without it), the import machinery failing ("error return without exception set"), or an
-    allocation refused."""
+    without it), the import machinery failing, an allocation refused (before any work: no
+    shorter --time helps)."""
     if isinstance(e, ImportError):
         return cannot_import(e)
     if isinstance(e, SystemError):
         return a_library_failed(e)
-    return OUT_OF_MEMORY
+    return OUT_OF_MEMORY_TO_LOAD if loading else OUT_OF_MEMORY
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -454,7 +455,7 @@ def _main(argv: Sequence[str] | None) -> int:
         print("legdsl: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except (MemoryError, ImportError, SystemError) as e:  # a memory limit (ulimit -v) too low
-        print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)  # to load numpy and sympy,
+        print(f"legdsl: {_short_of_memory(e, True)}", file=sys.stderr)  # to load numpy, sympy,
         return EXIT_USER_ERROR  # or a Python without legdsl's dependencies
     try:
         if args.command in ("animate", "export-motion"):  # their outputs, checked first

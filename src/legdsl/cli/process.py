@@ -15,6 +15,10 @@ OUT_OF_MEMORY = (
     "out of memory: raise the memory limit (ulimit -v) or ask for less "
     "(a shorter --time, a lower --record-rate)"
 )
+OUT_OF_MEMORY_TO_LOAD = (
+    "out of memory to load legdsl and its libraries (numpy, sympy): raise the memory limit "
+    "(ulimit -v) and run again"
+)
 
 
 def streams_that_cannot_fail() -> None:
