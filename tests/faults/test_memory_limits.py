@@ -228,3 +228,22 @@ def test_too_little_memory_to_start_does_not_ask_for_a_shorter_time(
         "legdsl: out of memory to load legdsl and its libraries (numpy, sympy): raise the memory "
         "limit (ulimit -v) and run again\n"
     )
+
+
+def test_plot_short_of_memory_asks_for_a_shorter_window(
+    run: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A long run plotted at 300 MB: "ask for less (a shorter --time, ...)", options plot has
+    not; its own are --from and --to."""
+    import legdsl.analysis.plot as plot
+
+    def short(*_: object) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(plot, "plot_run", short)
+    assert main(["plot", str(run), "-o", str(tmp_path / "f.png")]) == 2
+    assert capsys.readouterr().err == (
+        "legdsl: out of memory: raise the memory limit (ulimit -v) or ask for less (a shorter "
+        "window: --from T, --to T)\n"
+    )
+    assert list(tmp_path.iterdir()) == []
