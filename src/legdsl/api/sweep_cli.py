@@ -33,6 +33,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
+from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
 
@@ -181,12 +182,21 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     metric = args.plot or "speed_error"
     units = {**base["units"], **METRIC_UNITS}
     picture = out / "sweep.png"
-    with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
-        plot_sweep(rows, [a.name for a in axes][:2], metric, drawn, units)
+
+    def draw() -> None:
+        with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
+            plot_sweep(rows, [a.name for a in axes][:2], metric, drawn, units)
+
+    not_drawn = drawn_if_room("draw the heat map", draw)
     fell = sum(1 for r in rows if r["outcome"] != "ok")
     resumed = f", {before} of them from before" if before else ""
-    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {out / 'sweep.csv'}, {picture}")
+    wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
+    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
     lock.close()
+    if not_drawn:  # the table is whole; the same command again draws the map from it
+        print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
+              "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
+        return 2  # as for any out-of-memory line
     return 0
 
 

@@ -35,6 +35,7 @@ from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fing
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import plain_number, require_controller
 from legdsl.sim.run_loop import Interrupted
 
@@ -155,7 +156,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
         stops.searching = False  # from here on a signal waits for the three files
         tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
         dump(result, out / "tune.json")
-        plot_history(result["history"], out / "tune.png", result["start"]["objective"])
+        not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
+            "draw the convergence plot",
+            lambda: plot_history(result["history"], out / "tune.png", result["start"]["objective"]),
+        )
         if result["ended"] == "finished":
             journal.remove()
     print(report(result, units, bounds))
@@ -164,7 +168,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"
     kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
-    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}, {out / 'tune.png'}{kept}")
+    plot = "" if not_drawn else f", {out / 'tune.png'}"
+    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}{plot}{kept}")
+    if not_drawn:
+        print(f"legdsl: tune: tune.png not drawn: {not_drawn}", file=sys.stderr)
     if result["ended"] == "interrupted":
         raise KeyboardInterrupt  # the command's status, now that its results are written
     if result["ended"] == "terminated":
@@ -175,7 +182,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
         if stops.late[0] == "SIGINT":
             raise KeyboardInterrupt
         raise Interrupted(stops.late[0])
-    return 0
+    return 2 if not_drawn else 0  # 2 as for any out-of-memory line
 
 
 class _Stops:

@@ -24,6 +24,7 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.optional import not_installed
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -46,7 +47,9 @@ class Workers:
             return self  # the processes start with the first as_completed
         try:
             from distributed import Client, LocalCluster
-        except ImportError:
+        except ImportError as e:
+            if not not_installed(e, "distributed"):
+                raise
             raise UsageError("--dask needs Dask: pip install 'dask[distributed]'") from None
         if self.dask == "local":
             self._cluster = LocalCluster(

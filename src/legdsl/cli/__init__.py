@@ -29,7 +29,6 @@ from legdsl.cli.common import (
 )
 from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
-    OUT_OF_MEMORY,
     TERM_UNWINDS,
     THREAD_REFUSED,
     QuietWhenClosed,
@@ -37,6 +36,7 @@ from legdsl.cli.process import (
     cannot_import,
     current_directory_exists,
     exit_status,
+    out_of_memory,
     sigterm_unwinds,
     streams_that_cannot_fail,
     thread_refused,
@@ -429,15 +429,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     return status
 
 
-def _short_of_memory(e: MemoryError | ImportError | SystemError) -> str:
+def _short_of_memory(e: MemoryError | ImportError | SystemError, command: str = "") -> str:
     """What a process short of memory is told: a library that could not be loaded (or a Python
-    without it), the import machinery failing ("error return without exception set"), or an
-    allocation refused."""
+    without it), the import machinery failing, an allocation refused (before any work: no
+    shorter --time helps)."""
     if isinstance(e, ImportError):
         return cannot_import(e)
     if isinstance(e, SystemError):
         return a_library_failed(e)
-    return OUT_OF_MEMORY
+    return out_of_memory(command)
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -484,7 +484,7 @@ def _main(argv: Sequence[str] | None) -> int:
     except (MemoryError, ImportError, SystemError) as e:  # ImportError: a library loaded late
         if args.debug:  # (matplotlib for a plot) that could not be mapped under ulimit -v
             traceback.print_exc()
-        print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)
+        print(f"legdsl: {_short_of_memory(e, args.command)}", file=sys.stderr)
         return EXIT_USER_ERROR
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:

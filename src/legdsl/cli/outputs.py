@@ -14,7 +14,14 @@ from pathlib import Path
 from legdsl.cli.common import read_window
 from legdsl.files import atomic_same_name
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.outputs import PICTURES, is_stream, messages_for, named_as
+from legdsl.pipeline.outputs import (
+    PICTURES,
+    ROOM_TO_DRAW,
+    is_stream,
+    messages_for,
+    named_as,
+    room_for,
+)
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
@@ -35,6 +42,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
     out = check_output_file(args.output or run / "figure6.png", "--output")
     say = messages_for(args.output)
+    room_for("draw the run", ROOM_TO_DRAW)
     with atomic_same_name(out) as tmp:  # matplotlib writes in place: a full disk left half a PNG
         plot_run(run, tmp, first_leg_angles(run), args.t_from, args.t_to)
     print(f"wrote {out}", file=say)

@@ -15,6 +15,22 @@ OUT_OF_MEMORY = (
     "out of memory: raise the memory limit (ulimit -v) or ask for less "
     "(a shorter --time, a lower --record-rate)"
 )
+# a recorded run's commands with a window to narrow, not a --time to shorten
+OUT_OF_MEMORY_IN_A_WINDOW = (
+    "out of memory: raise the memory limit (ulimit -v) or ask for less (a shorter window: "
+    "--from T, --to T)"
+)
+OUT_OF_MEMORY_TO_LOAD = (
+    "out of memory to load legdsl and its libraries (numpy, sympy): raise the memory limit "
+    "(ulimit -v) and run again"
+)
+
+
+def out_of_memory(command: str) -> str:
+    """What a command short of memory is told to ask less of ("": legdsl itself, loading)."""
+    if command in ("plot", "metrics"):
+        return OUT_OF_MEMORY_IN_A_WINDOW
+    return OUT_OF_MEMORY if command else OUT_OF_MEMORY_TO_LOAD
 
 
 def streams_that_cannot_fail() -> None:

@@ -29,6 +29,7 @@ from legdsl.export.motion import (
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.optional import not_installed
 
 FORMATS = ("glb", "gltf")
 Z_UP_TO_Y_UP = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # (x, y, z, w): -90 deg about x
@@ -43,7 +44,9 @@ UNSIGNED_INT = 5125
 def _pygltflib() -> Any:
     try:
         import pygltflib
-    except ImportError:
+    except ImportError as e:
+        if not not_installed(e, "pygltflib"):
+            raise
         raise UsageError("exporting glTF needs pygltflib: pip install 'legdsl[export]'") from None
     return pygltflib
 

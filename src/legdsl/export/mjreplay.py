@@ -27,13 +27,16 @@ from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.optional import not_installed
 
 
 def _mujoco() -> Any:
     os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: offscreen on Mesa
     try:
         import mujoco
-    except ImportError:
+    except ImportError as e:
+        if not not_installed(e, "mujoco"):
+            raise
         raise UsageError(
             "replaying in MuJoCo needs the mujoco package: pip install mujoco"
         ) from None
@@ -61,7 +64,10 @@ def replay_frames(
 
     run = drawable(read_run(directory, source))
     mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model))
-    data = mujoco.MjData(mj)
+    try:
+        data = mujoco.MjData(mj)
+    except mujoco.FatalError as e:  # "Could not allocate memory": its arena, under ulimit -v
+        raise MemoryError(str(e)) from None
     tr = run.trajectory
     # every frame 1/fps after the one before, as the mp4 plays them (the player's frame_times,
     # never denser than the samples, played a run recorded at 10 Hz three times too fast)
@@ -91,10 +97,14 @@ def render_mp4(
     try:
         renderer = mujoco.Renderer(mj, height, width)
     except Exception as err:  # no OpenGL context: say which backend failed and what to try
+        from legdsl.sim.recorder import _address_space_left
+
+        limited = _address_space_left() is not None  # OpenGL fails so with too little room
         raise UsageError(
             f"MuJoCo's offscreen renderer could not start (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
             f"{err}. It needs OpenGL without a display: EGL (Mesa's libegl1, MUJOCO_GL=egl) or "
             "OSMesa (libosmesa6, MUJOCO_GL=osmesa); with a display, run without -o to use the viewer"
+            + ("; or raise the memory limit (ulimit -v), which OpenGL shares" if limited else "")
         ) from None
     camera = _camera(mujoco, model, mj, data, qpos[0])
     root = model.bodies[0].name

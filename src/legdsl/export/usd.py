@@ -17,6 +17,7 @@ from __future__ import annotations
 import errno
 import os
 import re
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -28,14 +29,20 @@ from legdsl.export.motion import Motion, frame_rate, free_name, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
 from legdsl.files import atomic_path, free_bytes, refused_in
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.optional import not_installed
+from legdsl.pipeline.outputs import ROOM_FOR_USD, room_for
 
 FORMATS = ("usd", "usda")
 
 
 def _pxr() -> Any:
+    if "pxr" not in sys.modules:  # loaded once; what it took is no longer left
+        room_for("export USD (usd-core)", ROOM_FOR_USD)
     try:
         from pxr import Gf, Sdf, Usd, UsdGeom, Vt
-    except ImportError:
+    except ImportError as e:
+        if not not_installed(e, "pxr"):
+            raise
         raise UsageError("exporting USD needs usd-core: pip install 'legdsl[export]'") from None
     return Gf, Sdf, Usd, UsdGeom, Vt
 
@@ -144,6 +151,7 @@ def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
     # The layer's format follows its extension: write under the right one, then rename.
+    _pxr()  # usd-core missing, or too little memory to load it: said before anything is written
     from pxr import Tf
 
     with atomic_path(path, suffix=f".{fmt}") as tmp:

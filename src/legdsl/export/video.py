@@ -156,8 +156,18 @@ def _write_mp4(
     disk = refused_in(error)
     if disk is not None:
         raise OSError(disk, os.strerror(disk), str(path))
+    if code != 0 and any(words in error.lower() for words in _SHORT_OF_MEMORY):
+        said = error.strip().splitlines()[0]  # the first line names the allocation refused
+        raise UsageError(
+            f"ffmpeg ran out of memory encoding the video (it said: {said}): raise the memory limit "
+            "(ulimit -v), which ffmpeg shares, and run again"
+        )
     if code != 0:
         raise RuntimeError(f"ffmpeg failed (exit {proc.returncode}): {error.strip()}")
+
+
+# ffmpeg's and its encoders' words for an allocation refused (under ulimit -v, inherited)
+_SHORT_OF_MEMORY = ("malloc of size", "cannot allocate memory", "out of memory")
 
 
 def _write_gif(frames: Any, path: Path, fps: float, report: Callable[[int], None]) -> None:

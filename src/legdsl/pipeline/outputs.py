@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import TextIO
 
@@ -56,3 +57,48 @@ def messages_for(*outputs: str | Path | None) -> TextIO:
     """Where a command's messages go: standard error if one of its outputs is standard
     output, else standard output."""
     return sys.stderr if any(to_stdout(p) for p in outputs) else sys.stdout
+
+
+# Address space a library takes beyond what a command has taken before it loads it (measured
+# under ulimit -v on 2 cores): matplotlib with its fonts and a figure drawn (80 MB for legdsl
+# plot of a hopper's run), usd-core with its threads (930 MB; below, it dies of a segmentation
+# fault or an abort, with nothing said). Below ROOM_TO_LOAD (28 MB left: legdsl plot spun for
+# ever), a picture drawn after the work is not tried; above it, its failure is caught.
+ROOM_TO_DRAW = 80 * 2**20
+ROOM_TO_LOAD = 40 * 2**20
+ROOM_FOR_USD = 1000 * 2**20
+
+
+class OutOfRoom(UsageError):
+    """``room_for``'s refusal."""
+
+
+def room_for(what: str, needed: int) -> None:
+    """Refuse (``UsageError``) to do ``what`` where ``ulimit -v`` leaves less than ``needed``
+    bytes: short of memory while it loads a library, Python can spin for ever without
+    answering SIGTERM, and OpenBLAS or usd-core end the process with nothing written."""
+    from legdsl.sim.recorder import _address_space_left  # the recorder's measure of it
+
+    left = _address_space_left()
+    if left is not None and left < needed:
+        raise OutOfRoom(
+            f"out of memory to {what}: the memory limit (ulimit -v) leaves {left // 2**20} MB "
+            f"where it takes about {needed // 2**20} MB; raise it and run again"
+        )
+
+
+def drawn_if_room(what: str, draw: Callable[[], object]) -> str | None:
+    """Draw a picture that follows work already written (a sweep's heat map, a tune's
+    convergence plot): None when drawn, else why not, where too little memory to load or run
+    matplotlib would end the command before it said that the work is whole."""
+    try:
+        room_for(what, ROOM_TO_LOAD)
+        draw()
+    except OutOfRoom as e:
+        return str(e)
+    except ImportError as e:  # a shared object that could not be mapped under ulimit -v
+        said = f"cannot load {e.name or 'matplotlib'}"
+        return f"{said} to {what}: raise the memory limit (ulimit -v) and run again"
+    except (MemoryError, SystemError):  # SystemError: the import machinery short of memory
+        return f"out of memory to {what}: raise the memory limit (ulimit -v) and run again"
+    return None

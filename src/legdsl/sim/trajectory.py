@@ -160,7 +160,7 @@ class Trajectory:
                     )
                 arrays = {name: data[name] for name in ARRAYS if name in data.files}
                 meta = json.loads(bytes(data["meta"]).decode())
-        except UsageError:
+        except (UsageError, MemoryError):  # too little memory to read it is not a damaged file
             raise
         except Exception as e:  # a truncated zip, a damaged entry, bad JSON in meta, ...
             raise UsageError(f"cannot read {path} ({type(e).__name__}: {e}){again}") from None
