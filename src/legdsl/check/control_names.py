@@ -322,7 +322,15 @@ class NameResolver:
         first = leg_names[0]
         aliases = self.scope.aliases[first]
         if name not in aliases:
-            self.err(attr.span, no_alias_message(first, root.role, name, aliases))
+            if self.scope.model.planar and name in SPATIAL_ALIASES:
+                self.planar_error(
+                    attr.span,
+                    f"creature '{self.scope.model.name}' is planar: its legs have no '{name}'",
+                    "that alias is the standard library's for a 3D hip",
+                )
+                return None
+            planar = self.scope.model.planar
+            self.err(attr.span, no_alias_message(first, root.role, name, aliases, planar))
             return None
         target = self.scope.names[aliases[name]]
         if root.leg is not None:
@@ -408,9 +416,17 @@ def describe_type(t: Type) -> str:
     return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
 
 
-def no_alias_message(leg: str, role: str | None, name: str, aliases: dict[str, str]) -> str:
+# The standard library's aliases for a 3D hip's roll and yaw: a planar leg lacks them
+# because the action is 3D, not because the leg forgot an alias.
+SPATIAL_ALIASES = frozenset({"roll_servo", "roll_motor", "roll_angle", "yaw_servo", "yaw_angle"})
+
+
+def no_alias_message(
+    leg: str, role: str | None, name: str, aliases: dict[str, str], planar: bool = False
+) -> str:
     what = f"leg '{leg}'" + (f" (in role '{role}')" if role else "")
-    members = list(ir.LEG_MEMBERS)
+    # a planar leg has no sideways members: listing them would offer what is refused
+    members = [m for m in ir.LEG_MEMBERS if not (planar and m in ir.SPATIAL_MEMBERS)]
     return (
         f"{what} has no member '{name}'; a leg has {', '.join(members)} and its aliases"
         f"{did_you_mean(name, [*members, *aliases])}"

@@ -86,7 +86,10 @@ def check_aliases(
                     continue
                 aliases = scope.aliases[leg]
                 if use.alias.alias not in aliases:
-                    el.err(use.span, no_alias_message(leg, role, use.alias.alias, aliases))
+                    el.err(
+                        use.span,
+                        no_alias_message(leg, role, use.alias.alias, aliases, scope.model.planar),
+                    )
                     reported.add(leg)
                 elif not _alike(scope.model, aliases[use.alias.alias], expected):
                     el.err(
