@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "d28969e4563ef191";
+const char legdsl_control_fingerprint[] = "cd7572b894e1ae4b";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -240,7 +240,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
     const double t7 = accel*(-ramped_at + time);
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;
@@ -1397,7 +1397,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim;
     const double t7 = accel*(-ramped_at + time);
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t7, leg_max(speed, ramped_speed - t7))) : (0.0));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;

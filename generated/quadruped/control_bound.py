@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "d28969e4563ef191"
+FINGERPRINT = "cd7572b894e1ae4b"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -300,7 +300,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim
     t7 = accel*(-ramped_at + time)
     new_ramped_speed = ((minimum(ramped_speed + t7, maximum(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
@@ -1468,7 +1468,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim
     t7 = accel*(-ramped_at + time)
     new_ramped_speed = ((minimum(ramped_speed + t7, maximum(speed, ramped_speed - t7))) if (ramped_at > 0.0) else (0.0))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "9af5ab247a5d677b";
+const char legdsl_control_fingerprint[] = "aa7e538ae9d5fc3d";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -248,7 +248,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t9 = accel*(-ramped_at + time);
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double t10 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;
@@ -1469,7 +1469,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t9 = accel*(-ramped_at + time);
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double t10 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
     out[0] = new_steps;

@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "9af5ab247a5d677b"
+FINGERPRINT = "aa7e538ae9d5fc3d"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
@@ -321,7 +321,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
     new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [
@@ -1553,7 +1553,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
     new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     t10 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
     return [

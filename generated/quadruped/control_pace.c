@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "6054ca9d6b6f273d";
+const char legdsl_control_fingerprint[] = "ce7a76c78acb1fa5";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -239,7 +239,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double t7 = -ramped_at + time;
     const double t8 = com_vx*t5 + com_vy*t3;
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(accel*t7 + ramped_speed, leg_max(speed, -decel*t7 + ramped_speed))) : (t8));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;
@@ -1152,7 +1152,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double t7 = -ramped_at + time;
     const double t8 = com_vx*t5 + com_vy*t3;
     const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(accel*t7 + ramped_speed, leg_max(speed, -decel*t7 + ramped_speed))) : (t8));
-    const double new_ramped_at = leg_max(1e-300, time);
+    const double new_ramped_at = leg_max(0.001, time);
     const double new_step_speed = ((t6) ? (leg_div((t2*t5 + t3*t4), t1)) : (ramped_speed));
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;

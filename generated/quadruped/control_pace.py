@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "pace"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "6054ca9d6b6f273d"
+FINGERPRINT = "ce7a76c78acb1fa5"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -286,7 +286,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     t7 = -ramped_at + time
     t8 = com_vx*t5 + com_vy*t3
     new_ramped_speed = ((minimum(accel*t7 + ramped_speed, maximum(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
@@ -1210,7 +1210,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     t7 = -ramped_at + time
     t8 = com_vx*t5 + com_vy*t3
     new_ramped_speed = ((minimum(accel*t7 + ramped_speed, maximum(speed, -decel*t7 + ramped_speed))) if (ramped_at > 0.0) else (t8))
-    new_ramped_at = maximum(1e-300, time)
+    new_ramped_at = maximum(0.001, time)
     new_step_speed = (((t2*t5 + t3*t4)/t1) if t6 else (ramped_speed))
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
