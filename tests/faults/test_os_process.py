@@ -142,13 +142,24 @@ def test_help_and_version_into_a_full_standard_output_fail(
 
 
 def test_too_few_file_descriptors_say_which_limit(tmp_path: Path) -> None:
-    """``ulimit -n 10``: "Too many open files; check the path and its permissions"."""
-    proc = _legdsl("compile", HOPPER, "--out", str(tmp_path / "g"), cwd=tmp_path,
-                   preexec_fn=_limited(resource.RLIMIT_NOFILE, 10))  # fmt: skip
+    """``ulimit -n 10`` on a sweep's worker processes: "Too many open files; check the path
+    and its permissions"."""
+    proc = _legdsl("sweep", HOPPER, "--controller", "hop", "--grid", "speed=0.5:1:2",
+                   "--time", "0.2", "--from", "0.1", "--jobs", "2", "--out", str(tmp_path / "s"),
+                   cwd=tmp_path, preexec_fn=_limited(resource.RLIMIT_NOFILE, 10))  # fmt: skip
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.splitlines()[-1] == (
         "legdsl: Too many open files: raise the limit of open files (ulimit -n) and run again"
     )
+
+
+def test_a_compile_with_few_file_descriptors_lowers_its_controllers_here(tmp_path: Path) -> None:
+    """``ulimit -n 6``: no pipe for a process that would lower the controllers, which are then
+    lowered in the compiler's own process (the modules are the same, see test_compile.py)."""
+    proc = _legdsl("compile", HOPPER, "--out", str(tmp_path / "g"), cwd=tmp_path,
+                   preexec_fn=_limited(resource.RLIMIT_NOFILE, 6))  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "g" / "hopper" / "control_hop.c").is_file()
 
 
 @pytest.mark.parametrize("files", [8, 10])

@@ -17,8 +17,9 @@ def _square(n: int) -> bytes:
     return pickle.dumps((n * n, os.getpid()))
 
 
-def _dies_elsewhere(n: int) -> bytes:
-    if os.getpid() != PARENT:
+def _dies_elsewhere(item: tuple[int, int]) -> bytes:
+    n, parent = item  # the parent's pid handed over: a spawned process imports this anew
+    if os.getpid() != parent:
         os._exit(3)  # killed, or out of memory: no answer, no exception
     return _square(n)
 
@@ -38,12 +39,12 @@ def _results(forked: Forked, count: int) -> list[tuple[int, int]]:
 def test_each_item_is_worked_in_another_process(processes: int) -> None:
     answers = _results(Forked(_square, range(5), processes), 5)
     assert [value for value, _ in answers] == [0, 1, 4, 9, 16]
-    workers = {pid for _, pid in answers}
+    workers = {pid for _, pid in answers}  # forked, or spawned where threads run (pytest -n)
     assert PARENT not in workers and len(workers) == min(processes, 5)
 
 
 def test_a_process_that_dies_leaves_its_items_to_this_one() -> None:
-    answers = _results(Forked(_dies_elsewhere, range(4), 2), 4)
+    answers = _results(Forked(_dies_elsewhere, [(n, PARENT) for n in range(4)], 2), 4)
     assert answers == [(n * n, PARENT) for n in range(4)]
 
 
