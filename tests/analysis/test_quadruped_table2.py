@@ -88,6 +88,17 @@ def test_pairs_need_a_quadruped(positions: dict, message: str) -> None:
         pair_groups(positions, "front/rear")
 
 
+def test_a_planar_quadruped_has_front_and_rear_pairs_only() -> None:
+    """Its hips have no left and right (all at y = 0): the bound's front/rear pairs were
+    refused for want of them; the pace's and the trot's need them, and say how to name the
+    pairs by hand."""
+    planar = {"fl": (0.39, 0.0), "fr": (0.39, 0.0), "rl": (-0.39, 0.0), "rr": (-0.39, 0.0)}
+    assert pair_groups(planar, "front/rear") == {"front": ["fl", "fr"], "rear": ["rl", "rr"]}
+    for pairing in ("lateral", "diagonal"):
+        with pytest.raises(MetricsError, match="left.*right.*--group NAME=LEG,LEG"):
+            pair_groups(planar, pairing)
+
+
 def _rows(tr: Trajectory, gait: str) -> dict[str, float]:
     groups, reference = virtual_legs(gait, check_model(QUADRUPED))
     m = compute_metrics(tr, groups=groups, leg=reference)

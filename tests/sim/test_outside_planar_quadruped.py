@@ -57,3 +57,21 @@ def test_the_pronk_takes_over_from_the_bound_and_back(tmp_path: Path) -> None:
     options = RunOptions(duration=15.0)
     run = sess.run("bound", ["speed=1.5m/s"], switches=["5s=pronk", "10s=bound"], options=options)
     assert run.result.status == "ok", run.result.message
+
+
+def test_table_2_pairs_a_planar_quadruped_front_and_rear(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--table2 "quadruped bound"` found its pairs from the hips' left and right, which a
+    planar quadruped has not ("the front/rear pairs need ... two left and two right")."""
+    from legdsl.cli import main
+
+    run = tmp_path / "run"
+    argv = ["run", str(LEG), "--controller", "bound", "--set", "speed=1.5m/s", "--time", "5"]
+    assert main([*argv, "--generated", str(tmp_path / "g"), "--out", str(run)]) == 0
+    capsys.readouterr()
+    table = ["metrics", str(run), "--from", "2", "--table2", "quadruped bound"]
+    assert main(table) == 0
+    found = capsys.readouterr().out
+    assert main([*table, "--group", "front=fl,fr", "--group", "rear=rl,rr"]) == 0
+    assert "gathered flight phase duration" in found and found == capsys.readouterr().out

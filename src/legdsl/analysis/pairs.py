@@ -5,8 +5,9 @@ diagonals (the pace's lateral pairs). Which legs those are is read from the crea
 from leg names: each leg's hip point in the root body's frame (the origins of the joints
 from the root out to the leg's first joint, at zero joint angles; x forward, y left) is
 compared with the middle of all the hips. A leg whose hip is ahead of the middle is a front
-leg, one to its left a left leg. This needs four legs, two ahead and two behind, two left
-and two right; any quadruped of other proportions or names qualifies.
+leg, one to its left a left leg. This needs four legs: two ahead and two behind for the
+front/rear pairs (a planar quadruped too), two left and two right for the lateral ones, both
+for the diagonals; any quadruped of other proportions or names qualifies.
 
     front / rear:  the two front legs, the two rear legs          (bound, gallop)
     diagonal:      front-left with rear-right, front-right with rear-left  (trot)
@@ -76,11 +77,16 @@ def pair_groups(positions: Mapping[str, tuple[float, float]], pairing: str) -> d
     my = float(np.mean([p[1] for p in positions.values()]))
     front = [n for n in legs if positions[n][0] > mx]
     left = [n for n in legs if positions[n][1] > my]
-    if len(front) != 2 or len(left) != 2:
+    needs = {"front/rear": (front,), "lateral": (left,), "diagonal": (front, left)}[pairing]
+    if any(len(half) != 2 for half in needs):  # a planar quadruped has no left and right
         where = ", ".join(f"{n} at ({x:g}, {y:g}) m" for n, (x, y) in positions.items())
+        halves = {"front/rear": "two hips ahead of the middle and two behind",
+                  "lateral": "two hips left of the middle and two right",
+                  "diagonal": "two hips ahead of the middle and two behind, two left and two "
+                              "right"}[pairing]  # fmt: skip
         raise MetricsError(
-            f"the {pairing} pairs need two hips ahead of the middle and two behind, two left "
-            f"and two right (hips: {where})"
+            f"the {pairing} pairs need {halves} (hips: {where}); give its virtual legs with "
+            f"{group_hint(pairing)}"
         )
     rear = [n for n in legs if n not in front]
     right = [n for n in legs if n not in left]
