@@ -3,12 +3,20 @@
 The command line's modules are imported here, inside ``main``, so that a Ctrl-C while
 they load (the first second of a command) is told as one line, as later, not as a
 traceback of the import.
+
+numpy's OpenBLAS starts a thread per core, each with buffers of its own, for arithmetic on
+matrices that legdsl never has (its largest is a creature's mass matrix): under ``ulimit -v``
+those buffers were what could not be had (``legdsl run`` at 200 MB: "OpenBLAS error: Memory
+allocation still failed", exit 1, nothing said by legdsl), and a sweep's processes each
+started as many threads again. One thread, unless the user asks for more.
 """
 
+import os
 import sys
 
 
 def main() -> int:
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # read when numpy is first imported
     try:
         from legdsl.cli import main as command_line
     except KeyboardInterrupt:

@@ -188,6 +188,32 @@ def test_the_file_size_limit_is_named(tmp_path: Path) -> None:
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_run_under_a_memory_limit_is_not_ended_by_openblas(
+    generated: Path, tmp_path: Path
+) -> None:
+    """``ulimit -v 225280``: OpenBLAS's thread per core could not have its buffers and ended the
+    process ("OpenBLAS error: Memory allocation still failed", exit 1) with nothing said by
+    legdsl; on one thread the run goes through."""
+    proc = _legdsl("run", HOPPER, "--controller", "hop", "--time", "0.2", "--generated",
+                   str(generated), "--out", str(tmp_path / "r"), cwd=tmp_path,
+                   env={k: v for k, v in ENV.items() if k != "OPENBLAS_NUM_THREADS"},
+                   preexec_fn=_limited(resource.RLIMIT_AS, 220 * 2**20))  # fmt: skip
+    assert "OpenBLAS" not in proc.stderr and proc.returncode in (0, 2), proc.stderr
+
+
+@pytest.mark.parametrize(("given", "used"), [(None, "1"), ("2", "2")])
+def test_openblas_runs_one_thread_unless_asked(given: str | None, used: str) -> None:
+    script = (
+        "import os, sys\nfrom legdsl.__main__ import main\nsys.argv = ['legdsl', '--version']\n"
+        "try:\n    main()\nexcept SystemExit:\n    pass\nprint(os.environ['OPENBLAS_NUM_THREADS'])\n"
+    )
+    env = {k: v for k, v in ENV.items() if k != "OPENBLAS_NUM_THREADS"}
+    if given is not None:
+        env["OPENBLAS_NUM_THREADS"] = given
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env)
+    assert proc.stdout.splitlines()[-1] == used, proc.stderr
+
+
 @pytest.mark.parametrize("limit_mb", [160, 170, 175, 180])
 def test_too_little_memory_is_one_line(tmp_path: Path, limit_mb: int) -> None:
     """``ulimit -v 163840``: a MemoryError traceback of numpy's import; at some limits the
