@@ -28,7 +28,7 @@ def run(generated: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _left(monkeypatch: pytest.MonkeyPatch, megabytes: int) -> None:
-    monkeypatch.setattr(recorder, "_address_space_left", lambda: megabytes * 2**20)
+    monkeypatch.setattr(recorder, "address_space_left", lambda: megabytes * 2**20)
 
 
 def test_plot_refuses_to_draw_without_room_for_matplotlib(

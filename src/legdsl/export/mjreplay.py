@@ -97,9 +97,9 @@ def render_mp4(
     try:
         renderer = mujoco.Renderer(mj, height, width)
     except Exception as err:  # no OpenGL context: say which backend failed and what to try
-        from legdsl.sim.recorder import _address_space_left
+        from legdsl.sim.recorder import address_space_left
 
-        limited = _address_space_left() is not None  # OpenGL fails so with too little room
+        limited = address_space_left() is not None  # OpenGL fails so with too little room
         raise UsageError(
             f"MuJoCo's offscreen renderer could not start (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
             f"{err}. It needs OpenGL without a display: EGL (Mesa's libegl1, MUJOCO_GL=egl) or "

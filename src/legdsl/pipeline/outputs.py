@@ -77,9 +77,9 @@ def room_for(what: str, needed: int) -> None:
     """Refuse (``UsageError``) to do ``what`` where ``ulimit -v`` leaves less than ``needed``
     bytes: short of memory while it loads a library, Python can spin for ever without
     answering SIGTERM, and OpenBLAS or usd-core end the process with nothing written."""
-    from legdsl.sim.recorder import _address_space_left  # the recorder's measure of it
+    from legdsl.sim.recorder import address_space_left
 
-    left = _address_space_left()
+    left = address_space_left()
     if left is not None and left < needed:
         raise OutOfRoom(
             f"out of memory to {what}: the memory limit (ulimit -v) leaves {left // 2**20} MB "

@@ -57,13 +57,13 @@ def recording_budget() -> int | None:
         budget: int | None = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
     except (AttributeError, ValueError, OSError):
         budget = None
-    left = _address_space_left()
+    left = address_space_left()
     if left is not None:
         budget = left // 2 if budget is None else min(budget, left // 2)
     return budget
 
 
-def _address_space_left() -> int | None:
+def address_space_left() -> int | None:
     """Bytes of address space the process may still take under ``ulimit -v`` (None: no
     limit, or a system that does not say how much it has taken)."""
     try:
