@@ -243,3 +243,16 @@ def test_a_long_step_without_a_control_interval_runs_the_controller_every_step(
 
     run = legdsl.load(CREATURES / "hopper.leg", generated=generated).run("hop", time=0.2, dt=0.005)
     assert run.info["options"]["control_dt"] == 0.005
+
+
+def test_a_run_that_falls_says_where_its_controller_was(generated: Path) -> None:
+    """A table waiting in one state for an event that never comes (a liftoff with the feet
+    still down) fell with no word of it: the summary names the state and when it was entered."""
+    sess = RunSession.from_file(CREATURES / "quadruped.leg", generated=generated)
+    fell = sess.run("bound", ["speed=6m/s"], options=RunOptions(duration=6.0))
+    assert fell.result.status == "fell"
+    last = [e for e in fell.result.events if e["kind"] == "state"][-1]
+    row = re.search(r"controller state at the end +(\w+), entered at ([\d.]+) s", fell.summary())
+    assert row is not None and row[1] == last["state"] and float(row[2]) == round(last["t"], 3)
+    held = sess.run("bound", ["speed=2m/s"], options=RunOptions(duration=0.5))
+    assert held.result.status == "ok" and "state at the end" not in held.summary()

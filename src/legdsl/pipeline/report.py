@@ -61,6 +61,7 @@ def summary(model: Model, result: RunResult) -> str:
     if result.stop_time:
         on = ", ".join(f"{dof} {t:.3f} s" for dof, t in result.stop_time.items())
         rows.append(("time on joint stops", on))
+    rows += _state_at_the_end(result)
     if len(tr):
         energy0 = tr.kinetic[0] + tr.potential[0] + tr.elastic[0]
         energy1 = tr.kinetic[-1] + tr.potential[-1] + tr.elastic[-1]
@@ -71,6 +72,19 @@ def summary(model: Model, result: RunResult) -> str:
         ]
     width = max(len(r[0]) for r in rows)
     return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def _state_at_the_end(result: RunResult) -> list[tuple[str, str]]:
+    """Where a run that stopped early left its controller, and for how long it had been
+    there: a table waiting in one state for an event that never came (a liftoff with the
+    feet still down) shows as a state entered long before the fall."""
+    entered = [e for e in result.events if e["kind"] == "state"]
+    if result.status == "ok" or not entered:
+        return []
+    last = entered[-1]
+    before = result.sim_time - last["t"]
+    return [("controller state at the end",
+             f"{last['state']}, entered at {last['t']:.3f} s ({before:.3f} s before)")]  # fmt: skip
 
 
 def _no_controller(model: Model, result: RunResult) -> list[tuple[str, str]]:
