@@ -22,6 +22,7 @@ from legdsl.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_USER_ERROR,
     Command,
+    empty_argument,
     file_read_as_option,
     negative_values_joined,
     os_refusal,
@@ -446,7 +447,7 @@ def _main(argv: Sequence[str] | None) -> int:
 
         parser = _parser()
         given = negative_values_joined(sys.argv[1:] if argv is None else argv, parser)
-        if mistake := file_read_as_option(given):
+        if mistake := empty_argument(given, parser) or file_read_as_option(given):
             print(f"legdsl: {mistake}", file=sys.stderr)
             return EXIT_USER_ERROR
         args = parser.parse_args(given)

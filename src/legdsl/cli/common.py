@@ -45,6 +45,22 @@ def file_read_as_option(argv: Sequence[str]) -> str | None:
     return None
 
 
+def empty_argument(argv: Sequence[str], parser: argparse.ArgumentParser) -> str | None:
+    """What to say of an empty argument, mostly an unset shell variable (``--out "$DIR"``):
+    ``--out ''`` wrote into the default directory, a sweep's into the current one, and
+    ``legdsl run ''`` said "cannot read .: Is a directory"; or None if there is none."""
+    takes_value = _options_with_a_value(parser, short=True)
+    for i, arg in enumerate(argv):
+        option = arg[:-1] if arg.startswith("--") and arg.endswith("=") else None
+        if arg == "" and i and argv[i - 1] in takes_value:
+            option = argv[i - 1]
+        if option in takes_value:
+            return f"{option} was given an empty value (an unset shell variable?): give one"
+        if arg == "":
+            return "an argument is empty (an unset shell variable?): give a file or a value"
+    return None
+
+
 _NEGATIVE = re.compile(r"-\.?\d")  # '-5s', '-1ms', '-.5': a negative value, not an option
 
 
@@ -93,15 +109,16 @@ def _unit_apart(out: Sequence[str], arg: str, takes_value: set[str]) -> bool:
     return True
 
 
-def _options_with_a_value(parser: argparse.ArgumentParser) -> set[str]:
-    """The long options of ``parser`` and its subcommands that take exactly one value."""
+def _options_with_a_value(parser: argparse.ArgumentParser, short: bool = False) -> set[str]:
+    """The long options (and the short ones too) of ``parser`` and its subcommands that take
+    exactly one value."""
     found: set[str] = set()
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for sub in action.choices.values():
-                found |= _options_with_a_value(sub)
+                found |= _options_with_a_value(sub, short)
         elif action.nargs is None:
-            found.update(o for o in action.option_strings if o.startswith("--"))
+            found.update(o for o in action.option_strings if short or o.startswith("--"))
     return found
 
 
