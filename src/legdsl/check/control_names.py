@@ -156,7 +156,10 @@ class NameResolver:
             if site.span in self._planar_sites:
                 return
             self._planar_sites.add(site.span)
-            hint = f"action '{self.calls[-1][1].name.name}' is for 3D creatures"
+            action = self.calls[-1][1].name.name
+            hint = f"action '{action}' is for 3D creatures"
+            if action in PLANAR_COUNTERPARTS:
+                hint += f"; a planar creature's is '{PLANAR_COUNTERPARTS[action]}'"
         self.err(span, f"{message} ({hint})")
 
     def _user_site(self) -> ast.InvokeStmt | None:
@@ -419,6 +422,17 @@ def describe_type(t: Type) -> str:
 # The standard library's aliases for a 3D hip's roll and yaw: a planar leg lacks them
 # because the action is 3D, not because the leg forgot an alias.
 SPATIAL_ALIASES = frozenset({"roll_servo", "roll_motor", "roll_angle", "yaw_servo", "yaw_angle"})
+
+# The standard library's 3D actions that have a planar counterpart (appended to raibert.leg),
+# named when a planar creature calls the 3D one.
+PLANAR_COUNTERPARTS = {
+    "trim_step_speed": "trim_step_speed_planar",
+    "trim_step_speed_from": "trim_step_speed_planar_from",
+    "stride_speed": "stride_speed_planar",
+    "place_feet_turning": "place_feet_planar",
+    "servo_posture_virtual": "servo_pitch_shared",
+    "servo_pitch_rate_virtual": "servo_pitch_rate_shared",
+}
 
 
 def no_alias_message(

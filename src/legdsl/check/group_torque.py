@@ -26,6 +26,9 @@ from legdsl.ir import controller as ir
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
+# A planar one-leg posture servo's counterpart for a virtual leg (raibert.leg's end).
+SHARED_SERVOS = {"servo_pitch": "servo_pitch_shared", "servo_pitch_rate": "servo_pitch_rate_shared"}
+
 
 def whole_torque_per_member(
     scope: Scope, s: ast.InvokeStmt, given: list[Value], body: tuple[ir.Stmt, ...]
@@ -50,13 +53,18 @@ def whole_torque_per_member(
             continue
         assert isinstance(torque.actuator, ir.Alias)
         role, n = value.role, len(legs)
+        each = (
+            f"'each m in {role} {{ {s.action.name}(m, ...) }}' with the gains divided by "
+            f"'max({role}.feet_down, 1)'"
+        )
+        shared = SHARED_SERVOS.get(s.action.name) if scope.model.planar else None
+        how = f"call '{shared}({role}, ...)' (or {each})" if shared else each
         yield (
             arg.span,
             f"action '{s.action.name}' is for one leg, but '{role}' is a group of {n} legs "
             f"({', '.join(legs)}): each member's '{torque.actuator.alias}' would apply the "
-            f"whole torque, {n} times what is meant; share it: 'each m in {role} "
-            f"{{ {s.action.name}(m, ...) }}' with the gains divided by "
-            f"'max({role}.feet_down, 1)' (as servo_posture_virtual does)",
+            f"whole torque, {n} times what is meant; share it: {how}"
+            + ("" if scope.model.planar else " (as servo_posture_virtual does)"),
         )
 
 
