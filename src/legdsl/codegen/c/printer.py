@@ -241,17 +241,21 @@ def local_names(function: Function) -> list[str]:
 
 def c_spellings(names: Iterable[str]) -> dict[str, str]:
     """Each of a function's Python locals that C cannot spell as it is, as a C identifier:
-    ``int`` -> ``int_``, or ``int_2`` when the function has an ``int_`` as well."""
+    ``int`` -> ``int_``, or ``int_2`` when the function has an ``int_`` as well; ``_Bool`` ->
+    ``u_Bool``, ``M_PI`` -> ``uM_PI``."""
     names = list(dict.fromkeys(names))
     used = {n for n in names if not taken_in_c(n)}
     spelling = {}
     for name in names:
         if name in used:
             continue
-        spelled, n = name + "_", 1
-        while spelled in used or taken_in_c(spelled):
+        base = f"{name}_"
+        if taken_in_c(base):  # the implementation's (_Bool) or a macro family's (M_PI): no
+            base = f"u{name}"  # suffix frees it, and no taken name starts with a lowercase u
+        spelled, n = base, 1
+        while spelled in used:
             n += 1
-            spelled = f"{name}_{n}"
+            spelled = f"{base}{n}"
         used.add(spelled)
         spelling[name] = spelled
     return spelling
