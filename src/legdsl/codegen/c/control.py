@@ -82,7 +82,7 @@ def sensor_call(model: Model, key: str, controller: str | None = None) -> str:
 
 
 def _function(fn: Function, doc: str, lines: list[str] | None = None) -> str:
-    printer = CPrinter(fn.names, fn.bases)
+    printer = CPrinter.for_function(fn)
     args = ", ".join(f"const double *{p}" for p in PARAMS[:4]) + ", double tis"
     head = [f"/* {doc} */"] + [f"/*   {line} */" for line in lines or []]
     if isinstance(fn.result, list):

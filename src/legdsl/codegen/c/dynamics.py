@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from legdsl import __version__
 from legdsl.codegen.c import slices
-from legdsl.codegen.c.printer import INDENT, CPrinter, c_name, flatten
+from legdsl.codegen.c.printer import INDENT, CPrinter, flatten
 from legdsl.codegen.python.dynamics import model_fingerprint
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Call, Function, SymbolicSystem
@@ -48,9 +48,11 @@ def statements_text(function: Function, printer: CPrinter) -> list[str]:
     lines = []
     for st in function.statements:
         if isinstance(st, Unpack):
-            lines.append(f"{INDENT}const double {c_name(st.target.name)} = {st.array}[{st.index}];")
+            lines.append(
+                f"{INDENT}const double {printer.c_name(st.target.name)} = {st.array}[{st.index}];"
+            )
         elif isinstance(st, Assign):
-            name = c_name(function.name_of(st.target))
+            name = printer.c_name(function.name_of(st.target))
             lines.append(f"{INDENT}const double {name} = {printer.print(st.value)};")
         elif isinstance(st, Comment):
             lines.append(f"{INDENT}/* {st.text} */")
@@ -59,7 +61,7 @@ def statements_text(function: Function, printer: CPrinter) -> list[str]:
 
 def function_text(function: Function) -> str:
     """One C function: the Python function's statements, then its result written to ``out``."""
-    printer = CPrinter(function.names, function.bases)
+    printer = CPrinter.for_function(function)
     body = statements_text(function, printer)
     lines = [_signature(function), "{"]
     if any("leg_sin(" in line or "leg_cos(" in line for line in body):

@@ -21,15 +21,16 @@ once the compiler is kept from contracting or reassociating (``-ffp-contract=off
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import re
+from collections.abc import Iterable, Mapping
 
 from sympy import Expr, Mul, Pow, S, Symbol
 from sympy.core.mul import _keep_coeff
 from sympy.printing.precedence import PRECEDENCE, precedence
 
 from legdsl.codegen.python.printer import LegPrinter, _is_half
-from legdsl.lower.straightline import is_unrolled_power
-from legdsl.lower.symbolic import Nested
+from legdsl.lower.straightline import Assign, Unpack, is_unrolled_power
+from legdsl.lower.symbolic import Function, Nested
 
 # The functions of Python's math module the C runtime has a checked twin of (legdsl_math.h).
 C_MATH = {
@@ -50,6 +51,31 @@ _RESERVED = """auto break case char const continue default do double else enum e
 goto if inline int long register restrict return short signed sizeof static struct switch typedef
 union unsigned void volatile while err out"""
 C_KEYWORDS = frozenset(_RESERVED.split())
+# Names a local of a generated function must not take in C though Python allows them: later C
+# keywords, the macros of the headers it includes (NAN would expand), and the functions and
+# macros it calls (a local leg_min hides leg_min()); legdsl_math.h's names are in the test.
+_TAKEN_IN_C = """_Bool _Complex _Imaginary _Alignas _Alignof _Atomic _Generic _Noreturn
+_Static_assert _Thread_local bool true false alignas alignof static_assert thread_local nullptr
+constexpr typeof typeof_unqual asm NULL offsetof errno EDOM ERANGE EILSEQ
+NAN INFINITY HUGE_VAL HUGE_VALF HUGE_VALL math_errhandling fpclassify isfinite isinf isnan
+isnormal signbit isgreater isgreaterequal isless islessequal islessgreater isunordered
+sin cos tan asin acos atan atan2 sqrt exp log pow fabs floor copysign sincos fmin fmax memcpy
+leg_acos leg_acos_e leg_asin leg_asin_e leg_cos leg_cos_e leg_cos_t leg_div leg_div_e leg_exp
+leg_exp_e leg_flag leg_log leg_log_e leg_math1 leg_max leg_min leg_pow leg_pow_e leg_sin
+leg_sin_e leg_sin_t leg_sqrt leg_sqrt_e leg_tan leg_tan_e leg_trig_entry leg_trig_fill
+leg_trig_find leg_trig_here leg_trig_table leg_whole_turn_pitch"""
+C_TAKEN = C_KEYWORDS | frozenset(_TAKEN_IN_C.split())
+# Reserved to the implementation (_X, __x) and the macro families of math.h and stdint.h.
+_C_MACRO_LIKE = re.compile(
+    r"_[A-Z_].*|(?:LEG|FP|M|MATH)_[A-Z0-9_]*"
+    r"|U?INT(?:_LEAST|_FAST)?(?:8|16|32|64|MAX|PTR)_(?:MAX|MIN|WIDTH)|U?INT(?:8|16|32|64|MAX)_C"
+    r"|(?:PTRDIFF|SIZE|SIG_ATOMIC|WCHAR|WINT)_(?:MAX|MIN|WIDTH)"
+)
+
+
+def taken_in_c(name: str) -> bool:
+    """Whether a Python identifier cannot be a local of the same name in the generated C."""
+    return name in C_TAKEN or _C_MACRO_LIKE.fullmatch(name) is not None
 
 
 class UnsupportedInC(Exception):
@@ -63,11 +89,22 @@ class CPrinter(LegPrinter):
         self,
         names: Mapping[Symbol, str] | None = None,
         bases: Mapping[Expr, Symbol] | None = None,
+        local_names: Iterable[str] = (),
     ):
         super().__init__(names, bases)
+        self._spelling = c_spellings(local_names)
+
+    @classmethod
+    def for_function(cls, function: Function) -> CPrinter:
+        """A printer for ``function``'s body, spelling its locals as C identifiers."""
+        return cls(function.names, function.bases, local_names(function))
+
+    def c_name(self, name: str) -> str:
+        """The C spelling of the Python name ``name`` in this printer's function."""
+        return self._spelling.get(name, name)
 
     def _print_Symbol(self, expr: Symbol) -> str:
-        return c_name(super()._print_Symbol(expr))
+        return self.c_name(super()._print_Symbol(expr))
 
     def _module_format(self, fqn: str, register: bool = True) -> str:
         if fqn in C_MATH:
@@ -193,9 +230,35 @@ def _fold(name: str, args: list[str]) -> str:
     return text
 
 
-def c_name(name: str) -> str:
-    """A Python name as a C identifier (a C keyword or a runtime name gets a trailing ``_``)."""
-    return name + "_" if name in C_KEYWORDS else name
+def local_names(function: Function) -> list[str]:
+    """The Python names of ``function``'s locals, in order."""
+    return [
+        st.target.name if isinstance(st, Unpack) else function.name_of(st.target)
+        for st in function.statements
+        if isinstance(st, Unpack | Assign)
+    ]
+
+
+def c_spellings(names: Iterable[str]) -> dict[str, str]:
+    """Each of a function's Python locals that C cannot spell as it is, as a C identifier:
+    ``int`` -> ``int_``, or ``int_2`` when the function has an ``int_`` as well; ``_Bool`` ->
+    ``u_Bool``, ``M_PI`` -> ``uM_PI``."""
+    names = list(dict.fromkeys(names))
+    used = {n for n in names if not taken_in_c(n)}
+    spelling = {}
+    for name in names:
+        if name in used:
+            continue
+        base = f"{name}_"
+        if taken_in_c(base):  # the implementation's (_Bool) or a macro family's (M_PI): no
+            base = f"u{name}"  # suffix frees it, and no taken name starts with a lowercase u
+        spelled, n = base, 1
+        while spelled in used:
+            n += 1
+            spelled = f"{base}{n}"
+        used.add(spelled)
+        spelling[name] = spelled
+    return spelling
 
 
 INDENT = "    "  # one level of the generated C

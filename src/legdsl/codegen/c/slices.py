@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from legdsl.codegen.c.printer import INDENT, CPrinter, c_name, flatten
+from legdsl.codegen.c.printer import INDENT, CPrinter, flatten
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Function, Nested
 
@@ -75,18 +75,20 @@ def _may_fail(text: str, coordinates: set[str]) -> bool:
 
 def function_text(function: Function) -> str:
     """``NAME_some``: ``NAME``'s statements, each guarded by the parts that need it."""
-    printer = CPrinter(function.names, function.bases)
+    printer = CPrinter.for_function(function)
     by_part = parts(function)
     everyone = frozenset(range(len(by_part)))
     leaves = [printer.print(leaf) for leaf in flatten(function.result)]
     part_of = {k: p for p, ks in enumerate(by_part) for k in ks}
-    coordinates = {c_name(st.target.name) for st in function.statements if isinstance(st, Unpack)}
+    coordinates = {
+        printer.c_name(st.target.name) for st in function.statements if isinstance(st, Unpack)
+    }
     # each assignment's C name and text, and the parts that need it (all parts for one that
     # may fail, so that it fails where NAME does), found from the outputs backwards
     names, texts = {}, {}
     for i, st in enumerate(function.statements):
         if isinstance(st, Assign):
-            names[i] = c_name(function.name_of(st.target))
+            names[i] = printer.c_name(function.name_of(st.target))
             texts[i] = printer.print(st.value)
     where = {name: i for i, name in names.items()}
     needs: dict[int, frozenset[int]] = {
@@ -131,7 +133,9 @@ def function_text(function: Function) -> str:
     for i, st in enumerate(function.statements):
         if isinstance(st, Unpack):
             close()
-            lines.append(f"{INDENT}const double {c_name(st.target.name)} = {st.array}[{st.index}];")
+            lines.append(
+                f"{INDENT}const double {printer.c_name(st.target.name)} = {st.array}[{st.index}];"
+            )
         elif isinstance(st, Comment):
             close()
             lines.append(f"{INDENT}/* {st.text} */")

@@ -22,6 +22,8 @@ from legdsl.lower.straightline import Block, substituted
 from legdsl.lower.symbolic import Function
 
 PARAMS = ("s", "u", "p", "r", "tis")
+# What the printed laws call: a local of the same name would hide it (TypeError).
+CALLED = ("math", "minimum", "maximum", "abs")
 
 
 def _program(
@@ -35,7 +37,7 @@ def _program(
 
     ``names`` (one per value) are what a returned value is assigned to.
     """
-    block = Block(reserved=(*PARAMS, "math", name))
+    block = Block(reserved=(*PARAMS, *CALLED, name))
     subs: dict[Symbol, sympy.Basic] = {}
     arrays = {
         **{sensor_symbol(k).name: ("s", i) for i, k in enumerate(lc.sensors)},
