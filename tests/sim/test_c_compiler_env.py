@@ -256,3 +256,29 @@ def test_the_api_is_warned_when_the_python_backend_runs_in_cs_place(
     with pytest.warns(api.LegdslWarning, match="no such program.*: running on the Python backend"):
         run = hopper.run(controller="hop", time=0.05)
     assert run.status == "ok"
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_legdsls_own_c_refused_runs_on_in_python_and_is_one_line_with_backend_c(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """A compiler that builds the probe but refuses the generated C (a bug of legdsl's C, or
+    of that compiler): ``auto`` ran nothing ("internal error" with the compiler's whole
+    output); now it runs in Python with the compiler's error as its notice, and ``--backend
+    c`` stops with that one line (exit 70)."""
+    cc = _script(
+        tmp_path, "cc", 'for a in "$@"; do case "$a" in *dynamics.c) '
+        'echo "dynamics.c:7:3: error: no such thing as this" >&2; exit 1;; esac; done\n'
+        'exec gcc "$@"\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    err = _falls_back(tmp_path, capsys)
+    said = "dynamics.c:7:3: error: no such thing as this"
+    assert f"the C compiler refused the C legdsl generated in {GENERATED / 'hopper'}: {said}" in err
+    assert "(a bug in legdsl; please report it): running on the Python backend" in err, err
+    assert main(_run(tmp_path, "c")) == 70
+    err = capsys.readouterr().err
+    assert said in err and "Traceback" not in err and len(err.strip().splitlines()) == 1, err

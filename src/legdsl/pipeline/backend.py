@@ -19,7 +19,7 @@ from typing import Any
 from legdsl.codegen.c.build import DYNAMICS_FILES, cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import InternalError, UsageError
 from legdsl.pipeline.generated import c_sources, edited_by_hand
 from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.simulate import Controller, Simulation
@@ -70,6 +70,14 @@ def make_simulation(
         tell(f"{why}: running on the Python backend")
         return Simulation(model, dynamics, options, controller)
 
+    def refused(folder: Path, name: str | None, failure: Exception) -> Simulation:
+        """The compiler refused the C: C edited by hand is the user's to fix; legdsl's own C
+        is a bug, which ``--backend c`` stops at (exit 70) and ``auto`` runs past in Python."""
+        error = _build_failed(model, where, folder, name, failure)
+        if isinstance(error, UsageError) or backend == "c":
+            raise error from None
+        return python_instead(f"{error} (a bug in legdsl; please report it)")
+
     missing = available()
     if missing is not None:  # a LEGDSL_CC that is wrong is told what to do already
         return python_instead(missing, "" if missing.startswith("LEGDSL_CC") else "install gcc ")
@@ -97,10 +105,10 @@ def make_simulation(
         except CompilerUnusable as e:  # LEGDSL_CC is no compiler, or one without its headers
             return python_instead(str(e))
         except BuildFailed as e:
-            raise _build_failed(model, where, folder, name, e) from None
+            return refused(folder, name, e)
         except OSError as e:  # the cache is full, unwritable, or on a file system without exec
             if "undefined symbol" in str(e):  # built, but calls a function nobody defines
-                raise _build_failed(model, where, folder, name, e) from None
+                return refused(folder, name, e)
             return python_instead(
                 f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})",
                 _cache_fix(e),
@@ -133,17 +141,19 @@ def _build_failed(
 ) -> Exception:
     """The C compiler refused generated C whose checksums match: the user's error when the
     files are not what legdsl generates (edited by hand, SHA256SUMS with them), else legdsl's
-    bug (exit 70 with the compiler's words)."""
+    bug, said in one line with the compiler's first error (``--backend auto`` runs on in Python
+    with it as its notice; ``--backend c`` exits 70)."""
     source, _, syntax = where
     names = [*DYNAMICS_FILES] + ([f"control_{controller}.c"] if controller else [])
     edited = edited_by_hand(model, source, folder, syntax, names)
-    if not edited:
-        return RuntimeError(str(failure))
     lines = str(failure).splitlines()
     said = next((line for line in lines[1:] if "error" in line), lines[0] if lines else "")
+    said = f": {said.strip()[:300]}" if said.strip() else ""
+    if not edited:
+        return InternalError(f"the C compiler refused the C legdsl generated in {folder}{said}")
     return UsageError(
         f"the C library cannot be built from {folder / edited[0]}, which differs from what "
-        f"legdsl generates from {source} (edited by hand?){': ' + said.strip() if said else ''}; run "
+        f"legdsl generates from {source} (edited by hand?){said}; run "
         f"'legdsl compile {source}' to write it again"
     )
 
