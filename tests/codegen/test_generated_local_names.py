@@ -17,8 +17,14 @@ RUNTIME = Path(__file__).resolve().parents[2] / "src" / "legdsl" / "codegen" / "
 
 # The hopper's parameters renamed, each clashing with something in the law that reads it:
 # int and int_ (C spells int as int_), leg_min and minimum (called in the same function),
-# macros of math.h and errno.h.
+# macros of math.h and errno.h; the C functions' own arguments (p, tis) and names the runtime's
+# headers declare (a sensor, a dynamics function, a stdint type).
 RENAMED = {
+    "k_speed": "p",
+    "stance_guess": "tis",
+    "full": "leg_sense_leg",
+    "height": "forward_dynamics",
+    "speed": "int64_t",
     "kp": "int",
     "kv": "int_",
     "apex_limit": "leg_min",
