@@ -22,6 +22,13 @@ HOPPER = str(Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg")
         (["--dt", "0.4MS"], "; did you mean 'ms'?"),
         (["--fall-tilt", "45°"], "; did you mean 'deg'?"),
         (["--set", "speed=1m/sec"], "; did you mean 'm/s'?"),
+        # another system's unit: the value to write, as a file's gets (it said only "write
+        # the value in m/s", and for km/h listed legdsl's unit symbols)
+        (
+            ["--set", "speed=2mph"],
+            "--set 'speed=2mph': 'mph' is not a unit legdsl knows: write '0.89408 m/s'",
+        ),
+        (["--set", "speed=9km/h"], "write '2.5 m/s' or '0.15 km/min'"),
         (
             ["--drop", "5%"],
             "--drop 5%: a percentage is written as a plain number: '0.5', not '50%'",

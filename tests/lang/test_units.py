@@ -7,11 +7,20 @@ import re
 from pathlib import Path
 
 import pytest
+from conftest import CREATURES
 
-from legdsl.check.source import check_model
+from legdsl.check.source import check_file, check_model
 from legdsl.lang.errors import LegError
 from legdsl.lang.lalr import lark_parser
-from legdsl.lang.units import KINDS, UNITS, UnitError, describe, parse_unit, unit_pattern
+from legdsl.lang.units import (
+    KINDS,
+    UNITS,
+    UnitError,
+    describe,
+    parse_unit,
+    unit_pattern,
+    unknown_unit,
+)
 
 ANGLE = KINDS["angle"][0]
 
@@ -226,3 +235,36 @@ def test_an_unknown_unit_reads_as_a_files_does(text: str, told: str) -> None:
     with pytest.raises(UnitError) as caught:
         parse_unit(text)
     assert told in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("number", "unit", "told"),
+    [
+        # another system's unit in the denominator (it was "not a unit legdsl knows" with the
+        # list of symbols, and a file's '10 km/h' was told of 'h' alone, with no value)
+        ("10", "km/h", "'km/h' is not a unit legdsl knows; it writes times in s, ms, min: "
+         "write '2.7777777778 m/s' or '0.1666666667 km/min'"),
+        ("60", "rev/h", "write '0.1047197551 rad/s' or '1 rev/min'"),
+        ("2", "ft/s^2", "it writes lengths in m, cm, mm, km: write '0.6096 m/s^2'"),
+        ("100", "mN*m/rad", "it has no prefix 'm' (milli); it writes forces in N, kN: "
+         "write '0.1 N*m/rad'"),
+        ("3", "m/us", "it has no prefix 'u' (micro); it writes times in s, ms, min: "
+         "write '3e6 m/s'"),
+        ("0.5", "in", "write '0.0127 m' or '1.27 cm'"),  # as before: the one nearest 1 beside SI
+    ],
+)  # fmt: skip
+def test_a_unit_of_another_system_anywhere_in_the_unit_is_given_in_legdsls(
+    number: str, unit: str, told: str
+) -> None:
+    assert told in unknown_unit(unit, number)
+
+
+def test_a_files_unit_of_another_system_in_the_denominator_is_told_whole(tmp_path: Path) -> None:
+    text = (CREATURES / "hopper.leg").read_text()
+    leg = tmp_path / "kmh.leg"
+    leg.write_text(text.replace("input speed = 1 m/s ", "input speed = 10 km/h", 1))
+    with pytest.raises(LegError) as caught:
+        check_file(leg)
+    said = caught.value.render()
+    assert "'km/h' is not a unit legdsl knows" in said and "write '2.7777777778 m/s'" in said
+    assert "input speed = 10 km/h" in said and "\n                       ^~~~\n" in said + "\n"

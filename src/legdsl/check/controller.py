@@ -30,6 +30,7 @@ from legdsl.check.values import (
     MAX_NAME,
     constant_advice,
     did_you_mean,
+    misspelt_unit,
     owning_creature,
     too_long,
 )
@@ -39,7 +40,7 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import UnitError, out_of_range, parse_unit, unknown_unit
+from legdsl.lang.units import out_of_range
 
 # What a controller's own declarations are called in messages.
 _DECLARED_KIND: dict[type, str] = {
@@ -372,9 +373,9 @@ class ControllerChecker:
         if isinstance(node, ast.EQuantity):
             q = node.quantity
             return Constant(name.name, sign * q.value, q.dim, name.span)
-        unit = _misspelt_unit(node)
-        if unit is not None:  # '1 N*m/rdd' reads as 1 N*m divided by a name
-            self.err(unit.span, unknown_unit(unit.name))
+        misspelt = misspelt_unit(node)
+        if misspelt is not None:  # '1 N*m/rdd' reads as 1 N*m divided by a name
+            self.err(*misspelt)
             return None
         advice = constant_advice(expr)
         self.err(
@@ -491,24 +492,3 @@ def check_controllers(
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]
-
-
-def _misspelt_unit(node: ast.Expr) -> ast.Ident | None:
-    """In a constant written as a quantity whose unit goes on with a name that is no unit
-    (``1 N*m/rdd``, read as 1 N*m over a name ``rdd``: joined without spaces, as a unit is
-    written), that name."""
-    if not (isinstance(node, ast.EBinary) and node.op in ("*", "/")):
-        return None
-    left, right = node.left, node.right
-    joined = (
-        isinstance(left, ast.EQuantity | ast.EBinary)
-        and isinstance(right, ast.EName)
-        and left.span.end_line == right.span.line
-        and right.span.col == left.span.end_col + 1  # the operator alone between them
-    )
-    if joined and isinstance(right, ast.EName):
-        try:
-            parse_unit(right.ident.name)
-        except UnitError:
-            return _misspelt_unit(left) or right.ident
-    return _misspelt_unit(left)

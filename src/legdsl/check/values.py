@@ -16,7 +16,16 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.habits import unit_after_slash, unit_after_star
-from legdsl.lang.units import KINDS, Dim, UnitError, describe, out_of_range, parse_unit
+from legdsl.lang.units import (
+    KINDS,
+    Dim,
+    UnitError,
+    describe,
+    other_system,
+    out_of_range,
+    parse_unit,
+    unknown_unit,
+)
 
 STDLIB = Path(__file__).parents[1] / "stdlib"
 
@@ -366,3 +375,57 @@ def example_vector(n: int, kind: str) -> str:
 
 def article(word: str) -> str:
     return "an" if word[0] in "aeiou" else "a"
+
+
+def misspelt_unit(node: ast.Expr) -> tuple[Span, str] | None:
+    """In a constant written as a quantity whose unit goes on with a name that is no unit
+    (``1 N*m/rdd``, read as 1 N*m over a name ``rdd``: joined without spaces, as a unit is
+    written), where that name is and what to say: the whole unit's value in legdsl's units
+    where it is from another system (``10 km/h``), else that the name is no unit."""
+    name = _name_in_unit(node)
+    if name is None:
+        return None
+    quantity = node
+    while isinstance(quantity, ast.EBinary):
+        quantity = quantity.left
+    if isinstance(quantity, ast.EQuantity) and written_unit(quantity.text):
+        unit = written_unit(quantity.text)
+        number = quantity.text.strip().removesuffix(unit).strip()
+        written = unit + _unit_tail(node)
+        if other_system(written, number) is not None:
+            start = quantity.span.end_col - len(unit)
+            span = Span(
+                node.span.file, node.span.line, start, node.span.end_line, node.span.end_col
+            )
+            return span, unknown_unit(written, number)
+    return name.span, unknown_unit(name.name)
+
+
+def _joined(node: ast.Expr) -> bool:
+    """A quantity (or a product of one) and a name, with only ``*`` or ``/`` between them."""
+    return (
+        isinstance(node, ast.EBinary)
+        and node.op in ("*", "/")
+        and isinstance(node.left, ast.EQuantity | ast.EBinary)
+        and isinstance(node.right, ast.EName)
+        and node.left.span.end_line == node.right.span.line
+        and node.right.span.col == node.left.span.end_col + 1
+    )
+
+
+def _name_in_unit(node: ast.Expr) -> ast.Ident | None:
+    if not (isinstance(node, ast.EBinary) and node.op in ("*", "/")):
+        return None
+    if _joined(node) and isinstance(node.right, ast.EName):
+        try:
+            parse_unit(node.right.ident.name)
+        except UnitError:
+            return _name_in_unit(node.left) or node.right.ident
+    return _name_in_unit(node.left)
+
+
+def _unit_tail(node: ast.Expr) -> str:
+    """The operators and names a quantity's unit goes on with: ``/h`` of ``10 km/h``."""
+    if _joined(node) and isinstance(node, ast.EBinary) and isinstance(node.right, ast.EName):
+        return _unit_tail(node.left) + node.op + node.right.ident.name
+    return ""

@@ -216,7 +216,7 @@ def unknown_unit(word: str, number: str | None = None) -> str:
     written before it, if known, for the value to write instead."""
     if word == "%":  # '--set k=30%', as a file's '30%' is told
         return "a percentage is written as a plain number: '0.5', not '50%'"
-    other = _other_system(word, number)
+    other = other_system(word, number)
     if other is not None:
         return other
     symbols = ", ".join(UNITS)
@@ -246,40 +246,45 @@ def _family(unit: str) -> tuple[str, str] | None:
     return names[dim], ", ".join(u for u, (_, d) in UNITS.items() if d == dim)
 
 
-def _other_system(word: str, number: str | None) -> str | None:
+def other_system(word: str, number: str | None) -> str | None:
     """A unit with a prefix legdsl lacks ('µm', 'dm', 'us', 'mN*m') or from another system
-    of units ('in', 'lb', 'h'): what legdsl writes instead, with the value if known."""
+    of units ('in', 'lb', 'h', 'km/h'): what legdsl writes instead, with the value if known."""
     parts = re.split(r"([*/])", word)
-    atom = re.fullmatch(r"([^\W\d_]+)(\^-?\d+)?", parts[0])
-    if atom is None or any(p not in UNITS and p not in "*/" for p in parts[1:]):
-        return None
-    symbol, power = atom.group(1), atom.group(2) or ""
-    if symbol.lower() in _UNIT_BY_LOWER:  # 'Ms', 'KG': a unit with the wrong case
-        return None
-    singular = symbol.lower().removesuffix("s") if len(symbol) > 2 else symbol.lower()
-    if symbol in _FOREIGN or singular in _FOREIGN:
-        factor, base = _FOREIGN.get(symbol) or _FOREIGN[singular]
-        said = f"'{word}' is not a unit legdsl knows"
-    elif symbol[:1] in _PREFIX_FACTORS and symbol[1:] in UNITS and symbol not in UNITS:
-        name, factor = _PREFIX_FACTORS[symbol[:1]]
-        base = symbol[1:]
-        said = f"'{word}' is not a unit legdsl knows: it has no prefix '{symbol[:1]}' ({name})"
-    else:
-        return None
-    rest = "".join(parts[1:])
-    try:
+    factor, said, unit, converted = 1.0, None, "", []
+    for i, part in enumerate(parts):
+        atom = re.fullmatch(r"([^\W\d_]+)(\^-?\d+)?", part)
+        if part in ("*", "/") or (atom is not None and atom.group(1) in UNITS):
+            unit += part
+            continue
+        found = None if atom is None else _in_legdsl(atom.group(1))
+        if atom is None or found is None:
+            return None
+        scale, base, why = found
+        power = atom.group(2) or ""
         exponent = int(power[1:]) if power else 1
-        unit = f"{base}{power}{rest}"
+        factor *= scale ** (-exponent if i and parts[i - 1] == "/" else exponent)
+        said = said or f"'{word}' is not a unit legdsl knows{why}"
+        converted.append((i, base, power, exponent))
+        unit += base + power
+    if said is None:
+        return None
+    try:
         parse_unit(unit)
     except (UnitError, ValueError):
         return None
-    family = _family(base)
+    family = _family(converted[0][1])
     message = said + (f"; it writes {family[0]} in {family[1]}" if family else "")
     if number is None:
-        return message + f"; write the value in {base}{power}{rest}"
-    value = float(number) * factor**exponent
+        return message + f"; write the value in {unit}"
+    value = float(number) * factor
     ways = [f"'{_decimal(value)} {unit}'"]
-    if family and value:  # '0.3 mm' beside '0.0003 m': the one nearest 1
+    at, base, power, exponent = converted[0]
+    scale, dim = parse_unit(unit)
+    example = next((ex for d, ex in KINDS.values() if d == dim and d != DIMENSIONLESS), unit)
+    if at > 0 and example != unit:  # '10 km/h': '2.78 m/s' before '0.167 km/min'
+        ways.insert(0, f"'{_decimal(value * scale / parse_unit(example)[0])} {example}'")
+    if family and value and at == 0 and len(converted) == 1:  # '0.3 mm' beside '0.0003 m':
+        rest = "".join(parts[1:])  # the one nearest 1
         scaled = {
             other: value * (UNITS[base][0] / UNITS[other][0]) ** exponent
             for other in family[1].split(", ")
@@ -288,6 +293,21 @@ def _other_system(word: str, number: str | None) -> str | None:
         if best != base:
             ways.append(f"'{_decimal(scaled[best])} {best}{power}{rest}'")
     return message + ": write " + " or ".join(ways)
+
+
+def _in_legdsl(symbol: str) -> tuple[float, str, str] | None:
+    """A symbol from another system ('h', 'in') or with a prefix legdsl lacks ('dm'): (its
+    factor to a unit legdsl has, that unit, what to add to "not a unit legdsl knows")."""
+    if symbol.lower() in _UNIT_BY_LOWER:  # 'Ms', 'KG': a unit with the wrong case
+        return None
+    singular = symbol.lower().removesuffix("s") if len(symbol) > 2 else symbol.lower()
+    if symbol in _FOREIGN or singular in _FOREIGN:
+        factor, base = _FOREIGN.get(symbol) or _FOREIGN[singular]
+        return factor, base, ""
+    if symbol[:1] in _PREFIX_FACTORS and symbol[1:] in UNITS and symbol not in UNITS:
+        name, factor = _PREFIX_FACTORS[symbol[:1]]
+        return factor, symbol[1:], f": it has no prefix '{symbol[:1]}' ({name})"
+    return None
 
 
 def stand_in_unit(word: str) -> str | None:

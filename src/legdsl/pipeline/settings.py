@@ -25,7 +25,15 @@ from legdsl.check.values import did_you_mean, per_second
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, UnitError, describe, parse_unit
+from legdsl.lang.units import (
+    DIMENSIONLESS,
+    KINDS,
+    Dim,
+    UnitError,
+    describe,
+    parse_unit,
+    unknown_unit,
+)
 from legdsl.sim.machine import InputChange
 from legdsl.sim.switching import starting_values
 
@@ -94,8 +102,8 @@ def parse_given(value: str, where: str) -> Given:
     if unit:
         try:
             factor, dim = parse_unit(unit)
-        except UnitError as e:
-            raise UsageError(f"{where}: {e}") from None
+        except UnitError:  # with the number, for the value to write instead ('10km/h')
+            raise UsageError(f"{where}: {unknown_unit(unit, number)}") from None
     si = float(number) * factor
     if not math.isfinite(si):
         raise UsageError(f"{where}: {number}{unit} is too large to be a number (it overflows)")
