@@ -296,10 +296,11 @@ def _parser() -> argparse.ArgumentParser:
 
     k = sub.add_parser(
         "compile",
-        help="generate the equations of motion of creatures as Python modules",
+        help="generate the equations of motion and the controllers of creatures as Python and C",
         description="Lower each creature through sympy (articulated-body dynamics, bias forces, "
-        "mass matrix, contact kinematics) and write generated/NAME/dynamics.py, replacing the "
-        "directory only once the new one is complete. Progress goes to stderr. --all compiles "
+        "mass matrix, contact kinematics) and its controllers, and write generated/NAME/ "
+        "(dynamics.py and dynamics.c, control_CONTROLLER.py and .c), replacing the directory "
+        "only once the new one is complete. Progress goes to stderr. --all compiles "
         "creatures/*.leg and is the command that updates the golden files.",
         epilog="Example: legdsl compile creatures/kangaroo.leg  (or: legdsl compile --all)",
     )
