@@ -93,10 +93,6 @@ class CreatureChecker(ValueChecker):
         bodies, joints, q0, v0 = tree.build_tree(order)
         by_body = {b.name: b for b in bodies}
         dofs = {dof.name: dof for j in joints for dof in j.dofs}
-        for j in joints:
-            if j.is_free_3d:
-                for name in ("x", "y", "z", "qw", "qx", "qy", "qz"):
-                    self.names.setdefault(name, ("coordinate", j.span))
 
         actuators = [
             a

@@ -14,6 +14,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
 JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
+FREE_3D_Q_NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz")  # model.q_names of a 3D free root
 # What other tools name these kinds (MuJoCo's hinge and slide, URDF's continuous...): said so,
 # and checked on as the kind meant.
 KIND_SYNONYMS = {"hinge": "revolute", "continuous": "revolute", "pin": "revolute",
@@ -96,7 +97,8 @@ class JointChecker(CreaturePart):
         else:
             coord_names = []
         if kind in ("free", "gimbal", "ball"):
-            for c in coord_names:
+            # a 3D root's position coordinates are named too (q.x ... q.qz, a law's x)
+            for c in coord_names or (FREE_3D_Q_NAMES if kind == "free" else ()):
                 self.declare(ast.Ident(c, span), "coordinate")
 
         motions = (
