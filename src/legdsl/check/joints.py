@@ -9,12 +9,20 @@ import math
 
 from legdsl.check.scope import CreaturePart, Scope
 from legdsl.check.values import did_you_mean
-from legdsl.ir.model import Body, Dof, Joint, Stop, Vec3, axes_spread
+from legdsl.ir.model import (
+    FREE_3D_Q_NAMES,
+    FREE_3D_V_NAMES,
+    Body,
+    Dof,
+    Joint,
+    Stop,
+    Vec3,
+    axes_spread,
+)
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
 
 JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
-FREE_3D_Q_NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz")  # model.q_names of a 3D free root
 # What other tools name these kinds (MuJoCo's hinge and slide, URDF's continuous...): said so,
 # and checked on as the kind meant.
 KIND_SYNONYMS = {"hinge": "revolute", "continuous": "revolute", "pin": "revolute",
@@ -100,6 +108,9 @@ class JointChecker(CreaturePart):
             # a 3D root's position coordinates are named too (q.x ... q.qz, a law's x)
             for c in coord_names or (FREE_3D_Q_NAMES if kind == "free" else ()):
                 self.declare(ast.Ident(c, span), "coordinate")
+        if kind == "free" and not self.planar:  # and its speeds (v.vx ... v.wz)
+            for c in FREE_3D_V_NAMES:
+                self.declare(ast.Ident(c, span), "root's velocity")
 
         motions = (
             ["slide", "slide", "hinge"]
@@ -298,7 +309,7 @@ class JointChecker(CreaturePart):
     def free3d_initial(self, props: dict[str, ast.Prop]) -> tuple[list[float], list[float]]:
         pos = {"x": 0.0, "y": 0.0, "z": 0.0}
         ang = {"roll": 0.0, "pitch": 0.0, "yaw": 0.0}
-        vel = dict.fromkeys(("vx", "vy", "vz", "wx", "wy", "wz"), 0.0)
+        vel = dict.fromkeys(FREE_3D_V_NAMES, 0.0)
         for key, table in (("initial", {**pos, **ang}), ("velocity", vel)):
             prop = props.get(key)
             if prop is None:

@@ -36,6 +36,10 @@ from legdsl.ir.controller import Controller
 from legdsl.ir.scene import Scene
 from legdsl.lang.errors import Span
 
+# The coordinates and speeds of a 3D free root, in q and v (names no joint may take)
+FREE_3D_Q_NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz")
+FREE_3D_V_NAMES = ("vx", "vy", "vz", "wx", "wy", "wz")
+
 Vec3 = tuple[float, float, float]
 Mat3 = tuple[Vec3, Vec3, Vec3]
 
@@ -348,20 +352,14 @@ class Model:
     def q_names(self) -> tuple[str, ...]:
         names: list[str] = []
         for j in self.joints:
-            names += (
-                ["x", "y", "z", "qw", "qx", "qy", "qz"]
-                if j.is_free_3d
-                else [d.name for d in j.dofs]
-            )
+            names += FREE_3D_Q_NAMES if j.is_free_3d else [d.name for d in j.dofs]
         return tuple(names)
 
     @property
     def v_names(self) -> tuple[str, ...]:
         names: list[str] = []
         for j in self.joints:
-            names += (
-                ["vx", "vy", "vz", "wx", "wy", "wz"] if j.is_free_3d else [d.name for d in j.dofs]
-            )
+            names += FREE_3D_V_NAMES if j.is_free_3d else [d.name for d in j.dofs]
         return tuple(names)
 
     @property
