@@ -256,7 +256,9 @@ def other_system(word: str, number: str | None) -> str | None:
         if part in ("*", "/") or (atom is not None and atom.group(1) in UNITS):
             unit += part
             continue
-        found = None if atom is None else _in_legdsl(atom.group(1))
+        # 'Ms', 'KG': a unit with the wrong case, not one of another system
+        wrong_case = atom is not None and atom.group(1).lower() in _UNIT_BY_LOWER
+        found = None if atom is None or wrong_case else _stand_in(atom.group(1))
         if atom is None or found is None:
             return None
         scale, base, why = found
@@ -295,11 +297,9 @@ def other_system(word: str, number: str | None) -> str | None:
     return message + ": write " + " or ".join(ways)
 
 
-def _in_legdsl(symbol: str) -> tuple[float, str, str] | None:
+def _stand_in(symbol: str) -> tuple[float, str, str] | None:
     """A symbol from another system ('h', 'in') or with a prefix legdsl lacks ('dm'): (its
     factor to a unit legdsl has, that unit, what to add to "not a unit legdsl knows")."""
-    if symbol.lower() in _UNIT_BY_LOWER:  # 'Ms', 'KG': a unit with the wrong case
-        return None
     singular = symbol.lower().removesuffix("s") if len(symbol) > 2 else symbol.lower()
     if symbol in _FOREIGN or singular in _FOREIGN:
         factor, base = _FOREIGN.get(symbol) or _FOREIGN[singular]
@@ -313,12 +313,8 @@ def _in_legdsl(symbol: str) -> tuple[float, str, str] | None:
 def stand_in_unit(word: str) -> str | None:
     """legdsl's unit of the kind of a unit from another system or with a prefix legdsl lacks
     ('ft' -> 'm', 'dm' -> 'm'), to read in its place once it is reported; else None."""
-    singular = word.lower().removesuffix("s") if len(word) > 2 else word.lower()
-    if word in _FOREIGN or singular in _FOREIGN:
-        return (_FOREIGN.get(word) or _FOREIGN[singular])[1]
-    if word[:1] in _PREFIX_FACTORS and word[1:] in UNITS and word not in UNITS:
-        return word[1:]
-    return None
+    found = _stand_in(word)
+    return found[1] if found else None
 
 
 def suggest_unit(word: str) -> str | None:
