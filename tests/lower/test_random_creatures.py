@@ -21,12 +21,12 @@ from __future__ import annotations
 import ctypes
 import math
 import os
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pytest
 from mjhelpers import random_state
+from random_creatures import Body, body_properties, child_head, num, random_point, root_head
 from runtime_helpers import assert_same
 from test_mujoco_oracle import Oracle, _err
 
@@ -41,182 +41,17 @@ STATES = 6
 RTOL = 1e-10
 
 
-def _num(x: float) -> str:
-    return f"{x:.6g}"
-
-
-def _vec(v: np.ndarray, unit: str = "") -> str:
-    sep = f" {unit}, " if unit else ", "
-    return "(" + sep.join(_num(x) for x in v) + (f" {unit})" if unit else ")")
-
-
-def _skewed_axis(rng: np.random.Generator, dim: int) -> np.ndarray:
-    """A unit axis, a quarter of the time a coordinate axis (exactly), else any direction."""
-    if rng.random() < 0.25:
-        return np.eye(dim)[rng.integers(dim)]
-    v = rng.normal(size=dim)
-    return np.round(v / np.linalg.norm(v), 3)
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return np.asarray(v, dtype=float) / np.linalg.norm(v)
-
-
-def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
-    a = _unit(axis)
-    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-
-
-def _turned_axes(axes: list[np.ndarray], angles: list[float]) -> list[np.ndarray]:
-    """Each hinge's axis in the joint frame, turned by the hinges before it."""
-    r, out = np.eye(3), []
-    for axis, angle in zip(axes, angles, strict=True):
-        out.append(r @ _unit(axis))
-        r = r @ _rot(axis, angle)
-    return out
-
-
-def _coordinate_names(joint: str, axes: list[np.ndarray]) -> list[str]:
-    """docs/language.md: JOINT_x/_y/_z after an exact coordinate axis, else JOINT_1/_2/_3 by
-    position; all numbered if two would share a name."""
-    names = []
-    for i, a in enumerate(axes):
-        hits = [k for k in range(3) if np.array_equal(a, np.eye(3)[k])]
-        names.append(f"{joint}_{'xyz'[hits[0]] if hits else i + 1}")
-    if len(set(names)) < len(names):
-        return [f"{joint}_{i + 1}" for i in range(len(axes))]
-    return names
-
-
-@dataclass
-class _Body:
-    name: str
-    depth: int
-    length: float | None = None
-    lines: list[str] = field(default_factory=list)
-
-
-def _inertia(rng: np.random.Generator, mass: float, size: float, planar: bool) -> str:
-    if planar:
-        return f"inertia {_num(mass * size**2 * rng.uniform(0.05, 1.0))} kg*m^2"
-    # moments of a mass spread a, b, c along the axes: each at most the sum of the others
-    # now and then a thin rod or a flat plate: a spread near 0, the moments near the bound
-    a, b, c = rng.uniform(0.05, 1.0, 3) * rng.choice([1.0, 1.0, 0.05], 3) * mass * size**2
-    moments = np.array([b + c, a + c, a + b])
-    if rng.random() < 0.5:
-        return f"inertia {_vec(moments)} kg*m^2"
-    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    tensor = q @ np.diag(moments) @ q.T
-    cells = [[_num(tensor[min(i, j), max(i, j)]) + " kg*m^2" for j in range(3)] for i in range(3)]
-    return "inertia (" + ", ".join("(" + ", ".join(row) + ")" for row in cells) + ")"
-
-
-def _joint_block(rng: np.random.Generator, kind: str, joint: str, planar: bool) -> list[str]:
-    """The axis, axes and initial values of a joint of ``kind`` (its coordinates' names)."""
-    lines = []
-    if kind in ("revolute", "prismatic"):
-        if (kind == "prismatic" or not planar) and rng.random() < 0.8:
-            lines.append(f"axis {_vec(_skewed_axis(rng, 2 if planar else 3))}")
-        if rng.random() < 0.6:
-            value = rng.uniform(-60, 60) if kind == "revolute" else rng.uniform(-0.1, 0.1)
-            lines.append(f"initial {_num(value)} {'deg' if kind == 'revolute' else 'm'}")
-        if rng.random() < 0.4:
-            rate = rng.uniform(-2, 2)
-            lines.append(f"velocity {_num(rate)} {'rad/s' if kind == 'revolute' else 'm/s'}")
-        return lines
-    if kind not in ("gimbal", "ball"):
-        return lines
-    n = 2 if kind == "gimbal" else 3
-    while True:
-        axes = [_skewed_axis(rng, 3) for _ in range(n)]
-        angles = list(np.radians(rng.uniform(-40, 40, n)))
-        turned = _turned_axes(axes, angles)
-        apart = all(abs(np.dot(a, b)) < 0.94 for a, b in zip(turned, turned[1:], strict=False))
-        if apart and (n == 2 or abs(np.linalg.det(np.array(turned))) > 0.3):
-            break
-    names = _coordinate_names(joint, axes)
-    lines.append("axes " + ", ".join(_vec(a) for a in axes))
-    lines.append("initial " + ", ".join(f"{c} = {_num(np.degrees(x))} deg" for c, x in
-                                        zip(names, angles, strict=True)))  # fmt: skip
-    if rng.random() < 0.4:
-        lines.append(f"velocity {names[0]} = {_num(rng.uniform(-1, 1))} rad/s")
-    return lines
-
-
-def _point(rng: np.random.Generator, planar: bool, scale: float) -> str:
-    return _vec(rng.uniform(-scale, scale, 2 if planar else 3), "m")
-
-
-def _body_properties(rng: np.random.Generator, body: _Body, planar: bool) -> list[str]:
-    """Mass (10 g to 50 kg, log-uniform), inertia, and maybe a link and a mass centre."""
-    mass = float(np.exp(rng.uniform(np.log(0.01), np.log(50))))
-    size = rng.uniform(0.05, 0.6)
-    props = [f"mass {_num(mass)} kg", _inertia(rng, mass, size, planar)]
-    if rng.random() < 0.7:
-        body.length = float(rng.uniform(0.05, 0.8))
-        props.append(f"length {_num(body.length)} m")
-        if rng.random() < 0.5:
-            props.append(f"direction {_vec(_skewed_axis(rng, 2 if planar else 3))}")
-    elif rng.random() < 0.3:  # no link, but a direction: a prismatic joint's default axis
-        props.append(f"direction {_vec(_skewed_axis(rng, 2 if planar else 3))}")
-    if rng.random() < 0.3 and body.length is not None:
-        props.append(f"com {_num(rng.uniform(0, body.length))} m")
-    elif rng.random() < 0.6:
-        props.append(f"com {_point(rng, planar, rng.choice([0.2, 1.0]))}")
-    return props
-
-
-def _root_head(rng: np.random.Generator, body: _Body, planar: bool, props: list[str]) -> str:
-    """A free root (its initial pose and maybe a velocity added to ``props``) or a welded one."""
-    if rng.random() < 0.8:
-        init = ["z = 1 m", f"x = {_num(rng.uniform(-1, 1))} m"]
-        turns = ("pitch",) if planar else ("roll", "pitch", "yaw")
-        init += [f"{a} = {_num(rng.uniform(-30, 30))} deg" for a in turns]
-        props.append("initial " + ", ".join(init))
-        if rng.random() < 0.5:
-            linear, angular = (("x", "z"), ("pitch",)) if planar else ("xyz", ("wx", "wy", "wz"))
-            rates = [f"{'' if planar else 'v'}{a} = {_num(rng.uniform(-1, 1))} m/s" for a in linear]
-            rates += [f"{a} = {_num(rng.uniform(-1, 1))} rad/s" for a in angular]
-            props.append("velocity " + ", ".join(rates))
-        return f"body {body.name} free"
-    at = rng.uniform(-0.5, 0.5, 2 if planar else 3)
-    at[-1] = 8.0  # high enough that nothing starts under the ground
-    return f"body {body.name} fixed at {_vec(at, 'm')}"
-
-
-def _child_head(rng: np.random.Generator, body: _Body, bodies: list[_Body], planar: bool,
-                props: list[str]) -> str:  # fmt: skip
-    """A joint to a parent at most 4 deep, of a random kind and place (its block to ``props``)."""
-    kinds = ["revolute", "prismatic", "fixed"] + ([] if planar else ["gimbal", "ball"])
-    weights = np.array([0.4, 0.25, 0.1] if planar else [0.3, 0.2, 0.1, 0.2, 0.2])
-    candidates = [b for b in bodies if b.depth < 5]
-    parent = candidates[int(rng.integers(len(candidates)))]
-    body.depth = parent.depth + 1
-    kind = str(rng.choice(kinds, p=weights / weights.sum()))
-    joint = "j" + body.name[1:]
-    where = rng.random()
-    if where < 0.4 and parent.length is not None:
-        at = " at tip"
-    elif where < 0.8:
-        at = f" at {_point(rng, planar, 0.3)}"
-    else:
-        at = ""
-    props += _joint_block(rng, kind, joint, planar)
-    return f"body {body.name} on {parent.name} via {kind} {joint}{at}"
-
-
 def _ground(rng: np.random.Generator, planar: bool) -> list[str]:
     """A linear or paw-pad normal, sticking or Coulomb friction, a torsional spring in 3D."""
     if rng.random() < 0.5:
         normal = "normal spring(k = 2e3 N/m, b = 20 N*s/m)"
     else:
-        normal = f"normal pad(k = 100 N, thickness = {_num(rng.uniform(0.5, 3))} cm, b = 20 N*s/m)"
+        normal = f"normal pad(k = 100 N, thickness = {num(rng.uniform(0.5, 3))} cm, b = 20 N*s/m)"
     lines = ["  ground {", f"    {normal}", "    tangent spring(k = 1e3 N/m, b = 10 N*s/m)"]
     if not planar and rng.random() < 0.5:
         lines.append("    torsion spring(k = 5 N*m/rad, b = 0.1 N*m*s/rad)")
     if rng.random() < 0.5:
-        lines.append(f"    friction {_num(rng.uniform(0.2, 1.0))}")
+        lines.append(f"    friction {num(rng.uniform(0.2, 1.0))}")
     return [*lines, "  }", "}"]
 
 
@@ -224,23 +59,23 @@ def creature_text(seed: int) -> str:
     """A random valid creature, the same for the same seed."""
     rng = np.random.default_rng(seed)
     planar = bool(rng.random() < 0.35)
-    bodies: list[_Body] = []
+    bodies: list[Body] = []
     for i in range(int(rng.integers(2, 10))):
-        body = _Body(f"b{i}", 0)
-        props = _body_properties(rng, body, planar)
+        body = Body(f"b{i}", 0)
+        props = body_properties(rng, body, planar)
         if i == 0:
-            head = _root_head(rng, body, planar, props)
+            head = root_head(rng, body, planar, props)
         else:
-            head = _child_head(rng, body, bodies, planar, props)
+            head = child_head(rng, body, bodies, planar, props)
         body.lines = [f"  {head} {{", *(f"    {p}" for p in props), "  }"]
         bodies.append(body)
     lines = [f"creature rand{seed} {{", "  planar" if planar else "  spatial"]
-    lines.append(f"  gravity {_num(rng.uniform(1, 20))} m/s^2")
+    lines.append(f"  gravity {num(rng.uniform(1, 20))} m/s^2")
     contacts = []
     for k in range(int(rng.integers(0, 4))):
         body = bodies[int(rng.integers(len(bodies)))]
         where = " at tip" if body.length is not None and rng.random() < 0.6 else ""
-        where = where or (f" at {_point(rng, planar, 0.3)}" if rng.random() < 0.7 else "")
+        where = where or (f" at {random_point(rng, planar, 0.3)}" if rng.random() < 0.7 else "")
         contacts.append(f"  contact c{k} on {body.name}{where}")
     # bodies may be written in any order: a child before its parent too
     for i in np.random.default_rng([seed, 1]).permutation(len(bodies)):
