@@ -252,7 +252,8 @@ class Lowerer:
             operand = self.expr(e.operand, roles)
             return -operand if e.op == "-" else sympy.Not(operand)
         if isinstance(e, ir.Binary):
-            return _BINARY[e.op](*_finite(self.expr(e.left, roles), self.expr(e.right, roles)))
+            operands = (self.expr(e.left, roles), self.expr(e.right, roles))
+            return _BINARY[e.op](*_finite(*operands, real=e.op in _COMPARED))
         if isinstance(e, ir.Event):
             flags = self.flags(e.thing, roles)
             if e.kind == "touchdown":
@@ -261,7 +262,7 @@ class Lowerer:
         if e.func == "select":
             condition, a, b = _finite(*(self.expr(x, roles) for x in e.args))
             return sympy.Piecewise((a, condition), (b, True))
-        args = _finite(*(self.expr(a, roles) for a in e.args))
+        args = _finite(*(self.expr(a, roles) for a in e.args), real=e.func in _COMPARED)
         key = (e.func, args)
         if key not in self._calls:
             self._calls[key] = FUNCTIONS[e.func](*args)
@@ -348,10 +349,19 @@ class _NoValue(Exception):
     """A part of an expression has no finite real value in any state."""
 
 
-def _finite(*values: Any) -> tuple[Any, ...]:
+def _finite(*values: Any, real: bool = False) -> tuple[Any, ...]:
+    """``values``, each finite wherever it is real; ``real``: also real somewhere (sympy
+    compares the arguments of min, max and a comparison, and raises on one it knows is
+    never real, as ``sqrt(min(x, -1))``)."""
     if not all(_finite_everywhere(v) for v in values):
         raise _NoValue
+    if real and any(getattr(v, "is_extended_real", None) is False for v in values):
+        raise _NoValue
     return values
+
+
+# where sympy compares its operands, and an operand that is never real has no value
+_COMPARED = {"min", "max", "clamp", "<", ">", "<=", ">=", "==", "!="}
 
 
 def _mean(*values: Expr) -> Expr:
