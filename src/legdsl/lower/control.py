@@ -373,18 +373,31 @@ def _mean(*values: Expr) -> Expr:
 # leaves); its stance lasts as long as the longest member's, its flight as the shortest's.
 _GROUP = {"touching": sympy.Max, "stance_time": sympy.Max, "flight_time": sympy.Min}
 
+
+def _relation(relation: Any, a: Any, b: Any) -> Any:
+    """``a`` compared with ``b``; as ``a - b`` with 0 where sympy's canonical form of the
+    comparison never settles (``19.62*x == -4.905*x`` turns into ``4.905*x == -19.62*x`` and
+    back): a select() on it recursed in sympy until Python's stack ran out."""
+    rel = relation(a, b)
+    if isinstance(rel, sympy.core.relational.Relational):
+        canonical = rel.canonical
+        if canonical.canonical != canonical:
+            return relation(a - b, 0)
+    return rel
+
+
 _BINARY = {
     "+": lambda a, b: a + b,
     "-": lambda a, b: a - b,
     "*": lambda a, b: a * b,
     "/": lambda a, b: a / b,
     "^": lambda a, b: a**b,
-    "<": lambda a, b: sympy.StrictLessThan(a, b),
-    ">": lambda a, b: sympy.StrictGreaterThan(a, b),
-    "<=": lambda a, b: sympy.LessThan(a, b),
-    ">=": lambda a, b: sympy.GreaterThan(a, b),
-    "==": lambda a, b: sympy.Eq(a, b),
-    "!=": lambda a, b: sympy.Ne(a, b),
+    "<": lambda a, b: _relation(sympy.StrictLessThan, a, b),
+    ">": lambda a, b: _relation(sympy.StrictGreaterThan, a, b),
+    "<=": lambda a, b: _relation(sympy.LessThan, a, b),
+    ">=": lambda a, b: _relation(sympy.GreaterThan, a, b),
+    "==": lambda a, b: _relation(sympy.Eq, a, b),
+    "!=": lambda a, b: _relation(sympy.Ne, a, b),
     "and": lambda a, b: sympy.And(a, b),
     "or": lambda a, b: sympy.Or(a, b),
 }
