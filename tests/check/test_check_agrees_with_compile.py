@@ -70,9 +70,20 @@ def test_what_sympy_makes_infinite_is_an_error_at_its_line(tmp_path: Path) -> No
     """The checker refuses constants with no finite value (``2 ^ 2000``); a product that only
     sympy folds (``x * 1e300 * 1e300``) or a division by a difference that is always 0 is
     lowering's error, at the line, with the line shown (it was ``inf`` in the generated code:
-    a NameError in Python, a C compile error, both internal errors)."""
+    a NameError in Python, a C compile error, both internal errors). So is one inside min, max,
+    clamp or a comparison, which sympy refused with an internal error ('zoo' is not comparable),
+    and so is one there that sympy knows is never real."""
     text = (ROOT / "tests" / "bad" / "ctl_constant_without_value.leg").read_text()
-    for value in ("trunk.pitch * 1e300 * 1e300", "trunk.pitch * trunk.z / (trunk.z - trunk.z)"):
+    zero = "(trunk.z - trunk.z)"
+    for value in (
+        "trunk.pitch * 1e300 * 1e300",
+        f"trunk.pitch * trunk.z / {zero}",
+        f"min(1 rad * trunk.z / {zero}, trunk.pitch)",
+        f"clamp(1 rad / ({zero} / 1 m), -1 rad, 1 rad)",
+        f"select(trunk.z / {zero} > 0, 1 rad, 0 rad)",
+        "max(1 rad * sqrt(min(trunk.z / 1 m, -1)), trunk.pitch)",  # never real
+        "select(sqrt(min(trunk.z / 1 m, -1)) > 0, 1 rad, 0 rad)",
+    ):
         table = "table {\n    state A on time > 0 s: hip_servo.setpoint = " + value + "\n  }"
         path = tmp_path / "c.leg"
         path.write_text(text.split("controller c {")[0] + "controller c {\n  " + table + "\n}\n")

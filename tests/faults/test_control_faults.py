@@ -20,6 +20,10 @@ CASES = {
              "sqrt(-15.39) has no real value", "com.z = 0.7651, input height = 1"),
     "asin": ("hip_servo.setpoint = asin(com.z / 0.5 m)",
              "asin(1.53) is undefined", "com.z = 0.7651"),
+    # a comparison with a select() in a condition is sympy's ITE: the explanation stopped on it
+    # with an internal error (BooleanFalse has no evalf)
+    "ite": ("hip_servo.setpoint = select(select(com.z > 0 m, 1 s, 2 s) == time or com.z > 9 m, "
+            "1 deg, 2 deg) + asin(com.z / 0.5 m)", "asin(1.53) is undefined", "com.z = 0.7651"),
     "division": ("hip_motor.force = 1 N*m*s / time_in_state",
                  "1/0 (a division) is undefined", "time_in_state = 0"),
     # sign() of a NaN is NaN: it was 1 (math.copysign), a full deflection from a stance time

@@ -134,7 +134,7 @@ class Lowerer:
         for b, binding in enumerate(self.ctl.bindings):
             roles = dict(binding)
             for s, state in enumerate(self.ctl.states):
-                events[(b, s)] = self.finite(self.expr(state.event, roles), (state.span,))
+                events[(b, s)] = self.value(state.event, roles, (state.span,))
                 event_where[(b, s)] = (state.span,)
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
@@ -172,11 +172,11 @@ class Lowerer:
     ) -> None:
         for s in stmts:
             if isinstance(s, ir.Record):
-                records.append((s.name, self.finite(self.expr(s.value, roles), (s.span, *calls))))
+                records.append((s.name, self.value(s.value, roles, (s.span, *calls))))
                 if record_where is not None:
                     record_where.append((s.span, *calls))
             elif isinstance(s, ir.Assign):
-                value = self.finite(self.expr(s.value, roles), (s.span, *calls))
+                value = self.value(s.value, roles, (s.span, *calls))
                 for part in self.parts(s.actuator, roles):
                     settings.append(Setting(part.name, s.key, value, (s.span, *calls)))
             elif isinstance(s, ir.Do):
@@ -194,7 +194,7 @@ class Lowerer:
     def place(self, s: ir.Place, roles: Roles, where: Where = ()) -> list[Place]:
         """One solve per leg of the role (each foot placed from its own hip)."""
         legs = self.legs(s.legs, roles)
-        goals = tuple(self.finite(self.expr(goal, roles), where) for goal in s.goals)
+        goals = tuple(self.value(goal, roles, where) for goal in s.goals)
         per_servo = [self.parts(servo, roles) for servo in s.servos]
         return [
             Place(
@@ -208,11 +208,16 @@ class Lowerer:
         ]
 
     # ------------------------------------------------------------ things
-    def finite(self, value: Any, where: Where) -> Any:
-        """``value``; an error at its line in the user's file where sympy has made a
-        number of it that is infinite, NaN or complex in every state (a product past a
-        double, ``x * 1e200 * 1e200``; a division by a difference that is always 0): the
-        checker refuses such constants, but sees no further than them."""
+    def value(self, e: ir.Expr, roles: Roles, where: Where) -> Any:
+        """``e`` in sympy; an error at its line in the user's file where sympy has made a
+        number of it, or of a part of it, that is infinite, NaN or complex in every state (a
+        product past a double, ``x * 1e200 * 1e200``; a division by a difference that is always
+        0): the checker refuses such constants, but sees no further than them. A part is looked
+        at before it is used, since sympy's min, max and comparisons raise on an infinity."""
+        try:
+            value = self.expr(e, roles)
+        except _NoValue:
+            value = sympy.nan
         if not _finite_everywhere(value):
             user = next((w for w in where if w.file == self.model.span.file), where[-1])
             raise LegError.at(
@@ -247,16 +252,17 @@ class Lowerer:
             operand = self.expr(e.operand, roles)
             return -operand if e.op == "-" else sympy.Not(operand)
         if isinstance(e, ir.Binary):
-            return _BINARY[e.op](self.expr(e.left, roles), self.expr(e.right, roles))
+            operands = (self.expr(e.left, roles), self.expr(e.right, roles))
+            return _BINARY[e.op](*_finite(*operands, real=e.op in _COMPARED))
         if isinstance(e, ir.Event):
             flags = self.flags(e.thing, roles)
             if e.kind == "touchdown":
                 return sympy.Or(*[f > 0.5 for f in flags])
             return sympy.And(*[f < 0.5 for f in flags])
         if e.func == "select":
-            condition, a, b = (self.expr(x, roles) for x in e.args)
+            condition, a, b = _finite(*(self.expr(x, roles) for x in e.args))
             return sympy.Piecewise((a, condition), (b, True))
-        args = tuple(self.expr(a, roles) for a in e.args)
+        args = _finite(*(self.expr(a, roles) for a in e.args), real=e.func in _COMPARED)
         key = (e.func, args)
         if key not in self._calls:
             self._calls[key] = FUNCTIONS[e.func](*args)
@@ -339,6 +345,25 @@ def _finite_everywhere(value: Any) -> bool:
     return all(math.isfinite(float(f)) for f in value.atoms(sympy.Float))
 
 
+class _NoValue(Exception):
+    """A part of an expression has no finite real value in any state."""
+
+
+def _finite(*values: Any, real: bool = False) -> tuple[Any, ...]:
+    """``values``, each finite wherever it is real; ``real``: also real somewhere (sympy
+    compares the arguments of min, max and a comparison, and raises on one it knows is
+    never real, as ``sqrt(min(x, -1))``)."""
+    if not all(_finite_everywhere(v) for v in values):
+        raise _NoValue
+    if real and any(getattr(v, "is_extended_real", None) is False for v in values):
+        raise _NoValue
+    return values
+
+
+# where sympy compares its operands, and an operand that is never real has no value
+_COMPARED = {"min", "max", "clamp", "<", ">", "<=", ">=", "==", "!="}
+
+
 def _mean(*values: Expr) -> Expr:
     return sympy.Add(*values) / len(values)
 
@@ -348,18 +373,31 @@ def _mean(*values: Expr) -> Expr:
 # leaves); its stance lasts as long as the longest member's, its flight as the shortest's.
 _GROUP = {"touching": sympy.Max, "stance_time": sympy.Max, "flight_time": sympy.Min}
 
+
+def _relation(relation: Any, a: Any, b: Any) -> Any:
+    """``a`` compared with ``b``; as ``a - b`` with 0 where sympy's canonical form of the
+    comparison never settles (``19.62*x == -4.905*x`` turns into ``4.905*x == -19.62*x`` and
+    back): a select() on it recursed in sympy until Python's stack ran out."""
+    rel = relation(a, b)
+    if isinstance(rel, sympy.core.relational.Relational):
+        canonical = rel.canonical
+        if canonical.canonical != canonical:
+            return relation(a - b, 0)
+    return rel
+
+
 _BINARY = {
     "+": lambda a, b: a + b,
     "-": lambda a, b: a - b,
     "*": lambda a, b: a * b,
     "/": lambda a, b: a / b,
     "^": lambda a, b: a**b,
-    "<": lambda a, b: sympy.StrictLessThan(a, b),
-    ">": lambda a, b: sympy.StrictGreaterThan(a, b),
-    "<=": lambda a, b: sympy.LessThan(a, b),
-    ">=": lambda a, b: sympy.GreaterThan(a, b),
-    "==": lambda a, b: sympy.Eq(a, b),
-    "!=": lambda a, b: sympy.Ne(a, b),
+    "<": lambda a, b: _relation(sympy.StrictLessThan, a, b),
+    ">": lambda a, b: _relation(sympy.StrictGreaterThan, a, b),
+    "<=": lambda a, b: _relation(sympy.LessThan, a, b),
+    ">=": lambda a, b: _relation(sympy.GreaterThan, a, b),
+    "==": lambda a, b: _relation(sympy.Eq, a, b),
+    "!=": lambda a, b: _relation(sympy.Ne, a, b),
     "and": lambda a, b: sympy.And(a, b),
     "or": lambda a, b: sympy.Or(a, b),
 }

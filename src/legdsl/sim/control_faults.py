@@ -69,6 +69,9 @@ def _ev(e: Any, values: dict[Any, float]) -> Any:
         return any(_ev(a, values) for a in e.args)
     if isinstance(e, sympy.Not):
         return not _ev(e.args[0], values)
+    if isinstance(e, sympy.ITE):  # sympy's of a comparison with a select(); one branch
+        condition, then, otherwise = e.args
+        return _ev(then if _ev(condition, values) else otherwise, values)
     args = [_ev(a, values) for a in e.args]
     out: Any
     try:

@@ -111,6 +111,11 @@ class LegPrinter(PythonCodePrinter):
     def _print_Max(self, expr: Expr) -> str:
         return f"maximum({', '.join(self._print(a) for a in expr.args)})"
 
+    def _print_re(self, expr: Expr) -> str:
+        """The real part of a value, which is real (sympy makes ``abs(exp(x))`` ``exp(re(x))``:
+        its symbols are not declared real); the C printer does the same."""
+        return f"({self._print(expr.args[0])})"
+
     def _print_sign(self, expr: Expr) -> str:
         """sign(NaN) is NaN, so that the state machine faults on it (``math.copysign`` of a NaN,
         sympy's print, is 1 or -1: a setpoint from a stance time before the first stance ran on
