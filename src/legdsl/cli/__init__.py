@@ -297,11 +297,10 @@ def _parser() -> argparse.ArgumentParser:
     k = sub.add_parser(
         "compile",
         help="generate the equations of motion and the controllers of creatures as Python and C",
-        description="Lower each creature through sympy (articulated-body dynamics, bias forces, "
-        "mass matrix, contact kinematics) and its controllers, and write generated/NAME/ "
-        "(dynamics.py and dynamics.c, control_CONTROLLER.py and .c), replacing the directory "
-        "only once the new one is complete. Progress goes to stderr. --all compiles "
-        "creatures/*.leg and is the command that updates the golden files.",
+        description="Lower each creature and its controllers through sympy and write "
+        "generated/NAME/ (dynamics.py and .c, control_CONTROLLER.py and .c), replacing the "
+        "directory only once the new one is complete. Progress goes to stderr. --all "
+        "compiles creatures/*.leg and is the command that updates the golden files.",
         epilog="Example: legdsl compile creatures/kangaroo.leg  (or: legdsl compile --all)",
     )
     k.add_argument("files", nargs="*", metavar="FILE", help=".leg files to compile")
