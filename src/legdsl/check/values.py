@@ -388,16 +388,15 @@ def misspelt_unit(node: ast.Expr) -> tuple[Span, str] | None:
     quantity = node
     while isinstance(quantity, ast.EBinary):
         quantity = quantity.left
-    if isinstance(quantity, ast.EQuantity) and written_unit(quantity.text):
-        unit = written_unit(quantity.text)
-        number = quantity.text.strip().removesuffix(unit).strip()
-        written = unit + _unit_tail(node)
-        if other_system(written, number) is not None:
-            start = quantity.span.end_col - len(unit)
-            span = Span(
-                node.span.file, node.span.line, start, node.span.end_line, node.span.end_col
-            )
-            return span, unknown_unit(written, number)
+    if not isinstance(quantity, ast.EQuantity):
+        return name.span, unknown_unit(name.name)
+    unit = written_unit(quantity.text)
+    number = quantity.text.strip().removesuffix(unit).strip()
+    written = unit + _unit_tail(node)
+    if unit and other_system(written, number) is not None:
+        start = quantity.span.end_col - len(unit)
+        span = Span(node.span.file, node.span.line, start, node.span.end_line, node.span.end_col)
+        return span, unknown_unit(written, number)
     return name.span, unknown_unit(name.name)
 
 

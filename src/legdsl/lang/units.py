@@ -250,41 +250,41 @@ def other_system(word: str, number: str | None) -> str | None:
     """A unit with a prefix legdsl lacks ('µm', 'dm', 'us', 'mN*m') or from another system
     of units ('in', 'lb', 'h', 'km/h'): what legdsl writes instead, with the value if known."""
     parts = re.split(r"([*/])", word)
-    factor, said, unit, converted = 1.0, None, "", []
+    factor, unit, converted = 1.0, "", []
     for i, part in enumerate(parts):
         atom = re.fullmatch(r"([^\W\d_]+)(\^-?\d+)?", part)
         if part in ("*", "/") or (atom is not None and atom.group(1) in UNITS):
             unit += part
             continue
         # 'Ms', 'KG': a unit with the wrong case, not one of another system
-        wrong_case = atom is not None and atom.group(1).lower() in _UNIT_BY_LOWER
-        found = None if atom is None or wrong_case else _stand_in(atom.group(1))
-        if atom is None or found is None:
+        if atom is None or atom.group(1).lower() in _UNIT_BY_LOWER:
+            return None
+        found = _stand_in(atom.group(1))
+        if found is None:
             return None
         scale, base, why = found
         power = atom.group(2) or ""
         exponent = int(power[1:]) if power else 1
         factor *= scale ** (-exponent if i and parts[i - 1] == "/" else exponent)
-        said = said or f"'{word}' is not a unit legdsl knows{why}"
-        converted.append((i, base, power, exponent))
+        converted.append((i, base, power, exponent, why))
         unit += base + power
-    if said is None:
+    if not converted:
         return None
     try:
-        parse_unit(unit)
+        to_si, dim = parse_unit(unit)
     except (UnitError, ValueError):
         return None
-    family = _family(converted[0][1])
+    at, base, power, exponent, why = converted[0]
+    said = f"'{word}' is not a unit legdsl knows{why}"
+    family = _family(base)
     message = said + (f"; it writes {family[0]} in {family[1]}" if family else "")
     if number is None:
         return message + f"; write the value in {unit}"
     value = float(number) * factor
     ways = [f"'{_decimal(value)} {unit}'"]
-    at, base, power, exponent = converted[0]
-    scale, dim = parse_unit(unit)
     example = next((ex for d, ex in KINDS.values() if d == dim and d != DIMENSIONLESS), unit)
     if at > 0 and example != unit:  # '10 km/h': '2.78 m/s' before '0.167 km/min'
-        ways.insert(0, f"'{_decimal(value * scale / parse_unit(example)[0])} {example}'")
+        ways.insert(0, f"'{_decimal(value * to_si / parse_unit(example)[0])} {example}'")
     if family and value and at == 0 and len(converted) == 1:  # '0.3 mm' beside '0.0003 m':
         rest = "".join(parts[1:])  # the one nearest 1
         scaled = {
