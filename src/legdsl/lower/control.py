@@ -126,6 +126,7 @@ class Lowerer:
         # and bindings): its value once, for sympy's Min and Max compare their every pair of
         # arguments, which takes seconds on a placement's expressions
         self._calls: dict[tuple[str, tuple[Any, ...]], Any] = {}
+        self._hold_branches = False  # see value()
 
     def lower(self) -> LoweredController:
         events: dict[tuple[int, int], sympy.Basic] = {}
@@ -213,11 +214,18 @@ class Lowerer:
         number of it, or of a part of it, that is infinite, NaN or complex in every state (a
         product past a double, ``x * 1e200 * 1e200``; a division by a difference that is always
         0): the checker refuses such constants, but sees no further than them. A part is looked
-        at before it is used, since sympy's min, max and comparisons raise on an infinity."""
-        try:
-            value = self.expr(e, roles)
-        except _NoValue:
-            value = sympy.nan
+        at before it is used, since sympy's min, max and comparisons raise on an infinity.
+        A select's branch with no value is the run's fault where it is taken, not the file's."""
+        value = self._try(e, roles)
+        if not _finite_everywhere(value):
+            # sympy carries a function into a select's branches (sqrt(select(c, -1, x)) is
+            # select(c, I, sqrt(x))): a branch with no value is a run-time fault, as the same
+            # function of a state would be, where it is taken; so keep numbers there unevaluated
+            self._hold_branches = True
+            try:
+                value = self._try(e, roles)
+            finally:
+                self._hold_branches = False
         if not _finite_everywhere(value):
             user = next((w for w in where if w.file == self.model.span.file), where[-1])
             raise LegError.at(
@@ -227,6 +235,12 @@ class Lowerer:
                 "by something that is always 0); write it otherwise",
             )
         return value
+
+    def _try(self, e: ir.Expr, roles: Roles) -> Any:
+        try:
+            return self.expr(e, roles)
+        except _NoValue:
+            return sympy.nan
 
     def legs(self, legs: ir.Legs, roles: Roles) -> tuple[str, ...]:
         if legs.each is not None:
@@ -261,6 +275,8 @@ class Lowerer:
             return sympy.And(*[f < 0.5 for f in flags])
         if e.func == "select":
             condition, a, b = _finite(*(self.expr(x, roles) for x in e.args))
+            if self._hold_branches:
+                a, b = (sympy.UnevaluatedExpr(x) if x.is_Number else x for x in (a, b))
             return sympy.Piecewise((a, condition), (b, True))
         args = _finite(*(self.expr(a, roles) for a in e.args), real=e.func in _COMPARED)
         key = (e.func, args)

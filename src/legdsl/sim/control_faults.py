@@ -58,6 +58,8 @@ def _ev(e: Any, values: dict[Any, float]) -> Any:
         return bool(e)
     if e.is_Number or isinstance(e, sympy.NumberSymbol):
         return float(e)
+    if isinstance(e, sympy.UnevaluatedExpr):  # a select's number held from sympy (lower.control)
+        return _ev(e.args[0], values)
     if isinstance(e, sympy.Piecewise):
         for value, condition in e.args:
             if condition is sympy.true or _ev(condition, values):
