@@ -23,7 +23,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import UsageError, thread_refused
 from legdsl.pipeline.optional import not_installed
 
 T = TypeVar("T")
@@ -143,8 +143,7 @@ class Workers:
 def _quiet_when_refused(args: threading.ExceptHookArgs) -> None:
     """The executor's thread that could not start another is told of by ``_check_manager``, in
     a line; Python would print its traceback first."""
-    refused = args.exc_type is RuntimeError and "can't start new thread" in str(args.exc_value)
-    if not refused:
+    if args.exc_value is None or not thread_refused(args.exc_value):
         threading.__excepthook__(args)
 
 

@@ -40,10 +40,9 @@ from legdsl.cli.process import (
     out_of_memory,
     sigterm_unwinds,
     streams_that_cannot_fail,
-    thread_refused,
 )
 from legdsl.cli.run import add_run_parser
-from legdsl.lang.errors import LegError, UsageError
+from legdsl.lang.errors import LegError, UsageError, thread_refused
 
 _COMMANDS: dict[str, Command] = {}
 

@@ -65,11 +65,6 @@ THREAD_REFUSED = (
 )
 
 
-def thread_refused(e: BaseException) -> bool:
-    """Python's "can't start new thread": the system refused a thread's stack or task."""
-    return isinstance(e, RuntimeError) and "can't start new thread" in str(e)
-
-
 def a_library_failed(e: SystemError) -> str:
     """Python's own "returned NULL without setting an exception": a C library that could not
     allocate as it loaded (under ``ulimit -v`` the import machinery itself fails this way), not

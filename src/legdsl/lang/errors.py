@@ -109,6 +109,12 @@ class InternalError(Exception):
     """A bug in legdsl, not in the user's input."""
 
 
+def thread_refused(e: BaseException) -> bool:
+    """Python's "can't start new thread": the system refused a thread's stack or task (``ulimit
+    -v`` or ``-u``), a shortage to tell the user, not a bug."""
+    return isinstance(e, RuntimeError) and "can't start new thread" in str(e)
+
+
 class Diagnostics:
     """Collects every mistake found in a pass so that all are reported at once."""
 
