@@ -75,7 +75,7 @@ def _with_unit(value: float, dim: Dim) -> str:
 
 def _scaled(rng: np.random.Generator, value: float, dim: Dim) -> str:
     """A value near ``value`` (in its sensible range), or somewhat outside it."""
-    factor = float(rng.choice([0.0, 0.5, 0.9, 1.0, 1.2, 2.0, 4.0, -1.0]))
+    factor = float(rng.choice([0.0, 0.5, 0.9, 1.0, 1.2, 2.0, 4.0, 10.0, -1.0]))
     base = value if value != 0 else float(rng.uniform(0.1, 2.0))
     return _with_unit(base * factor, dim)
 
@@ -136,7 +136,7 @@ def _path(rng: np.random.Generator, folder: Path) -> list[str]:
 
 OPTIONS = {
     "--integrator": ["rk4", "euler"],
-    "--dt": ["0.2ms", "0.39ms", "4e-4", "0.5ms", "0.25ms"],
+    "--dt": ["0.2ms", "0.39ms", "4e-4", "0.5ms", "0.25ms", "1ms"],
     "--control-dt": ["1ms", "2ms", "3ms", "0.0025", "5ms", "0.77ms"],
     "--record-rate": ["0", "150Hz", "77", "200Hz", "1000", "333Hz"],
     "--drop": ["0", "1cm", "0.05", "10cm", "0.3"],
