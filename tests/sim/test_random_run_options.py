@@ -16,6 +16,8 @@ run.json; for 2 say the same one-line message (or file:line:col with a caret) on
 
 ``LEGDSL_RANDOM_RUNS=N`` checks N cases (default ``CI_RUNS``) from seeds
 ``LEGDSL_RANDOM_RUN_SEED``, +1, ...; a failure names its seed and the command to repeat it.
+CI draws the shipped creatures, a set ``LEGDSL_RANDOM_RUNS`` every creature
+(``LEGDSL_RANDOM_RUN_POOL=shipped`` or ``all`` says which).
 """
 
 from __future__ import annotations
