@@ -214,6 +214,17 @@ def test_path_option_names_a_declared_path() -> None:
         resolve_paths(model, "run", [parse_path_option("road=polyline((0, 0) m, (1, 0) m)")])
 
 
+def test_a_path_given_twice_is_refused() -> None:
+    """The later would win silently, as two --set of one name would (found by
+    tests/sim/test_random_run_options.py): with and without the path's name."""
+    model = check_model(BIPED)
+    circle = parse_path_option("circle(center = (0, 5) m, radius = 5 m)")
+    named = parse_path_option("route=square(corner = (0, 0) m, side = 8 m)")
+    for twice in ([circle, circle], [circle, named]):
+        with pytest.raises(UsageError, match="path route of controller run is given twice"):
+            resolve_paths(model, "run", twice)
+
+
 # ------------------------------------------------------------------ the biped
 def test_the_biped_follows_an_l_shaped_path(
     generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]

@@ -48,7 +48,10 @@ RUN_MISTAKES = [
     (["--fall-height=-1m"], "must not be negative"),
     (["--drop", "-1"], "--drop must not be negative"),
     (["--drop", "3s"], "--drop is a length (m)"),
-    (["--set", "leg_spring.k=-3000N/m"], "'k' must not be negative (as in the .leg file)"),
+    (
+        ["--set", "leg_spring.k=-3000N/m"],
+        "'k' must not be negative (as in the .leg file); give 0 or more",
+    ),
     (["--controller", "hop", "--set", "speed=1e400m/s"], "too large"),
     (["--controller", "hop", "--set", "speed=1e-400m/s"], "too small"),
     (["--controller", "hop", "--set", "speed=1m/s@1e400s"], "too large"),

@@ -29,3 +29,33 @@ def test_a_later_command_is_not_undone_by_the_switchs_own(backend: str, tmp_path
     segments = json.loads((out / "run.json").read_text())["segments"]
     assert len(segments) == 2 and segments[1]["from"] > 0.06, segments
     assert segments[1]["inputs"]["speed"] == 0.5, segments
+
+
+def _refusal(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    assert main(argv) == 2
+    return capsys.readouterr().err.strip()
+
+
+def test_a_switch_at_the_start_says_to_start_with_its_controller(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--switch", "0s=hop",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert _refusal(argv, capsys) == (
+        "legdsl: --switch 0s=hop: a switch comes after the start; to start with hop, write "
+        "--controller hop, else give a time after 0, e.g. --switch 1s=hop"
+    )
+
+
+def test_a_switch_with_scale_says_what_to_run_instead(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Found by tests/sim/test_random_run_options.py: the scene's refusal gave the command,
+    --switch's only 'the file legdsl scale writes'."""
+    source = CREATURES / "hopper.leg"
+    argv = ["run", str(source), "--controller", "hop", "--switch", "0.1s=hop", "--scale", "2",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert _refusal(argv, capsys) == (
+        f"legdsl: --switch with --scale is not supported: write the scaled file with 'legdsl "
+        f"scale {source} --by 2 -o OUT.leg' and run it with --switch"
+    )

@@ -30,15 +30,16 @@ def parse_switch(text: str, model: Model) -> Switch:
     given = parse_given(when, f"--switch {text}")
     check_dimension(f"--switch {text}", "the time before '=' is in seconds", given, _TIME,
                     "--switch {}=" + name)  # fmt: skip
-    if not given.value > 0:
-        raise UsageError(
-            f"--switch {text}: a switch comes after the start (the first controller is --controller)"
-        )
     controllers = [c.name for c in model.controllers]
     if name not in controllers:
         raise UsageError(
             f"--switch {text}: creature '{model.name}' has no controller {name!r}"
             f"{did_you_mean(name, controllers)} (it has {', '.join(controllers) or 'none'})"
+        )
+    if not given.value > 0:
+        raise UsageError(
+            f"--switch {text}: a switch comes after the start; to start with {name}, write "
+            f"--controller {name}, else give a time after 0, e.g. --switch 1s={name}"
         )
     return Switch(given.value, name)
 

@@ -201,7 +201,8 @@ class RunSession:
             )
         if changes and scale is not None:
             raise UsageError(
-                "--switch with --scale: not supported; run the file 'legdsl scale' writes instead"
+                f"--switch with --scale is not supported: write the scaled file with 'legdsl "
+                f"scale {self.model.source} --by {scale:g} -o OUT.leg' and run it with --switch"
             )
         later = [w.controller for w in changes]
         sorted_settings = sort_settings(settings, self.model, controller, later)

@@ -69,6 +69,7 @@ def resolve_paths(model: Model, controller: str, given: list[PathSpec]) -> list[
     A ``--path`` without a name (its name is empty) replaces the controller's only path.
     """
     declared = {p.name: p for p in model.controller(controller).paths}
+    replaced: set[str] = set()
     for spec in given:
         name = spec.name
         if not name:
@@ -87,6 +88,11 @@ def resolve_paths(model: Model, controller: str, given: list[PathSpec]) -> list[
                 f"--path {name}=...: controller {controller} has no path {name!r} "
                 f"(it has {', '.join(declared) or 'none'})"
             )
+        if name in replaced:  # the later would win silently, as two --set of one name would
+            raise UsageError(
+                f"--path: path {name} of controller {controller} is given twice; keep one"
+            )
+        replaced.add(name)
         declared[name] = replace(spec, name=name)
     return list(declared.values())
 
