@@ -225,7 +225,8 @@ class ControllerChecker:
             if row.state.name in seen_states:
                 self.err(
                     row.state.span,
-                    f"state '{row.state.name}' appears twice in the table (first at {seen_states[row.state.name].state.span})",
+                    f"state '{row.state.name}' appears twice in the table (first at "
+                    f"{seen_states[row.state.name].state.span}); give each state a name of its own",
                 )
                 continue
             seen_states[row.state.name] = row
