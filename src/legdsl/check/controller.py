@@ -203,10 +203,14 @@ class ControllerChecker:
                 names[name] = ir.Named("record", name, None)
         for ident in owned:
             if ident.name not in records:
+                advice = did_you_mean(ident.name, records) or (
+                    f"; record it in the table ('record {ident.name} = ...') or leave it out "
+                    "of 'own'"
+                )
                 self.err(
                     ident.span,
                     f"'own {ident.name}': controller '{d.name.name}' records no '{ident.name}' "
-                    f"(its records: {', '.join(records) or 'none'}){did_you_mean(ident.name, records)}",
+                    f"(its records: {', '.join(records) or 'none'}){advice}",
                 )
 
         if len(d.name.name) > MAX_NAME:
