@@ -203,10 +203,14 @@ class ControllerChecker:
                 names[name] = ir.Named("record", name, None)
         for ident in owned:
             if ident.name not in records:
+                advice = did_you_mean(ident.name, records) or (
+                    f"; record it in the table ('record {ident.name} = ...') or leave it out "
+                    "of 'own'"
+                )
                 self.err(
                     ident.span,
                     f"'own {ident.name}': controller '{d.name.name}' records no '{ident.name}' "
-                    f"(its records: {', '.join(records) or 'none'}){did_you_mean(ident.name, records)}",
+                    f"(its records: {', '.join(records) or 'none'}){advice}",
                 )
 
         if len(d.name.name) > MAX_NAME:
@@ -225,7 +229,8 @@ class ControllerChecker:
             if row.state.name in seen_states:
                 self.err(
                     row.state.span,
-                    f"state '{row.state.name}' appears twice in the table (first at {seen_states[row.state.name].state.span})",
+                    f"state '{row.state.name}' appears twice in the table (first at "
+                    f"{seen_states[row.state.name].state.span}); give each state a name of its own",
                 )
                 continue
             seen_states[row.state.name] = row

@@ -86,14 +86,31 @@ def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float 
 
 
 class _SceneChecker:
-    def __init__(self, decl: ast.SceneDecl, model: Model, diag: Diagnostics):
+    def __init__(self, decl: ast.SceneDecl, model: Model, diag: Diagnostics, refused: set[str],
+                 elsewhere: dict[str, str]):  # fmt: skip
         self.decl, self.model, self.diag = decl, model, diag
+        self.elsewhere = elsewhere  # the other creatures' controllers: their creature
         self.controllers = {c.name: c for c in model.controllers}
+        # controllers of the file refused with their own errors: no unknown ones, and the
+        # names the scene sets may be theirs (a second, false error would say they are absent)
+        self.refused = refused - set(self.controllers)
+        self.partial = False
 
     def _controller(self, ident: ast.Ident) -> bool:
         if ident.name in self.controllers:
             return True
+        if ident.name in self.refused:
+            self.partial = True
+            return False
         known = ", ".join(self.controllers) or "none"
+        if ident.name in self.elsewhere:
+            self.diag.error(
+                ident.span,
+                f"'{ident.name}' is a controller of creature '{self.elsewhere[ident.name]}'; a "
+                f"scene runs its own creature's controllers: use one of {self.model.name}'s "
+                f"({known}), or write this in a scene for {self.elsewhere[ident.name]}",
+            )
+            return False
         self.diag.error(
             ident.span,
             f"creature '{self.model.name}' has no controller '{ident.name}' (controllers: "
@@ -290,6 +307,8 @@ class _SceneChecker:
                 f"{item.target[0].name}=...",
             )
             return None
+        if item.target[0].name in self.refused:
+            return None  # that controller's own errors are told
         if len(item.target) == 2 and item.target[0].name in self.controllers:
             return self._own_value(item, name, at, used)
         if len(item.target) > 1:
@@ -306,6 +325,8 @@ class _SceneChecker:
                 )
                 return None
             dim = params[name].dim
+        elif self.partial:  # perhaps a name of a refused controller of the scene
+            return None
         else:
             known = [*inputs, *params]
             diag.error(where, f"no controller of this scene has an input or parameter '{name}' "
@@ -323,7 +344,9 @@ class _SceneChecker:
         if owner.name not in [c.name for c in used]:
             runs = ", ".join(c.name for c in used) or "none"
             diag.error(
-                owner.span, f"controller '{owner.name}' does not run in this scene (it runs {runs})"
+                owner.span,
+                f"controller '{owner.name}' does not run in this scene (it runs {runs}); switch "
+                f"to it with 'at T switch {owner.name}', or leave out this line",
             )
             return None
         if at is not None:
@@ -371,6 +394,17 @@ class _SceneChecker:
         return None if value is None else SceneValue(name, value, dim, None, item.span)
 
 
+def _written_for(tree: ast.SourceFile, model: Model, models: list[Model]) -> set[str]:
+    """The names of the file's controllers written for ``model``: those naming it with
+    'for', and those without 'for' that no other creature has."""
+    others = {c.name for m in models if m is not model for c in m.controllers}
+    return {
+        c.name.name
+        for c in tree.controllers
+        if (c.creature.name == model.name if c.creature else c.name.name not in others)
+    }
+
+
 def check_scenes(tree: ast.SourceFile, models: list[Model], diag: Diagnostics) -> list[Model]:
     """Attach each scene of the file to its creature (``Model.scenes``)."""
     scenes: dict[str, list[Scene]] = {m.name: [] for m in models}
@@ -387,7 +421,9 @@ def check_scenes(tree: ast.SourceFile, models: list[Model], diag: Diagnostics) -
             )
             continue
         seen[key] = decl.name.span
-        scene = _SceneChecker(decl, model, diag).check()
+        elsewhere = {c.name: m.name for m in models if m is not model for c in m.controllers}
+        written = _written_for(tree, model, models)
+        scene = _SceneChecker(decl, model, diag, written, elsewhere).check()
         if scene is not None:
             scenes[model.name].append(scene)
     return [
