@@ -81,6 +81,14 @@ class ExprChecker(NameResolver):
             )
             return None
         if want_bool and value.type != BOOL:
+            text = expression_text(e)
+            if text.endswith(".touching"):  # 1 or 0, as the paper's flags; its events say it
+                thing = text.removesuffix(".touching")
+                events = f"touchdown({thing}) or liftoff({thing}) (or " if event else "("
+                self.err(
+                    e.span, f"'{text}' is 1 or 0, not a condition: write {events}{text} > 0.5)"
+                )
+                return None
             self.err(
                 e.span,
                 f"a condition is needed here, such as 'x > 0', not {describe_type(value.type)}",
@@ -278,7 +286,19 @@ class ExprChecker(NameResolver):
         if not event:
             self.err(e.func.span, f"{name}() is an event: it belongs after 'on' in a table row")
             return None
-        target = self.expr(e.args[0], local)
+        arg = e.args[0]
+        if isinstance(arg, ast.EName) and self.lookup(arg.ident, local, report=False) is None:
+            model, wrong = self.scope.model, arg.ident.name
+            legs = [leg.name for leg in model.legs] + list(self.scope.roles)
+            contacts = [c.name for c in model.contacts]
+            self.err(
+                arg.span,
+                f"{name}() takes a leg, a role or a contact; creature '{model.name}' has no "
+                f"'{wrong}' (legs and roles: {', '.join(legs) or 'none'}; contacts: "
+                f"{', '.join(contacts) or 'none'}){did_you_mean(wrong, legs + contacts)}",
+            )
+            return None
+        target = self.expr(arg, local)
         if isinstance(target, Opaque):
             return ir.Named("opaque", target.name, BOOL)
         ok = isinstance(target, ir.Legs) or (

@@ -311,10 +311,19 @@ def _inherited(
     used one)."""
     if isinstance(item, Declared):
         return item  # the same value everywhere: reported once, with its writer
-    writer = origin.get(id(item), f"'{base.name.name}'" + (f" of {file}" if file else ""))
+    writer = origin.get(id(item), _writer(decl, base, file))
     moved = respan(item, f" (in controller '{decl.name.name}', from controller {writer})")
     origin[id(moved)] = writer
     return moved
+
+
+def _writer(decl: ast.ControllerDecl, base: ast.ControllerDecl, file: str) -> str:
+    """The base as a mistake taken from it names it: with its creature where that is not
+    ``decl``'s (a name ``decl``'s creature lacks is most likely why)."""
+    text = f"'{base.name.name}'"
+    if base.creature and decl.creature and base.creature.name != decl.creature.name:
+        text += f" for creature '{base.creature.name}'"
+    return text + (f" of {file}" if file else "")
 
 
 def _base_for(

@@ -282,7 +282,9 @@ class Elaborator(ExprChecker, LegMotionProbe):
         if len(s.servos) != len(s.goals):
             self.err(
                 s.span,
-                f"'place' needs one servo per goal: {len(s.goals)} goal(s), {len(s.servos)} servo(s)",
+                f"'place' needs one servo per goal, in the goals' order: {len(s.goals)} goal(s) "
+                f"({', '.join(name.name for name, _ in s.goals)}), {len(s.servos)} servo(s); "
+                "write 'place LEG at (x = ...) using SERVO', or (x = ..., y = ...) using two",
             )
             return None
         if not ok or not isinstance(legs, ir.Legs):

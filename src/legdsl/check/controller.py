@@ -248,7 +248,9 @@ class ControllerChecker:
             if starts[0].state.name not in seen_states:
                 self.err(
                     starts[0].state.span,
-                    f"unknown state '{starts[0].state.name}'; the table has {', '.join(seen_states)}{did_you_mean(starts[0].state.name, seen_states)}",
+                    f"there is no state '{starts[0].state.name}' to start in: the table has "
+                    f"{', '.join(seen_states)}"
+                    + (did_you_mean(starts[0].state.name, seen_states) or "; name one of them"),
                 )
             else:
                 start = starts[0].state.name
