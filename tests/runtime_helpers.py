@@ -3,11 +3,14 @@ the run session (``legdsl.pipeline.session``), as ``legdsl run`` does."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from legdsl.cli import main
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
 from legdsl.sim.run_loop import RunOptions, RunResult
@@ -20,6 +23,17 @@ needs_c_compiler = pytest.mark.skipif(
 )
 
 _CACHE: dict[str, RunSession] = {}
+
+
+def legdsl_in_process(argv: list[str]) -> tuple[int, str]:
+    """``legdsl ARGV`` in this process: its exit status and what it wrote to stderr."""
+    err, out = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main(argv)
+        except SystemExit as e:  # argparse's own usage errors
+            code = e.code if isinstance(e.code, int) else 2
+    return code, err.getvalue()
 
 
 def compile_text(text: str, tmp: Path, name: str) -> RunSession:

@@ -13,8 +13,6 @@ The count is bounded for CI (``CI_CASES`` in all, a few tens of seconds); set
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import os
 import random
@@ -25,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from runtime_helpers import legdsl_in_process
 
-from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -41,17 +39,6 @@ ALLOWED = {"leg": {0, 2}, "options": {0, 2, 3, 4}, "runfiles": {0, 2}, "generate
 
 def _count(kind: str) -> int:
     return max(1, round(TOTAL * SHARES[kind]))
-
-
-def _call(argv: list[str]) -> tuple[int, str]:
-    """``legdsl ARGV`` in this process: its exit status and what it wrote to stderr."""
-    err, out = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
-        try:
-            code = main(argv)
-        except SystemExit as e:  # argparse's own usage errors
-            code = e.code if isinstance(e.code, int) else 2
-    return code, err.getvalue()
 
 
 def _assert_case(kind: str, code: int, err: str, what: str) -> None:
@@ -132,7 +119,7 @@ def test_fuzz_leg_text(tmp_path: Path) -> None:
             path.write_text(mutated, encoding="utf-8")
         keep = tmp_path / f"case-leg-{i}.leg"
         what = f"legdsl check {keep} (case {i}, seed {SEED}: LEGDSL_FUZZ_SEED={SEED})"
-        code, err = _call(["check", str(path)])
+        code, err = legdsl_in_process(["check", str(path)])
         if code not in ALLOWED["leg"] or "internal error" in err or "Traceback" in err:
             shutil.copy(path, keep)
         _assert_case("leg", code, err, what)
@@ -140,7 +127,7 @@ def test_fuzz_leg_text(tmp_path: Path) -> None:
             for argv in (["show", str(path)],
                          ["export", str(path), "--format", rng.choice(["mjcf", "urdf"]),
                           "-o", str(tmp_path / "out.xml")]):  # fmt: skip
-                code, err = _call(argv)
+                code, err = legdsl_in_process(argv)
                 _assert_case("leg", code, err, f"legdsl {' '.join(argv)} (case {i})")
 
 
@@ -222,7 +209,7 @@ def test_fuzz_run_options(tmp_path: Path, generated: Path) -> None:
         target = rng.choice([str(out)] * 6 + [str(a_file), str(a_file / "x"), "/proc/legdsl"])
         argv += ["--out", target]
         what = f"legdsl {' '.join(map(repr, argv))} (case {i})"
-        code, err = _call(argv)
+        code, err = legdsl_in_process(argv)
         _assert_case("options", code, err, what)
         if code in (0, 3, 4):
             _check_run_dir(Path(target), what)
@@ -287,7 +274,7 @@ def _mutate_run(run: Path, rng: random.Random) -> str:
 @pytest.fixture(scope="module")
 def a_run(tmp_path_factory: pytest.TempPathFactory, generated: Path) -> Path:
     out = tmp_path_factory.mktemp("fuzzrun") / "hopper"
-    code, err = _call(["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+    code, err = legdsl_in_process(["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
                        "--time", "1.2", "--generated", str(generated), "--out", str(out)])  # fmt: skip
     assert code == 0, err
     return out
@@ -312,7 +299,7 @@ def test_fuzz_run_directories(tmp_path: Path, a_run: Path, generated: Path) -> N
         change = _mutate_run(run, rng)
         argv = rng.choice(readers)(run, rng)
         what = f"legdsl {' '.join(argv)} after: {change} (case {i})"
-        code, err = _call(argv)
+        code, err = legdsl_in_process(argv)
         _assert_case("runfiles", code, err, what)
 
 
@@ -356,7 +343,7 @@ def test_fuzz_generated_code(tmp_path: Path) -> None:
     golden = ROOT / "generated" / "hopper"
 
     def run(generated: Path, backend: str, out: Path) -> tuple[int, str]:
-        return _call(["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+        return legdsl_in_process(["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
                       "--time", "0.05", "--generated", str(generated), "--backend", backend,
                       "--out", str(out)])  # fmt: skip
 

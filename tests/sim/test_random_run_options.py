@@ -22,9 +22,7 @@ CI draws the shipped creatures, a set ``LEGDSL_RANDOM_RUNS`` every creature
 
 from __future__ import annotations
 
-import contextlib
 import functools
-import io
 import json
 import os
 import shlex
@@ -33,10 +31,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from runtime_helpers import needs_c_compiler
+from runtime_helpers import legdsl_in_process, needs_c_compiler
 
 from legdsl.check.source import check_file
-from legdsl.cli import main
 from legdsl.ir.model import SETTABLE, Model, setting_kind
 from legdsl.lang.units import KINDS, Dim, parse_unit
 from legdsl.pipeline.settings import unit_for
@@ -192,16 +189,6 @@ def draw(seed: int, folder: Path, outside: bool) -> Case:
     return Case(source, argv)
 
 
-def _call(argv: list[str]) -> tuple[int, str]:
-    err, out = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
-        try:
-            code = main(argv)
-        except SystemExit as e:  # argparse's own usage errors
-            code = e.code if isinstance(e.code, int) else 2
-    return code, err.getvalue()
-
-
 def _said(err: str) -> str:
     """What a run said but the note that its generated code was (first) compiled."""
     return "".join(x for x in err.splitlines(True) if "; compiling " not in x)
@@ -223,7 +210,7 @@ def check_case(case: Case, folder: Path, generated: Path) -> tuple[int, str]:
     for backend in ("python", "c"):
         out = folder / backend
         argv = ["run", str(case.source), *case.argv, "--backend", backend]
-        code, err = _call([*argv, "--generated", str(generated), "--out", str(out)])
+        code, err = legdsl_in_process([*argv, "--generated", str(generated), "--out", str(out)])
         said[backend] = code, _said(err)
         assert "Traceback" not in err and "internal error" not in err, err
         assert code in ALLOWED, f"exit {code}\n{err}"
