@@ -201,7 +201,7 @@ def plot(results: list[dict[str, Any]], png: Path, title: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.5, 4.0), dpi=110)
+    fig, ax = plt.subplots(figsize=(7.5, 4.4), dpi=110)
     xs = [r["index"] for r in results]
     before = [mean_error(r["before"]) for r in results]
     after = [mean_error(r["after"]) for r in results]
@@ -215,7 +215,7 @@ def plot(results: list[dict[str, Any]], png: Path, title: str) -> None:
     ax.set_ylabel("mean relative speed error (a fall counts 1)")
     ax.set_title(title)
     ax.set_xticks(xs)
-    ax.legend(loc="lower right")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, frameon=False)
     fig.tight_layout()
     png.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(png)
@@ -265,10 +265,9 @@ def main() -> int:
     print(text)
     (args.out / "variants.md").write_text(text + "\n")
     if args.png is not None:
-        title = (
-            f"{args.file.stem}: {args.n} random variants, seed {args.seed}, --recipe {args.recipe}"
-        )
-        plot(results, args.png, title)
+        time_of = recipe[recipe.index("--time") + 1]
+        title = f"{args.file.stem}: {args.n} random variants, seed {args.seed}, --recipe "
+        plot(results, args.png, title + f"{args.recipe} (--time {time_of})")
     return 0
 
 
