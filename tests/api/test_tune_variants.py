@@ -66,3 +66,17 @@ def test_the_tuned_values_run_twice_as_long(
     out = capsys.readouterr().out
     assert "over 0.8 to 4 s, twice the tune's time (not scored)" in out
     assert "9 runs; wrote" in out  # the start 2, the generation 4, between 1, twice as long 2
+
+
+def test_runs_alike_at_every_speed_are_said(capsys: pytest.CaptureFixture[str]) -> None:
+    """A random kangaroo variant ran 1.995 m/s at 3, 4 and 5 m/s, start and tuned alike: the
+    command never reached its gait, and the tune said nothing of it."""
+    from legdsl.api.tune_cli import _say_deaf
+
+    alike = {"running_speed": 1.995, "outcome": "ok", "simulated": 20.0}
+    _say_deaf([{"speed": v, **alike} for v in (3.0, 4.0, 5.0)])
+    told = capsys.readouterr().err
+    assert told.count("\n") == 1, told
+    assert "ran at 1.995 m/s at every commanded speed (3, 4, 5 m/s)" in told
+    _say_deaf([{"speed": 3.0, **alike}, {"speed": 4.0, **alike, "running_speed": 2.5}])
+    assert capsys.readouterr().err == ""

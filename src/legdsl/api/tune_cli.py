@@ -166,6 +166,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     print(report(result, units, bounds))
     _say_between(result.get("between", []))
     _say_longer(result, objective)
+    _say_deaf(result["best"]["runs"])
     runs = len(speeds) + sum(h["runs"] for h in result["history"])
     runs += len(result.get("between", [])) + len(result.get("longer", []))
     done = len(result["history"])
@@ -262,6 +263,22 @@ def _say_longer(result: dict[str, Any], objective: Objective) -> None:
               f"at {at} m/s: over {since:g} to {twice:g} s it runs {longer}, against {scored} "
               f"scored over {since:g} to {objective.duration:g} s; tune with a longer --time "
               f"({twice:g})", file=sys.stderr)  # fmt: skip
+
+
+def _say_deaf(rows: list[dict[str, Any]]) -> None:
+    """A note where the runs at every commanded speed went alike: the command never reached
+    the gait (a random kangaroo variant ran 1.995 m/s at 3, 4 and 5 m/s, its objective flat in
+    the speed), and no tuning of the gains named can fix what it is deaf to."""
+    speeds = {float(r["speed"]) for r in rows}
+    ran = {(float(r["running_speed"]), r["outcome"], float(r["simulated"])) for r in rows}
+    if len(speeds) > 1 and len(ran) == 1:
+        speed, outcome, _ = ran.pop()
+        how = f"at {speed:.4g} m/s" if math.isfinite(speed) else "alike"
+        ended = "" if outcome == "ok" else f", {outcome}"
+        print(f"legdsl: note: the tuned values ran {how}{ended} at every commanded speed "
+              f"({', '.join(f'{s:g}' for s in sorted(speeds))} m/s): the command did not "
+              "reach the gait (does the controller leave its first state? run it with "
+              "legdsl run and look at its states)", file=sys.stderr)  # fmt: skip
 
 
 def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
