@@ -266,9 +266,9 @@ def _say_longer(result: dict[str, Any], objective: Objective) -> None:
 
 
 def _say_deaf(rows: list[dict[str, Any]]) -> None:
-    """A note where the runs at every commanded speed went alike: the command never reached
-    the gait (a random kangaroo variant ran 1.995 m/s at 3, 4 and 5 m/s, its objective flat in
-    the speed), and no tuning of the gains named can fix what it is deaf to."""
+    """A note where the runs at every commanded speed went alike: the gait does not follow the
+    command (a random kangaroo variant ran 1.995 m/s at 3, 4 and 5 m/s, start and tuned), and
+    the objective cannot tell the speeds apart."""
     speeds = {float(r["speed"]) for r in rows}
     ran = {(float(r["running_speed"]), r["outcome"], float(r["simulated"])) for r in rows}
     if len(speeds) > 1 and len(ran) == 1:
@@ -276,9 +276,10 @@ def _say_deaf(rows: list[dict[str, Any]]) -> None:
         how = f"at {speed:.4g} m/s" if math.isfinite(speed) else "alike"
         ended = "" if outcome == "ok" else f", {outcome}"
         print(f"legdsl: note: the tuned values ran {how}{ended} at every commanded speed "
-              f"({', '.join(f'{s:g}' for s in sorted(speeds))} m/s): the command did not "
-              "reach the gait (does the controller leave its first state? run it with "
-              "legdsl run and look at its states)", file=sys.stderr)  # fmt: skip
+              f"({', '.join(f'{s:g}' for s in sorted(speeds))} m/s): the gait does not follow "
+              "the command (a limit it reaches at every speed, or a state machine that stops "
+              "cycling); no gain tuned against the speed error can tell them apart: compare "
+              "legdsl run at two speeds", file=sys.stderr)  # fmt: skip
 
 
 def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
