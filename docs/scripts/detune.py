@@ -17,6 +17,16 @@ from legdsl.api.tuned_file import write_tuned
 from legdsl.check.source import check_model
 
 
+def write_times(file: Path, controller_name: str, factors: dict[str, float], out: Path) -> None:
+    """``out``: ``file`` with each named parameter of the controller multiplied by its factor,
+    changed where it is declared and kept in its unit (also docs/scripts/tune_variants.py)."""
+    controller = check_model(file).controller(controller_name)
+    values = {p.name: p.value for p in controller.params}
+    changed = {name: values[name] * factor for name, factor in factors.items()}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    write_tuned(file, controller, changed, out)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("file", type=Path)
@@ -24,14 +34,8 @@ def main() -> int:
     parser.add_argument("--times", action="append", default=[], metavar="NAME=FACTOR")
     parser.add_argument("-o", "--output", type=Path, required=True)
     args = parser.parse_args()
-    controller = check_model(args.file).controller(args.controller)
-    values = {p.name: p.value for p in controller.params}
-    changed = {}
-    for text in args.times:
-        name, _, factor = text.partition("=")
-        changed[name] = values[name] * float(Fraction(factor))
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    write_tuned(args.file, controller, changed, args.output)
+    write_times(args.file, args.controller, {n: float(Fraction(f)) for n, f in
+                                            (t.split("=") for t in args.times)}, args.output)  # fmt: skip
     print(f"wrote {args.output}: " + ", ".join(f"{n} x {f}" for n, f in
                                                (t.split("=") for t in args.times)))  # fmt: skip
     return 0

@@ -26,6 +26,7 @@ from legdsl.api.tune import (
     tune,
     tune_pitch,
     tune_speed,
+    unsettled,
 )
 from legdsl.api.tune_journal import Journal
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write_tuned, written_unit
@@ -164,7 +165,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
             journal.remove()
     print(report(result, units, bounds))
     _say_between(result.get("between", []))
-    runs = len(speeds) + sum(h["runs"] for h in result["history"]) + len(result.get("between", []))
+    _say_longer(result, objective)
+    _say_deaf(result["best"]["runs"])
+    runs = len(speeds) + sum(h["runs"] for h in result["history"])
+    runs += len(result.get("between", [])) + len(result.get("longer", []))
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"
     kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
@@ -239,6 +243,43 @@ def _say_between(rows: list[dict[str, Any]]) -> None:
     if fell:
         print(f"legdsl: note: the tuned values did not last at {', '.join(fell)} m/s, between "
               "the tuned speeds: add speeds there to --speeds and tune again", file=sys.stderr)  # fmt: skip
+
+
+def _say_longer(result: dict[str, Any], objective: Objective) -> None:
+    """The tuned values' speeds over twice the tune's time, and a note where they moved."""
+    rows = result.get("longer", [])
+    if not rows:
+        return
+    twice, since = 2 * objective.duration, objective.start
+    print(f"running speed (m/s) over {since:g} to {twice:g} s, twice the tune's time (not scored)")
+    for row in rows:
+        print(f"  at {row['speed']:<6.4g}    {tune_speed(row)}")
+    moved = unsettled(result["best"]["runs"], rows, objective.speeds)
+    if moved:  # one note for them all: the speeds, then what they ran each time
+        at = ", ".join(f"{speed:g}" for speed, _, _ in moved)
+        longer = ", ".join("fell" if math.isnan(long) else f"{long:.4g}" for _, _, long in moved)
+        scored = ", ".join(f"{short:.4g}" for _, short, _ in moved)
+        print(f"legdsl: note: the tuned speed had not settled by --time {objective.duration:g} "
+              f"at {at} m/s: over {since:g} to {twice:g} s it runs {longer}, against {scored} "
+              f"scored over {since:g} to {objective.duration:g} s; tune with a longer --time "
+              f"({twice:g})", file=sys.stderr)  # fmt: skip
+
+
+def _say_deaf(rows: list[dict[str, Any]]) -> None:
+    """A note where the runs at every commanded speed went alike: the gait does not follow the
+    command (a random kangaroo variant ran 1.995 m/s at 3, 4 and 5 m/s, start and tuned), and
+    the objective cannot tell the speeds apart."""
+    speeds = {float(r["speed"]) for r in rows}
+    ran = {(float(r["running_speed"]), r["outcome"], float(r["simulated"])) for r in rows}
+    if len(speeds) > 1 and len(ran) == 1:
+        speed, outcome, _ = ran.pop()
+        how = f"at {speed:.4g} m/s" if math.isfinite(speed) else "alike"
+        ended = "" if outcome == "ok" else f", {outcome}"
+        print(f"legdsl: note: the tuned values ran {how}{ended} at every commanded speed "
+              f"({', '.join(f'{s:g}' for s in sorted(speeds))} m/s): the gait does not follow "
+              "the command (a limit it reaches at every speed, or a state machine that stops "
+              "cycling); no gain tuned against the speed error can tell them apart: compare "
+              "legdsl run at two speeds", file=sys.stderr)  # fmt: skip
 
 
 def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
