@@ -4,7 +4,8 @@ parts.leg: a chain of `use`s (lib/near.leg uses far.leg), a file used from two p
 roles and a table, and a controller that `extends` a used file's controller of its own
 name (lib/base.leg's `coast`, for a creature of that file). USE_MISTAKES are the mistakes
 made in them: a missing file further down, a syntax error in a used file (told in that
-file), a cycle of `use`, and a base two used files define at the same distance.
+file), a cycle of `use`, a base two used files define at the same distance, and a member
+misspelt in a used action or base controller.
 """
 
 from __future__ import annotations
@@ -12,13 +13,23 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass
 
-USE_MISTAKES = ("use_deep_missing", "used_syntax_error", "use_cycle", "extends_two_used")
+USE_MISTAKES = (
+    "use_deep_missing",
+    "used_syntax_error",
+    "use_cycle",
+    "extends_two_used",
+    "used_member_misspelled",  # in far.leg's action: told at the calls, naming the action
+    "base_member_misspelled",  # in base.leg's coast: told there, naming both controllers
+)
+IN_CHAIN = ("use_deep_missing", "used_syntax_error", "use_cycle", "used_member_misspelled")
 # what the diagnostics of each must show: the mistake itself, not another one it causes
 USE_MISTAKE_SAYS = {
     "use_deep_missing": "cannot find 'gone.leg' to use (asked for in lib/far.leg)",
     "used_syntax_error": "lib/far.leg:3:",
     "use_cycle": "-> lib/near.leg -> lib/far.leg -> lib/near.leg;",
     "extends_two_used": "defined by both lib/base.leg and lib/base2.leg",
+    "used_member_misspelled": "no member 'sprng'",
+    "base_member_misspelled": "(in controller 'coast', from controller 'coast' of lib/base.leg)",
 }
 USE_MISTAKE_SHARE = 0.15  # of the files without a mistake of their own
 
@@ -55,12 +66,12 @@ class UseSpec:
 
     @property
     def near(self) -> bool:
-        return self.chain or self.twice or self.part_table or self.mistake in USE_MISTAKES[:3]
+        return self.chain or self.twice or self.part_table or self.mistake in IN_CHAIN
 
 
 def draw_use(seed: int, other_mistake: str) -> UseSpec:
     """Drawn apart from the rest (the files of earlier seeds stay as they were)."""
-    rng = random.Random(seed * 104729 + 5)  # seeds 0-5 (CI): one use mistake
+    rng = random.Random(seed * 104729 + 3)  # CI seeds 0-7: one use mistake (far.leg)
     spec = UseSpec(
         chain=rng.random() < 0.4,
         twice=rng.random() < 0.3,
@@ -71,8 +82,8 @@ def draw_use(seed: int, other_mistake: str) -> UseSpec:
     )
     if not other_mistake and rng.random() < USE_MISTAKE_SHARE:
         spec.mistake = rng.choice(USE_MISTAKES)
-        spec.chain = spec.chain or spec.mistake in USE_MISTAKES[:3]
-        spec.extends_used = spec.extends_used or spec.mistake == "extends_two_used"
+        spec.chain = spec.chain or spec.mistake in IN_CHAIN
+        spec.extends_used = spec.extends_used or spec.mistake in USE_MISTAKES[3::2]
     if spec.run == "glide" and not (spec.near and (spec.chain or spec.part_table)):
         spec.run = ""
     if spec.run == "coast" and not spec.extends_used:
@@ -129,6 +140,8 @@ def files(spec: UseSpec, roles: str) -> dict[str, str]:
         far = 'use "gone.leg"\n' + far
     if m == "use_cycle":
         far = 'use "near.leg"\n' + far
+    if m == "used_member_misspelled":
+        far = far.replace("l.spring", "l.sprng")
     near = ['use "far.leg"'] if spec.chain else []
     if spec.twice:
         near.append('use "../parts.leg"')
@@ -144,7 +157,10 @@ def files(spec: UseSpec, roles: str) -> dict[str, str]:
             "  }",
             "}",
         ]
-    out = {"lib/near.leg": "\n".join(near) + "\n", "lib/far.leg": far, "lib/base.leg": DONOR}
+    base = DONOR
+    if m == "base_member_misspelled":
+        base = DONOR.replace("active.spring.rest = push", "active.sprin.rest = push")
+    out = {"lib/near.leg": "\n".join(near) + "\n", "lib/far.leg": far, "lib/base.leg": base}
     if m == "extends_two_used":
         out["lib/base2.leg"] = DONOR.replace("donor", "donor2")
     return out
