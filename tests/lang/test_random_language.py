@@ -77,6 +77,7 @@ MISTAKES = (
     "record_hides_param",
     "own_in_derived_unknown",
     "include_twice_declared",
+    "place_servo_after_swap",  # the first leg's servo named, the role swapped to another
 )
 
 
@@ -163,7 +164,12 @@ def _fit_mistake(spec: Spec) -> None:
     m = spec.mistake
     if m.startswith("instance") or m == "mirror_sagittal_planar":
         spec.template = True
-    if m in ("instances_same_names", "alias_other_leg") and len(spec.legs) < 2:
+    if m == "place_servo_after_swap":
+        spec.place, spec.groups = True, False
+    if (
+        m in ("instances_same_names", "alias_other_leg", "place_servo_after_swap")
+        and len(spec.legs) < 2
+    ):
         spec.legs.append("z1")
         spec.hips.append((0.1, 0.0 if spec.planar else 0.1))
         spec.mirrors.append("")
@@ -369,6 +375,8 @@ def controller_lines(spec: Spec) -> list[str]:
     if spec.place or m in ("place_body", "place_unknown_servo"):
         who = "trunk" if m == "place_body" else "active"
         servo = "hip_x9_servo" if m == "place_unknown_servo" else "active.hip_servo"
+        if m == "place_servo_after_swap":
+            servo = f"hip_{spec.legs[0]}_servo"
         goal = "x = k_speed * speed_error + 0.5 * k_speed * speed"
         if not spec.planar and spec.seed % 3 == 0 and m != "place_unknown_servo":
             goal += ", y = 0 m"
