@@ -4,7 +4,10 @@ templates with several instances (mirrored or not) holding `leg` blocks, legs of
 soles, controllers that `extends` another, `include` shared parts, call top-level actions,
 `use` the standard library or a file beside them, group roles (virtual legs) with `each`,
 `place`, `swap`, `record` and `own`, paths, the terrain ahead, and scenes with switches or
-a gait chosen by speed.
+a gait chosen by speed; and (tests/random_language_use.py) a chain of `use`s, a file used
+from two paths, a used file's shared part holding roles and a table, and a controller that
+`extends` a used file's controller of its own name. Roles of groups of different sizes may
+swap (`roles active = a, idle = (b, c)`): each state's code is made for each binding.
 
 Most files are valid: each must run (``legdsl run``, in this process) for a fraction of a
 second alike on the Python and C backends, trajectory.npz byte for byte. Some carry one
@@ -28,11 +31,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
+from random_language_use import USE_MISTAKE_SAYS, UseSpec, draw_use, files, use_lines
+from random_language_use import controller_lines as use_controller_lines
 from runtime_helpers import needs_c_compiler
 
 from legdsl.cli import main
 
-CI_FILES = 6  # 3 valid (a 3D gait-by-speed scene, planar switch, planar groups), 3 mistakes
+CI_FILES = 8  # 5 valid (gait by speed, use chains, extends of a used file, groups of 1 and 2 swapped), 3 mistakes (one in a used file)
 COUNT = int(os.environ.get("LEGDSL_RANDOM_LANGUAGE", CI_FILES))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_LANGUAGE_SEED", "0"))
 MISTAKE_SHARE = 0.4
@@ -72,6 +77,7 @@ MISTAKES = (
     "record_hides_param",
     "own_in_derived_unknown",
     "include_twice_declared",
+    "place_servo_after_swap",  # the first leg's servo named, the role swapped to another
 )
 
 
@@ -103,6 +109,7 @@ class Spec:
     each: bool
     mistake: str = ""
     rest: dict[str, float] = field(default_factory=dict)
+    use: UseSpec = field(default_factory=lambda: draw_use(0, "none"))
 
 
 def draw(seed: int) -> Spec:
@@ -148,6 +155,7 @@ def draw(seed: int) -> Spec:
     if rng.random() < MISTAKE_SHARE:
         spec.mistake = rng.choice(MISTAKES)
         _fit_mistake(spec)
+    spec.use = draw_use(seed, spec.mistake)
     return spec
 
 
@@ -156,7 +164,12 @@ def _fit_mistake(spec: Spec) -> None:
     m = spec.mistake
     if m.startswith("instance") or m == "mirror_sagittal_planar":
         spec.template = True
-    if m in ("instances_same_names", "alias_other_leg") and len(spec.legs) < 2:
+    if m == "place_servo_after_swap":
+        spec.place, spec.groups = True, False
+    if (
+        m in ("instances_same_names", "alias_other_leg", "place_servo_after_swap")
+        and len(spec.legs) < 2
+    ):
         spec.legs.append("z1")
         spec.hips.append((0.1, 0.0 if spec.planar else 0.1))
         spec.mirrors.append("")
@@ -295,7 +308,7 @@ def creature_lines(spec: Spec) -> list[str]:
 
 
 def _role_line(spec: Spec) -> tuple[str, list[str]]:
-    """The roles line and the roles a `swap` may exchange (two of one size)."""
+    """The roles line and the roles a `swap` may exchange."""
     legs = spec.legs
     if len(legs) == 1:
         return f"roles active = {legs[0]}", []
@@ -304,7 +317,7 @@ def _role_line(spec: Spec) -> tuple[str, list[str]]:
         a, b = legs[:half], legs[half:]
         ga = a[0] if len(a) == 1 else "(" + ", ".join(a) + ")"
         gb = b[0] if len(b) == 1 else "(" + ", ".join(b) + ")"
-        return f"roles active = {ga}, idle = {gb}", (["active", "idle"] if len(a) == len(b) else [])
+        return f"roles active = {ga}, idle = {gb}", ["active", "idle"]  # sizes may differ
     if spec.groups:
         return f"roles active = ({', '.join(legs)})", []
     return f"roles active = {legs[0]}, idle = {legs[1]}", ["active", "idle"]
@@ -362,6 +375,8 @@ def controller_lines(spec: Spec) -> list[str]:
     if spec.place or m in ("place_body", "place_unknown_servo"):
         who = "trunk" if m == "place_body" else "active"
         servo = "hip_x9_servo" if m == "place_unknown_servo" else "active.hip_servo"
+        if m == "place_servo_after_swap":
+            servo = f"hip_{spec.legs[0]}_servo"
         goal = "x = k_speed * speed_error + 0.5 * k_speed * speed"
         if not spec.planar and spec.seed % 3 == 0 and m != "place_unknown_servo":
             goal += ", y = 0 m"
@@ -494,7 +509,7 @@ def uses(spec: Spec) -> list[str]:
         out.append("use raibert")
     if spec.use_file or spec.mistake == "use_missing_file":
         out.append('use "parts.leg"' if spec.mistake != "use_missing_file" else 'use "prts.leg"')
-    return out
+    return out + use_lines(spec.use)
 
 
 PARTS = "# actions for the random files of tests/lang/test_random_language.py\n" + (
@@ -505,6 +520,8 @@ PARTS = "# actions for the random files of tests/lang/test_random_language.py\n"
 def file_text(spec: Spec) -> str:
     lines = [f"# random language, seed {spec.seed}", *uses(spec)]
     lines += creature_lines(spec) + controller_lines(spec) + extra_lines(spec)
+    forward = "for walker " if spec.second_creature else ""
+    lines += use_controller_lines(spec.use, _role_line(spec)[0], forward)
     return "\n".join(lines) + "\n"
 
 
@@ -539,8 +556,10 @@ def assert_refused(source: Path, code: int, err: str) -> None:
         m = HEAD.match(lines[i])
         assert m is not None
         row, col = int(m["line"]), int(m["col"])
-        where = Path(m["file"]).name
-        shown = (source.parent / where).read_text().split("\n") if where != source.name else text
+        where = Path(m["file"])  # a used file's mistake: told in it, by its path
+        if not where.is_file():
+            where = source.parent / where.name
+        shown = where.read_text().split("\n") if where.name != source.name else text
         assert 1 <= row <= len(shown), lines[i]
         assert i + 2 < len(lines), f"no source line and caret after:\n{err}"
         quoted = [part.strip() for part in lines[i + 1].split("...") if part.strip()]
@@ -558,6 +577,8 @@ def assert_same_run(folder: Path, source: Path, spec: Spec) -> None:
     args = ["--time", num(spec.rest["time"])]
     if spec.scene:
         args = ["--scene", "run"]
+    elif spec.use.run:
+        args += ["--controller", spec.use.run]
     elif spec.extends and spec.seed % 2:
         args += ["--controller", "stiff"]
     else:
@@ -581,9 +602,13 @@ def check_file(seed: int, folder: Path) -> None:
     source = folder / f"lang{seed}.leg"
     source.write_text(file_text(spec))
     (folder / "parts.leg").write_text(PARTS)
+    (folder / "lib").mkdir(exist_ok=True)
+    for name, text in files(spec.use, _role_line(spec)[0]).items():
+        (folder / name).write_text(text)
     code, err = _call(["check", str(source)])
-    if spec.mistake:
+    if spec.mistake or spec.use.mistake:
         assert_refused(source, code, err)
+        assert spec.mistake or USE_MISTAKE_SAYS[spec.use.mistake] in err, err
         return
     assert "Traceback" not in err and "internal error" not in err, err
     assert code == 0, f"a valid file refused: exit {code}\n{err}"
@@ -606,6 +631,7 @@ def test_random_language_file_runs_alike_or_is_refused_well(
         spec = draw(seed)
         raise AssertionError(
             f"random language file of seed {seed} (LEGDSL_RANDOM_LANGUAGE_SEED={seed} "
-            f"LEGDSL_RANDOM_LANGUAGE=1), mistake {spec.mistake or 'none'}: "
+            f"LEGDSL_RANDOM_LANGUAGE=1), mistake {spec.mistake or spec.use.mistake or 'none'}: "
             f"{type(e).__name__}: {e}\n{file_text(spec)}"
+            + "".join(f"--- {n}\n{t}" for n, t in files(spec.use, _role_line(spec)[0]).items())
         ) from e

@@ -92,6 +92,8 @@ class Scope:
     )
     # name -> the members read of it (``route.lateral``), to tell what an unknown name is
     dotted: dict[str, set[str]] = field(default_factory=dict)
+    # role -> each group of legs the table's swaps bind it to, the initial one first
+    bound: dict[str, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.aliases = {leg.name: dict(leg.aliases) for leg in self.model.legs}

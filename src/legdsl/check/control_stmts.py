@@ -295,9 +295,12 @@ class Elaborator(ExprChecker, LegMotionProbe):
     def _servos_per_leg(
         self, legs: ir.Legs, servo: ir.Part | ir.Alias
     ) -> list[tuple[Leg, Actuator]]:
-        """Each leg a place's leg or role stands for, with the actuator the servo is there."""
+        """Each leg a place's leg or role stands for, with the actuator the servo is there:
+        under every binding the table's swaps reach (a named servo fits one of them only)."""
         root = legs.root()
-        names = [root.leg] if root.leg else list(self.scope.roles.get(root.role or "", ()))
+        first = self.scope.roles.get(root.role or "", ())
+        every = self.scope.bound.get(root.role or "", (first,))
+        names = [root.leg] if root.leg else list(dict.fromkeys(n for g in every for n in g))
         found = []
         for name in names:
             if isinstance(servo, ir.Alias):
@@ -356,14 +359,30 @@ class Elaborator(ExprChecker, LegMotionProbe):
                     if isinstance(servo, ir.Alias)
                     else "name a servo on one of them"
                 )
+                role = legs.root().role
+                swapped = bool(role) and name not in self.scope.roles.get(role or "", ())
+                if swapped and not isinstance(servo, ir.Alias):
+                    fix += f", or one through an alias of the role{self._servo_alias(leg, role)}"
                 self.err(
                     path[-1].span,
-                    f"'place' moves the foot of leg '{name}' with the servo '{actuator.name}', "
-                    f"but it is on joint '{joint}', not one of the leg's joints "
-                    f"({', '.join(leg.joints)}); {fix}",
+                    f"'place' moves the foot of leg '{name}'"
+                    + (f" (bound to '{role}' by a 'swap')" if swapped else "")
+                    + f" with the servo '{actuator.name}', but it is on joint '{joint}', not "
+                    f"one of the leg's joints ({', '.join(leg.joints)}); {fix}",
                 )
                 return False
         return True
+
+    def _servo_alias(self, leg: Leg, role: str | None) -> str:
+        """An alias of ``leg`` naming a servo on its joints, as the role would say it."""
+        joints = {d.name for d in self.scope.model.dofs if d.joint in leg.joints}
+        servos = {
+            a.name for a in self.scope.model.actuators if a.kind == "servo" and a.dof in joints
+        }
+        alias = next((k for k, v in self.scope.aliases[leg.name].items() if v in servos), None)
+        return (
+            f" ('{role}.{alias}'), which follows the swap" if alias else ", which follows the swap"
+        )
 
     def role(self, ident: ast.Ident, local: dict[str, Value]) -> str | None:
         found = self.lookup(ident, local, report=False)

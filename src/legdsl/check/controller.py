@@ -282,11 +282,15 @@ class ControllerChecker:
         dimensions; the last one reports.
         """
         for _ in range(_RECORD_PASSES):
-            trial = self.elaborate_pass(scope, rows, Diagnostics(self.diag.sources))[0]
+            trial, trial_states = self.elaborate_pass(scope, rows, Diagnostics(self.diag.sources))
             settled = self.record_types(trial, records, report=False)
             if settled == scope.records:
                 break
             scope.records = settled
+        # a role a swap makes a group (`one = c, two = (a, b)`) is told as one at its calls
+        for binding in reachable_bindings(self.roles, trial_states)[0]:
+            for role, legs in binding:
+                scope.bound[role] = tuple(dict.fromkeys((*scope.bound.get(role, ()), legs)))
         settle_by_readers(
             scope, lambda d: self.elaborate_pass(scope, rows, d)[0], self.diag.sources
         )

@@ -61,8 +61,8 @@ def whole_torque_per_member(
         how = f"call '{shared}({role}, ...)' (or {each})" if shared else each
         yield (
             arg.span,
-            f"action '{s.action.name}' is for one leg, but '{role}' is a group of {n} legs "
-            f"({', '.join(legs)}): each member's '{torque.actuator.alias}' would apply the "
+            f"action '{s.action.name}' is for one leg, but {_group(scope, role, legs)}: "
+            f"each member's '{torque.actuator.alias}' would apply the "
             f"whole torque, {n} times what is meant; share it: {how}"
             + ("" if scope.model.planar else " (as servo_posture_virtual does)"),
         )
@@ -88,8 +88,8 @@ def one_spring_per_group(
         role, n = value.role, len(legs)
         yield (
             arg.span,
-            f"action '{s.action.name}' is for one leg, but '{role}' is a group of {n} legs "
-            f"({', '.join(legs)}): it predicts the apex from the energy of one leg's "
+            f"action '{s.action.name}' is for one leg, but {_group(scope, role, legs)}: "
+            f"it predicts the apex from the energy of one leg's "
             f"'{spring}', where the {n} members' store {n} times it, and gives each the "
             f"stroke sized for one leg, so the hop overshoots; for a virtual leg use "
             f"'hop_height_virtual' (on entering thrust) or 'hop_height_apex' (at touchdown; "
@@ -116,9 +116,18 @@ def _energy_without_count(e: ir.Expr, group: ir.Legs) -> Iterator[str]:
 def _group_arguments(
     scope: Scope, s: ast.InvokeStmt, given: list[Value]
 ) -> Iterator[tuple[ast.Expr, ir.Legs, tuple[str, ...]]]:
-    """The arguments of ``s`` that give a group role of two legs or more, with its legs."""
+    """The arguments of ``s`` that give a group role of two legs or more, with its legs:
+    the first group the role is bound to, a swap's too (a leg's role swapped with a pair's)."""
     for arg, value in zip(s.args, given, strict=True):
         if isinstance(value, ir.Legs) and value.each is None and value.role is not None:
-            legs = tuple(scope.roles.get(value.role, ()))
-            if len(legs) >= 2:
+            first = tuple(scope.roles.get(value.role, ()))
+            every = scope.bound.get(value.role, (first,))
+            legs = next((g for g in every if len(g) >= 2), ())
+            if legs:
                 yield arg, value, legs
+
+
+def _group(scope: Scope, role: str | None, legs: tuple[str, ...]) -> str:
+    """'pair' is a group of 2 legs (a, b), or becomes one by a swap."""
+    verb = "is" if scope.roles.get(role or "") == legs else "becomes, by a 'swap',"
+    return f"'{role}' {verb} a group of {len(legs)} legs ({', '.join(legs)})"
