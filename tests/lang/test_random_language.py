@@ -22,8 +22,6 @@ error" or exit 70.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import os
 import random
 import re
@@ -33,9 +31,7 @@ from pathlib import Path
 import pytest
 from random_language_use import USE_MISTAKE_SAYS, UseSpec, draw_use, files, use_lines
 from random_language_use import controller_lines as use_controller_lines
-from runtime_helpers import needs_c_compiler
-
-from legdsl.cli import main
+from runtime_helpers import legdsl_in_process, needs_c_compiler
 
 CI_FILES = 8  # 5 valid (gait by speed, use chains, extends of a used file, groups of 1 and 2 swapped), 3 mistakes (one in a used file)
 COUNT = int(os.environ.get("LEGDSL_RANDOM_LANGUAGE", CI_FILES))
@@ -525,16 +521,6 @@ def file_text(spec: Spec) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _call(argv: list[str]) -> tuple[int, str]:
-    err, out = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
-        try:
-            code = main(argv)
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else 2
-    return code, err.getvalue()
-
-
 HEAD = re.compile(r"(?P<file>[^:\n]+):(?P<line>\d+):(?P<col>\d+): error: (?P<message>.+)")
 # a sentence that says what to do (as tests/bad's messages do)
 FIX = re.compile(
@@ -589,7 +575,7 @@ def assert_same_run(folder: Path, source: Path, spec: Spec) -> None:
     for backend in ("python", "c"):
         out = folder / f"run_{backend}"
         argv = ["run", str(source), *args, "--backend", backend, "-o", str(out)]
-        code, err = _call([*argv, "--generated", str(folder / "generated")])
+        code, err = legdsl_in_process([*argv, "--generated", str(folder / "generated")])
         assert "Traceback" not in err and "internal error" not in err, err
         assert code in (0, 3, 4), f"legdsl {' '.join(argv)}: exit {code}\n{err}"
         runs[backend] = (code, (out / "trajectory.npz").read_bytes())
@@ -605,7 +591,7 @@ def check_file(seed: int, folder: Path) -> None:
     (folder / "lib").mkdir(exist_ok=True)
     for name, text in files(spec.use, _role_line(spec)[0]).items():
         (folder / name).write_text(text)
-    code, err = _call(["check", str(source)])
+    code, err = legdsl_in_process(["check", str(source)])
     if spec.mistake or spec.use.mistake:
         assert_refused(source, code, err)
         assert spec.mistake or USE_MISTAKE_SAYS[spec.use.mistake] in err, err
