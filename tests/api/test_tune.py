@@ -455,12 +455,13 @@ def test_the_runs_of_a_gait_of_pairs_are_measured_on_its_pairs(generated: Path) 
     )
 
 
-def test_the_tuned_values_also_run_between_the_tuned_speeds(
+def test_the_tuned_values_also_run_between_the_tuned_speeds_and_twice_as_long(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A tune fits the speeds it is given; the flat-footed biped tuned at 0, 1, 1.5, 2 and
     2.5 m/s fell at 1.75 without a word. Halfway between each two, the tuned values run once
-    more (not scored), shown and kept in tune.json."""
+    more (not scored), shown and kept in tune.json; and at each tuned speed for twice --time
+    (a random hopper variant scored 0.999 m/s over 3-10 s ran 0.96 from 6 s on)."""
     code = main([
         "tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
         "--speeds", "0.5,1.5", "--time", "2", "--from", "0.8", "--generations", "1",
@@ -472,8 +473,14 @@ def test_the_tuned_values_also_run_between_the_tuned_speeds(
     assert between["speed"] == 1.0 and between["outcome"] == "ok"
     best = json.loads((tmp_path / "t" / "tune.json").read_text())["best"]["values"]
     assert between["k_speed"] == pytest.approx(best["k_speed"])
+    done = json.loads((tmp_path / "t" / "tune.json").read_text())
+    assert [r["speed"] for r in done["longer"]] == [0.5, 1.5]
+    assert all(r["simulated"] == pytest.approx(4.0) for r in done["longer"])
+    assert all(r["k_speed"] == pytest.approx(best["k_speed"]) for r in done["longer"])
     out = capsys.readouterr().out
     assert re.search(r"between the tuned speeds \(not scored\)\n  at 1 +\d", out), out
+    assert "over 0.8 to 4 s, twice the tune's time (not scored)" in out
+    assert "9 runs; wrote" in out  # the start 2, the generation 4, between 1, twice as long 2
 
 
 def test_a_fall_between_the_tuned_speeds_is_said(capsys: pytest.CaptureFixture[str]) -> None:

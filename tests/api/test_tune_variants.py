@@ -6,18 +6,12 @@ tuned"). The values kept now run twice as long once more, and a speed that moved
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
 from legdsl.api.tune import Objective, unsettled
 from legdsl.api.tune_cli import _say_longer
-from legdsl.cli import main
-
-ROOT = Path(__file__).resolve().parents[2]
-HOPPER = ROOT / "creatures" / "hopper.leg"
 
 
 def row(speed: float, running: float, outcome: str = "ok") -> dict[str, object]:
@@ -46,26 +40,6 @@ def test_the_note_names_the_speeds_and_the_longer_time(capsys: pytest.CaptureFix
     assert told.err.count("\n") == 1, told.err  # one line
     assert "had not settled by --time 10 at 1 m/s: over 3 to 20 s it runs 0.9717" in told.err
     assert "tune with a longer --time (20)" in told.err
-
-
-def test_the_tuned_values_run_twice_as_long(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    code = main([
-        "tune", str(HOPPER), "--controller", "hop", "--param", "k_speed=0.02:0.2",
-        "--speeds", "0.5,1.5", "--time", "2", "--from", "0.8", "--generations", "1",
-        "--popsize", "2", "--seed", "3", "--jobs", "1", "--out", str(tmp_path / "t"),
-        "--generated", str(tmp_path / "generated"),
-    ])  # fmt: skip
-    assert code == 0
-    done = json.loads((tmp_path / "t" / "tune.json").read_text())
-    assert [r["speed"] for r in done["longer"]] == [0.5, 1.5]
-    assert all(r["simulated"] == pytest.approx(4.0) for r in done["longer"])
-    best = done["best"]["values"]
-    assert all(r["k_speed"] == pytest.approx(best["k_speed"]) for r in done["longer"])
-    out = capsys.readouterr().out
-    assert "over 0.8 to 4 s, twice the tune's time (not scored)" in out
-    assert "9 runs; wrote" in out  # the start 2, the generation 4, between 1, twice as long 2
 
 
 def test_runs_alike_at_every_speed_are_said(capsys: pytest.CaptureFixture[str]) -> None:
