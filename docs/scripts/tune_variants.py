@@ -12,7 +12,14 @@ controller writes (its inputs and parameters in metres, or per metre: the hop he
 stroke, the length where thrust ends) times one L of 0.7 to 1.4 (per metre: divided); the
 stiffness of each leg's ``spring`` (and of the parameters that set it, ``SPRING_PARAMS``)
 times 0.5 to 2. Parameters are changed where they are declared, by docs/scripts/detune.py's
-writer. For each variant it runs the shipped gains 20 s at each speed (``legdsl run``, then
+writer. With ``--similar`` the same draws make dynamically similar creatures (docs/scaling.md,
+g fixed, time as sqrt(L)): every body's mass times one M (the total mass's factor of the
+per-body draws: a light tail on springs scaled with the whole animal made the explicit
+integrator diverge), every quantity of kg^a m^b s^c in the actuators, the controller's
+inputs and parameters times M^a L^b L^(c/2) (so a torque, a servo's
+gain and its limit times M L, a time sqrt(L)); the leg spring's stiffness M L times the draw
+of 0.5 to 2 taken to the power 1/3 (0.79 to 1.26: animals' springs scatter about the similar
+one); the old draw (without ``--similar``) is unchanged. For each variant it runs the shipped gains 20 s at each speed (``legdsl run``, then
 ``legdsl metrics --from 3``), tunes them with ONE recipe (``RECIPE``, the same for every
 variant, ``--recipe``: the heavy hopper's of docs/api.md, scored over 10 s as written there or
 over 20 s; the detuned kangaroo's) and runs the tuned file 20 s at each speed the same way. A
@@ -58,23 +65,51 @@ KANGAROO = [  # the detuned kangaroo's recipe (docs/api.md, "Tuning from detuned
     "--speeds", "3,4,5", "--time", "20", "--from", "3",
     "--generations", "10", "--popsize", "8", "--seed", "1", "--jobs", "1",
 ]  # fmt: skip
+# the kangaroo's with what a new kangaroo needs (docs/api.md): the ankle spring's stiffness
+# (its stance time sets the neutral point), the thrust (stroke, k_height) and the foot
+# placement's correction limit (max_correction, which held variant 3 at 1.995 m/s); the
+# bounds wide enough for a --similar variant's gains (kp x M L up to 3.3)
+KANGAROO_RICH = [
+    "--param", "k_speed=0.01:0.12", "--param", "kp=30:800", "--param", "kv=1:80",
+    "--param", "ankle_k=40:800", "--param", "stroke=0:0.26", "--param", "k_height=0.2:4",
+    "--param", "max_correction=0.02:0.15",
+    "--speeds", "3,4,5", "--time", "20", "--from", "3",
+    "--generations", "10", "--popsize", "8", "--seed", "1", "--jobs", "1",
+]  # fmt: skip
 RECIPE = {  # one recipe for every variant, by --recipe
     "heavy": [*HEAVY, "--time", "10"],  # as written there: runs of 10 s
     "heavy20": [*HEAVY, "--time", "20"],  # the same, scored over the 20 s it is checked on
     "kangaroo": KANGAROO,
+    "kangaroo_rich": KANGAROO_RICH,
 }
 # controller parameters that set the leg spring's stiffness (scaled with it): the kangaroo's
 # hop sets its ankle spring's k to ankle_k while hopping
-SPRING_PARAMS = {"kangaroo": ("ankle_k",)}
+SPRING_PARAMS = {"kangaroo": ("ankle_k",), "kangaroo_rich": ("ankle_k",)}
 
 
-def draw(rng: random.Random, bodies: list[str]) -> dict[str, Any]:
-    """One variant's factors."""
-    return {
+def draw(rng: random.Random, bodies: dict[str, float], similar: bool = False) -> dict[str, Any]:
+    """One variant's factors (``bodies``: each body's mass). The same random draws with and
+    without ``similar``, so ``--similar`` varies the same creatures."""
+    factors: dict[str, Any] = {
         "L": round(rng.uniform(0.7, 1.4), 3),
         "spring": round(rng.uniform(0.5, 2.0), 3),
         "mass": {b: round(rng.uniform(0.5, 3.0), 3) for b in bodies},
     }
+    if similar:  # the spring scatters about the dynamically similar one (stiffness ~ M g L)
+        M = sum(m * factors["mass"][b] for b, m in bodies.items()) / sum(bodies.values())
+        factors["M"] = round(M, 3)
+        factors["spring"] = round(M * factors["L"] * factors["spring"] ** (1 / 3), 3)
+    return factors
+
+
+def scale_of(factors: dict[str, Any]) -> Any:
+    """The factor of a quantity of dimension ``dim``: a length's L^n only (the old draw), or,
+    for a ``--similar`` draw, M^a L^b L^(c/2) of kg^a m^b s^c (g fixed)."""
+    L = factors["L"]
+    if "M" not in factors:
+        return lambda dim: length_factor(dim, L)
+    M = factors["M"]
+    return lambda dim: M ** dim[0] * L ** dim[1] * L ** (dim[2] / 2)
 
 
 def variant_text(source: Path, factors: dict[str, Any]) -> str:
@@ -84,6 +119,7 @@ def variant_text(source: Path, factors: dict[str, Any]) -> str:
     declared)."""
     tree, text = parse_file(source)
     L = factors["L"]
+    scaled = scale_of(factors)
     edits: list[tuple[ast.Span, float]] = []  # the span of a number and its factor
 
     def collect(node: Any, scale_of: Any) -> None:
@@ -103,7 +139,7 @@ def variant_text(source: Path, factors: dict[str, Any]) -> str:
     for creature in tree.creatures:
         for item in creature.items:
             if isinstance(item, ast.BodyDecl):
-                m = factors["mass"].get(item.name.name, 1.0)
+                m = factors.get("M") or factors["mass"].get(item.name.name, 1.0)
                 collect(item.attach, length_only)
                 for prop in item.props:
                     key = prop.key.name
@@ -118,14 +154,14 @@ def variant_text(source: Path, factors: dict[str, Any]) -> str:
             elif isinstance(item, ast.ActuatorDecl) and item.name.name in leg_springs:
                 for arg in item.args:  # its stiffness; its rest length moves with the links
                     k = arg.keyword is not None and arg.keyword.name == "k"
-                    collect(arg.value, (lambda d: factors["spring"]) if k else length_only)
+                    collect(arg.value, (lambda d: factors["spring"]) if k else scaled)
             elif isinstance(item, ast.ActuatorDecl):
-                collect(item.args, length_only)
+                collect(item.args, scaled)
     declared = [i for c in tree.controllers for i in c.items]
     declared += [i for s in tree.shared for i in s.items]
     for decl in declared:
         if isinstance(decl, ast.InputDecl):
-            collect(decl.value, length_only)
+            collect(decl.value, scaled)
     starts = [0]
     for line in text.splitlines(keepends=True):
         starts.append(starts[-1] + len(line))
@@ -150,7 +186,8 @@ def write_variant(
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(variant_text(source, factors))
     params = check_model(out).controller(controller).params
-    times = {p.name: length_factor(p.dim, factors["L"]) for p in params if p.value != 0}
+    scaled = scale_of(factors)
+    times = {p.name: scaled(p.dim) for p in params if p.value != 0}
     times |= {name: factors["spring"] for name in springs}
     write_times(out, controller, {n: f for n, f in times.items() if f != 1.0}, out)
     return out
@@ -202,7 +239,7 @@ def table(results: list[dict[str, Any]]) -> str:
     for r in results:
         f = r["factors"]
         lines.append(
-            f"| {r['index']} | x{f['L']:.2f} | {', '.join(f'x{m:.2f}' for m in f['mass'].values())}"
+            f"| {r['index']} | x{f['L']:.2f} | {masses(f)}"
             f" | x{f['spring']:.2f} | {'; '.join(map(cell, r['before']))}"
             f" | {r['objective'][0]:.3g} -> {r['objective'][1]:.3g}"
             f" | {'; '.join(map(cell, r['after']))} | {'yes' if held(r['after']) else 'no'} |"
@@ -213,6 +250,12 @@ def table(results: list[dict[str, Any]]) -> str:
     lines.append(f"held every speed within {SUCCESS:.0%} for {RUN_TIME:g} s: shipped gains "
                  f"{shipped}/{len(results)}, tuned {wins}/{len(results)}")  # fmt: skip
     return "\n".join(lines)
+
+
+def masses(factors: dict[str, Any]) -> str:
+    if "M" in factors:  # --similar: one factor for every body
+        return f"x{factors['M']:.2f} (every body)"
+    return ", ".join(f"x{m:.2f}" for m in factors["mass"].values())
 
 
 def mean_error(rows: list[dict[str, Any]]) -> float:
@@ -256,20 +299,39 @@ def main() -> int:
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--png", type=Path, default=None)
     parser.add_argument("--recipe", choices=RECIPE, default="heavy20")
+    parser.add_argument("--similar", action="store_true",
+                        help="dynamically similar variants (the leg spring, every torque, "
+                        "gain and time scaled with the mass and L)")  # fmt: skip
+    parser.add_argument(
+        "--only",
+        type=int,
+        action="append",
+        default=None,
+        metavar="N",
+        help="run only variant N (repeatable; the draws stay the same)",
+    )
+    parser.add_argument(
+        "--write-only", action="store_true", help="write each variant's .leg and stop"
+    )
     args = parser.parse_args()
     recipe = RECIPE[args.recipe]
     global SPEEDS
     SPEEDS = tuple(float(v) for v in recipe[recipe.index("--speeds") + 1].split(","))
     rng = random.Random(args.seed)
     tree, _ = parse_file(args.file)
-    bodies = [i.name.name for c in tree.creatures for i in c.items if isinstance(i, ast.BodyDecl)]
+    bodies = {b.name: b.mass for b in check_model(args.file).bodies}
     results: list[dict[str, Any]] = []
     began = time.perf_counter()
     for index in range(1, args.n + 1):
-        factors = draw(rng, bodies)
+        factors = draw(rng, bodies, args.similar)
+        if args.only and index not in args.only:
+            continue
         home = args.out / f"v{index:02d}"
         springs = SPRING_PARAMS.get(args.recipe, ())
         file = write_variant(args.file, args.controller, factors, home / args.file.name, springs)
+        if args.write_only:
+            print(f"wrote {file}: {json.dumps(factors)}")
+            continue
         generated = home / "generated"
         before = measure(file, args.controller, home / "before", generated)
         tuned = legdsl("tune", str(file), "--controller", args.controller, *recipe,
@@ -289,13 +351,16 @@ def main() -> int:
               f"{'; '.join(map(cell, before))}, tuned {'; '.join(map(cell, after))} "
               f"({spent:.0f} s, about {spent / index * (args.n - index):.0f} s left)", flush=True)  # fmt: skip
         (args.out / "variants.json").write_text(json.dumps(results, indent=1) + "\n")
+    if args.write_only:
+        return 0
     text = table(results)
     print(text)
     (args.out / "variants.md").write_text(text + "\n")
     if args.png is not None:
         time_of = recipe[recipe.index("--time") + 1]
         title = f"{args.file.stem}: {args.n} random variants, seed {args.seed}, --recipe "
-        plot(results, args.png, title + f"{args.recipe} (--time {time_of})")
+        similar = ", --similar" if args.similar else ""
+        plot(results, args.png, title + f"{args.recipe}{similar} (--time {time_of})")
     return 0
 
 
