@@ -80,6 +80,7 @@ WRITTEN_BY_THE_DOC: dict[str, str] = {
     "my.leg": "creatures/hopper.leg",  # the reader's own file
     "detuned/kangaroo.leg": "creatures/kangaroo.leg",  # the kangaroo with its gains detuned
     "heavy/hopper.leg": "creatures/hopper.leg",  # the hopper made heavier
+    "kvariants/v03/kangaroo.leg": "creatures/kangaroo.leg",  # docs/scripts/tune_variants.py's
     "stocky/stocky.leg": "creatures/quadruped.leg",  # docs/scripts/stocky_quadruped.py's
     "wallaby_box.leg": "tests/good/outside/wallaby.leg",  # the wallaby with a box to jump
     "runs/jump4/h0.30/kangaroo_box.leg": "creatures/kangaroo.leg",  # the jump script's file
