@@ -155,13 +155,33 @@ def draw(seed: int) -> Spec:
     return spec
 
 
+# what a drawn mistake needs of the file it is made in, beyond the draw
+_MISTAKE_NEEDS: dict[str, dict[str, object]] = {
+    "mirror_sagittal_planar": {"template": True, "planar": True, "path": False},
+    "place_servo_after_swap": {"place": True, "groups": False},
+    "foot_sole_other_body": {"soles": True},
+    "alias_other_leg": {"template": False},
+    "scene_other_creature": {"second_creature": True, "extends": True},
+    "gait_and_switch": {"extends": True},
+    "band_wrong_unit": {"extends": True, "scene": "gait"},
+    "extends_cycle": {"extends": True},
+    "terrain_member_misspelled": {"terrain": "box"},
+    "member_misspelled": {"each": True},
+    "action_wrong_arity": {"each": False},
+    "own_unknown": {"own": True},
+    "include_twice_declared": {"shared": True},
+    "scene_param_at_time": {"extends": True, "scene": "switch"},
+    "own_in_derived_unknown": {"extends": True},
+}
+
+
 def _fit_mistake(spec: Spec) -> None:
     """The parts the drawn mistake is made in."""
     m = spec.mistake
-    if m.startswith("instance") or m == "mirror_sagittal_planar":
+    if m.startswith("instance"):
         spec.template = True
-    if m == "place_servo_after_swap":
-        spec.place, spec.groups = True, False
+    for name, value in _MISTAKE_NEEDS.get(m, {}).items():
+        setattr(spec, name, value)
     if (
         m in ("instances_same_names", "alias_other_leg", "place_servo_after_swap")
         and len(spec.legs) < 2
@@ -170,34 +190,8 @@ def _fit_mistake(spec: Spec) -> None:
         spec.hips.append((0.1, 0.0 if spec.planar else 0.1))
         spec.mirrors.append("")
     if m == "mirror_sagittal_planar":
-        spec.planar = True
-        spec.path = False
         spec.hips = [(x, 0.0) for x, _ in spec.hips]
         spec.mirrors = [" mirror frontal" if mirror else "" for mirror in spec.mirrors]
-    if m == "foot_sole_other_body":
-        spec.soles = True
-    if m == "alias_other_leg":
-        spec.template = False
-    if m == "scene_other_creature":
-        spec.second_creature = True
-    if m in ("gait_and_switch", "band_wrong_unit", "scene_other_creature", "extends_cycle"):
-        spec.extends = True
-    if m == "band_wrong_unit":
-        spec.scene = "gait"
-    if m == "terrain_member_misspelled":
-        spec.terrain = "box"
-    if m == "member_misspelled":
-        spec.each = True
-    if m == "action_wrong_arity":
-        spec.each = False
-    if m == "own_unknown":
-        spec.own = True
-    if m == "include_twice_declared":
-        spec.shared = True
-    if m in ("scene_param_at_time", "own_in_derived_unknown"):
-        spec.extends = True
-    if m == "scene_param_at_time":
-        spec.scene = "switch"
 
 
 def _point(spec: Spec, x: float, y: float, z: float = 0.0) -> str:

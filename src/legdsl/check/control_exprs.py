@@ -82,8 +82,8 @@ class ExprChecker(NameResolver):
             return None
         if want_bool and value.type != BOOL:
             text = expression_text(e)
-            if text.endswith(".touching"):  # 1 or 0, as the paper's flags; its events say it
-                thing = text.removesuffix(".touching")
+            if isinstance(value, ir.Read) and value.member == "touching":  # 1 or 0, as the
+                thing = text.removesuffix(".touching")  # paper's flags; its events say it
                 events = f"touchdown({thing}) or liftoff({thing}) (or " if event else "("
                 self.err(
                     e.span, f"'{text}' is 1 or 0, not a condition: write {events}{text} > 0.5)"
