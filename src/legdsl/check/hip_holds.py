@@ -40,14 +40,14 @@ def misaimed_bodies(
         if not (isinstance(value, ir.Part) and value.kind == "body"):
             continue
         trunk = _trunk_bodies(model)
-        for leg, held in _hips_driven_from(scope, body, value.name):
+        for leg, held, swapped in _hips_driven_from(scope, body, value.name):
             if value.name in _welded(model, held) or value.name in trunk:
                 continue
             yield (
                 arg.span,
                 f"action '{s.action.name}' sets the hip's torque from the orientation of "
-                f"'{value.name}', which that torque cannot hold: the hip of leg '{leg}' holds "
-                f"body '{held}'; did you mean '{held}'?",
+                f"'{value.name}', which that torque cannot hold: the hip of leg '{leg}'"
+                f"{swapped} holds body '{held}'; did you mean '{held}'?",
             )
             break
         else:
@@ -65,8 +65,9 @@ def misaimed_bodies(
 
 def _hips_driven_from(
     scope: Scope, stmts: tuple[ir.Stmt, ...], name: str
-) -> Iterator[tuple[str, str]]:
-    """(leg, the body its hip hangs from) for each hip actuator set from ``name``'s orientation."""
+) -> Iterator[tuple[str, str, str]]:
+    """(leg, the body its hip hangs from, how a swap made the leg the role's) for each hip
+    actuator set from ``name``'s orientation."""
     model = scope.model
     hip_of = {leg.name: leg.joints[0] for leg in model.legs if leg.joints}
     parent = {j.name: j.parent for j in model.joints}
@@ -77,7 +78,7 @@ def _hips_driven_from(
             hip = hip_of.get(leg)
             held = parent.get(hip) if hip is not None else None
             if joint == hip and held is not None:
-                yield leg, held
+                yield leg, held, _swapped_in(scope, assign.actuator, leg)
 
 
 def _places_from(stmts: tuple[ir.Stmt, ...], name: str) -> bool:
@@ -119,13 +120,23 @@ def _joints_of(scope: Scope, actuator: ir.Part | ir.Alias) -> Iterator[tuple[str
             yield leg, joint
 
 
+def _swapped_in(scope: Scope, actuator: ir.Part | ir.Alias, leg: str) -> str:
+    """How ``leg`` came to be read through a role, when only a swap makes it the role's."""
+    role = actuator.legs.root().role if isinstance(actuator, ir.Alias) else None
+    if role is None or leg in scope.roles.get(role, ()):
+        return ""
+    return f" (role '{role}' stands for it once the table's swaps have run)"
+
+
 def _legs(scope: Scope, legs: ir.Legs) -> tuple[str, ...]:
     root = legs.root()
     if root.leg is not None:
         return (root.leg,)
-    if root.role is not None:  # every leg a role is bound to by its first binding
-        return scope.roles.get(root.role, ())
-    return ()
+    if root.role is None:
+        return ()
+    # every leg the role stands for under any binding the table's swaps reach
+    first = scope.roles.get(root.role, ())
+    return tuple(dict.fromkeys(n for g in scope.bound.get(root.role, (first,)) for n in g))
 
 
 def _trunk_bodies(model: Model) -> set[str]:
