@@ -194,3 +194,29 @@ def test_names_a_missing_files_shared_part_would_declare_are_not_reported_unknow
         (1, "cannot find 'gone.leg' to use"),
         (stand, "unknown name 'kpp'"),
     ]
+
+
+def test_a_used_path_through_dot_dot_is_told_as_the_file_it_names(tmp_path: Path) -> None:
+    """``lib/../parts.leg`` is ``parts.leg`` in messages; where ``lib`` is a symlink, '..'
+    is the link target's parent, so the path is told as written (it names another file)."""
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "parts.leg").write_text("action lengthen(leg, by) { leg.spring.rest = by\n")
+    (tmp_path / "lib" / "near.leg").write_text('use "../parts.leg"\n')
+    main = tmp_path / "main.leg"
+    main.write_text('use "lib/near.leg"\n' + CREATURE)
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert Path(d.span.file) == tmp_path / "parts.leg"
+    elsewhere = tmp_path / "far" / "away"
+    elsewhere.mkdir(parents=True)
+    (tmp_path / "far" / "parts.leg").write_text("action lengthen(leg, by) {\n")
+    (elsewhere / "near.leg").write_text('use "../parts.leg"\n')
+    (tmp_path / "lib" / "near.leg").unlink()
+    (tmp_path / "lib").rmdir()
+    (tmp_path / "lib").symlink_to(elsewhere)
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert Path(d.span.file) == tmp_path / "lib" / ".." / "parts.leg"
+    assert d.span.line == 1

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol, TypeVar
@@ -277,7 +278,11 @@ def _mark_ties(
 def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:
     """A quoted path is relative to the file that says ``use``; a bare name is the stdlib's."""
     if use.target.endswith(".leg") or "/" in use.target:
-        return Path(tree.path).parent / use.target
+        path = Path(tree.path).parent / use.target
+        # "lib/../parts.leg" is told as "parts.leg", unless a symlinked folder gives '..'
+        # another meaning than the text's
+        shorter = Path(os.path.normpath(path))
+        return shorter if shorter.resolve() == path.resolve() else path
     return STDLIB / f"{use.target}.leg"
 
 
