@@ -111,3 +111,28 @@ def test_a_length_given_for_the_scale_factor_is_told_what_l_is(
     assert stop.value.code == 2
     err = capsys.readouterr().err
     assert "the scale factor L is a plain number" in err and "not '2m': write 2" in err
+
+
+@pytest.mark.parametrize(
+    ("given", "told"),
+    [
+        (["--time", "1s"], "in a run of 1s its step 0.0004s becomes 12.6s, longer than the run; "
+         "its recording rate 200Hz becomes 0.00632Hz, which records the start alone; give a "
+         "--time of 158s or more, or --dt and --record-rate"),
+        (["--time", "20s", "--dt", "1ms"], "its recording rate 200Hz becomes 0.00632Hz"),
+        (["--time", "1s", "--record-rate", "10Hz"], "give a --time of 12.6s or more, or --dt"),
+    ],
+)  # fmt: skip
+def test_a_step_or_rate_the_scale_stretched_is_told_as_the_scales(
+    given: list[str], told: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # it was "--record-rate 0.00632456Hz records only the start ..." or "--dt 12.6491s is
+    # longer than the run": values the user never wrote
+    out = tmp_path / "run"
+    assert (
+        main(["run", HOPPER, "--controller", "hop", "--scale", "1e9", *given, "-o", str(out)]) == 2
+    )
+    err = capsys.readouterr().err
+    assert "--scale 1e+09 stretches the creature's times by sqrt(L) = 3.162e+04" in err
+    assert told in err
+    assert not out.exists()

@@ -79,7 +79,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
-    from legdsl.pipeline.scaled import run_options
+    from legdsl.pipeline.scaled import check_scaled_defaults, run_options
     from legdsl.pipeline.scenes import switches_not_made
     from legdsl.pipeline.session import RunSession
     from legdsl.pipeline.settings import refuse_repeated
@@ -130,6 +130,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             )
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
+    check_scaled_defaults(options, args.scale, values)
     sources = {}
     if args.scene is not None:  # a note names the scene's lines as written
         from legdsl.pipeline.scenes import scene_sources

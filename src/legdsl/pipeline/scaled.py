@@ -55,6 +55,29 @@ def run_options(model: Model, scale: float | None = None, **given: Any) -> RunOp
     return RunOptions(**given)
 
 
+def check_scaled_defaults(options: RunOptions, scale: float | None, given: dict[str, Any]) -> None:
+    """A step or recording rate not given, scaled from the creature's by ``--scale``, that the
+    run cannot use: told as what the scale made of it (the user never wrote those values)."""
+    if scale is None:
+        return
+    tick = math.sqrt(scale)
+    dt, rate, duration = options.dt, options.record_rate, options.duration
+    told, need, flags = [], 0.0, []
+    if given.get("dt") is None and dt > duration:
+        told.append(f"its step {dt / tick:g}s becomes {dt:.3g}s, longer than the run")
+        need, flags = dt, ["--dt"]
+    if given.get("record_rate") is None and rate > 0 and rate * duration < 1.0 - 1e-9:
+        recorded = f"{rate:.3g}Hz, which records the start alone"
+        told.append(f"its recording rate {rate * tick:g}Hz becomes {recorded}")
+        need, flags = max(need, 1 / rate), [*flags, "--record-rate"]
+    if told:
+        raise UsageError(
+            f"--scale {scale:g} stretches the creature's times by sqrt(L) = {tick:.4g}: in a "
+            f"run of {duration:g}s {'; '.join(told)}; give a --time of {need:.3g}s or more, or "
+            f"{' and '.join(flags)}"
+        )
+
+
 def scale_factor(text: str) -> float:
     """``--scale L``, ``--by L`` as argparse reads it: a plain number, the length ratio; a
     length (``2m``) is told what L is."""
