@@ -124,7 +124,7 @@ def run_creature(
 
 def metrics(run: Run, start: float, **options: str) -> GaitMetrics:
     """``legdsl metrics DIR --from START`` (``joint=``, ``against=`` as ``--joint``, ``--against``)."""
-    return compute_metrics(run.result.trajectory, t_from=start, **options)  # type: ignore[arg-type]
+    return compute_metrics(run.result.trajectory, t_from=start, **options)
 
 
 def run_command(creature: str, controller: str, settings: Sequence[str], time: float) -> str:
