@@ -310,6 +310,8 @@ def interpolate(t: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray
         return np.repeat(values[:1], len(at), axis=0)
     i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
     a = np.clip((at - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0)
+    # a frame a rounding off a sample is that sample (a weight 1e-15 off, times a diverged step)
+    a = np.where(a < 1e-9, 0.0, np.where(a > 1 - 1e-9, 1.0, a))
     a = a.reshape((-1,) + (1,) * (values.ndim - 1))
     return (1 - a) * values[i] + a * values[i + 1]
 
