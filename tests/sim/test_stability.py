@@ -223,3 +223,19 @@ def test_the_spread_of_a_ball_joints_axes() -> None:
     assert axes_spread([x, y, z], [0.3, -1.2, 2.0]) == pytest.approx(math.cos(-1.2))
     assert axes_spread([x, y, x], [0.7, 0.0, 1.1]) == pytest.approx(0.0, abs=1e-15)
     assert axes_spread([x, y, x], [0.7, math.pi / 2, 1.1]) == pytest.approx(1.0)
+
+
+def test_a_templates_actuator_too_stiff_is_told_for_each_instance(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], creatures_dir: Path
+) -> None:
+    """One template line, four instances: each error names its instance (it repeated the
+    same line four times, told apart only by the generated actuator names)."""
+    leg = tmp_path / "quadruped.leg"
+    text = (creatures_dir / "quadruped.leg").read_text()
+    leg.write_text(text.replace("spring(k = 3000 N/m", "spring(k = 1e9 N/m", 1))
+    argv = ["run", str(leg), "--time", "0.1s", "--out", str(tmp_path / "r"), "--backend", "c"]
+    assert main(argv) == 2
+    heads = [row for row in capsys.readouterr().err.splitlines() if "is too stiff" in row]
+    assert [h.rsplit("(in ", 1)[1] for h in heads] == [
+        f"instance '{name}' of template 'leg')" for name in ("fl", "fr", "rl", "rr")
+    ]

@@ -302,6 +302,9 @@ class RunSession:
         def unit(f: TooStiff) -> str:
             return KINDS[setting_kind(f.setting, rotary[f.actuator])][1]
 
+        def told(f: TooStiff) -> str:  # a template's line names the instance
+            return f.message(opts.dt, unit(f)) + spans[f.actuator].within
+
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
         spans = {a.name: a.span for a in self.model.actuators}
         if any(f"{f.actuator}.{f.setting}" in given or spans[f.actuator].line <= 0 for f in found):
@@ -309,7 +312,7 @@ class RunSession:
         if found:
             files = {spans[f.actuator].file for f in found}
             raise LegError(
-                [Diagnostic(spans[f.actuator], f.message(opts.dt, unit(f))) for f in found],
+                [Diagnostic(spans[f.actuator], told(f)) for f in found],
                 {file: Path(file).read_text(encoding="utf-8") for file in files},
             )
         if self.log is None and self.note is None:
