@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -253,3 +254,16 @@ def test_a_videos_frames_reach_the_end_of_the_run() -> None:
     end = sum([0.001] * 2000)  # 1.9999999999998905: 2000 steps of 1 ms
     assert end < 2.0 and every_frame(end, 30.0)[-1] == 2.0
     assert len(every_frame(1.99, 30.0)) == 60 and len(every_frame(0.0, 30.0)) == 1
+
+
+@pytest.mark.parametrize("span", [0.0052, 0.198, 1 / 192.0, 0.5])
+def test_the_frame_rate_a_one_frame_refusal_advises_gives_two_frames(span: float) -> None:
+    # a 0.0052 s run was told "give at least 192 (two frames), e.g. --fps 60": both one frame
+    from legdsl.export.motion import _enough_frames, frame_times
+
+    t = np.array([0.0, span])
+    with pytest.raises(UsageError) as refused:
+        _enough_frames(t, 1.0)
+    advice = re.search(r"give --fps (\d+) or more", str(refused.value))
+    assert advice, refused.value
+    assert len(frame_times(t, float(advice.group(1)))) >= 2

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -82,8 +83,9 @@ class Exported:
             status, said = legdsl_in_process(
                 ["export-motion", str(self.run_dir), "--fps", repr(fps), "-o", str(where / "x.glb")]
             )
-            assert status == 2 and said.count("\n") == 1 and "give at least" in said, said
-            self.refused, fps = said, max(RECORD_RATE, 2 / span)  # two frames or more
+            advice = re.search(r"give --fps (\d+) or more", said)
+            assert status == 2 and said.count("\n") == 1 and advice, said
+            self.refused, fps = said, float(advice.group(1))  # the advice, which must work
         self.fps = fps
         # the frames: 1/fps apart unless that is as dense as the samples (then the samples)
         if len(t) > 1 and self.fps < (len(t) - 1) / span * (1 - 1e-9):

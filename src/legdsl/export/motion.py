@@ -277,12 +277,12 @@ def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> 
 
 
 def _enough_frames(t: np.ndarray, fps: float) -> None:
-    """A frame rate that would keep one frame of a run that moves is a mistake (an --fps of
-    1e-3 wrote a one-keyframe animation of a 2 s run without a word)."""
+    """A frame rate keeping one frame of a run that moves is refused (--fps 1e-3 wrote one)."""
     span = float(t[-1] - t[0]) if len(t) > 1 else 0.0
     if span > 0 and len(frame_times(t, fps)) < 2:
+        least = math.ceil(1 / span * (1 + 1e-9))  # rounded up: 1/span itself may give one
         raise UsageError(f"{fps:g} frames per second gives one frame of this {span:.3g} s run; "
-                         f"give at least {1 / span:.3g} (two frames), e.g. --fps 60")  # fmt: skip
+                         f"give --fps {max(least, 60)} or more (two frames need {least})")  # fmt: skip
 
 
 def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
