@@ -290,3 +290,26 @@ def test_a_player_of_a_diverged_run_loads_and_its_camera_stays_finite(
         assert all(isinstance(v, float | int) and math.isfinite(v) for v in camera), (t, camera)
     assert complaints(browser) == []
 
+
+def test_a_diverged_frame_far_above_does_not_lift_the_camera_for_the_whole_run(
+    tmp_path: Path,
+) -> None:
+    """A planar run whose last frame flew 1e7 m up (a diverged step) raised the camera's target
+    by 1e7 m at every frame within the lift's easing window (here the whole run): the player
+    and the video showed empty sky. The far frame is not followed now."""
+    import dataclasses
+
+    from anim_runs import creature_motion
+
+    from legdsl.export.player import camera_hints
+    from legdsl.export.player.camera import camera_lift
+
+    motion = creature_motion("kangaroo", tmp_path / "run", duration=1.0, fps=10.0)
+    assert motion.planar
+    hints = camera_hints(motion)
+    up = np.zeros((motion.frames, 1, 3))
+    up[-1, 0, 2] = 1e7
+    far = dataclasses.replace(motion, positions=motion.positions + up, com=motion.com + up[:, 0])
+    kept = camera_lift(motion, hints["lookHeight"], hints["distance"], hints["size"])
+    lift = camera_lift(far, hints["lookHeight"], hints["distance"], hints["size"])
+    assert np.allclose(lift[:-1], kept[:-1], atol=hints["size"]), lift

@@ -28,6 +28,10 @@ PLANAR_VIEW = (-math.pi / 2, 0.08)  # the player's default (azimuth, elevation),
 SPATIAL_VIEW = (-math.pi / 3, 0.33)  # and for 3D creatures
 EASE = 0.5  # of the creature's natural time sqrt(size / g): how early the camera starts rising
 GRAVITY = 9.81  # m/s^2, for the natural time only
+# A frame whose creature is more than this many sizes above the camera's fixed height (a
+# diverged run's last frames, 1e7 m out) is not followed: eased towards, it raised the camera
+# as far at every frame of the window, and a planar run's whole player showed empty sky.
+FARTHEST_FOLLOWED = 100.0
 
 
 def hull_points(motion: Motion) -> list[np.ndarray]:
@@ -100,6 +104,7 @@ def camera_lift(motion: Motion, look_height: float, distance: float, size: float
     within the window, the lift is exactly zero.
     """
     need = np.maximum(needed_lift(motion, look_height, distance), 0.0)
+    need = np.where(need <= FARTHEST_FOLLOWED * size, need, 0.0)
     if not need.any() or motion.frames < 2:
         return need
     step = float(np.median(np.diff(motion.times)))
