@@ -11,7 +11,7 @@ is in view; a link that moved on the screen between two of those times changed i
 and at the last frame (the first if the last is far out) every link in view, drawn alone (no
 other link, no ground), shows. Frames at which a diverged run's links are more than ``FAR`` m out are only checked for
 a finite camera (float32 poses that far out cannot place a small creature's links); seed 125's
-player, its last frame 2e7 m out, has its own test.
+player, its last frame 2e7 m out, is checked by default too.
 
 ``LEGDSL_RANDOM_PLAYER=N`` checks N rigs (default ``CI_RIGS``) from seed
 ``LEGDSL_RANDOM_PLAYER_SEED``, +1, ...; a failure names its seed and prints the rig's text.
@@ -38,7 +38,7 @@ from legdsl.export.shapes import body_mesh
 pytest.importorskip("mujoco")  # the rigs are placed on their ground by MuJoCo's kinematics
 from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402
 
-CI_RIGS = 2
+CI_RIGS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_PLAYER", CI_RIGS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_PLAYER_SEED", "0"))
 DURATION = 0.3
@@ -170,8 +170,9 @@ def feature_point(
     return None
 
 
-def check_rig(browser: Chromium, seed: int, where: Path) -> None:
-    motion, page, status = recorded_run(seed, where)
+def check_rig(browser: Chromium, recorded: tuple[Motion, Path, int]) -> None:
+    """The checks of the module's docstring on ``recorded_run``'s answer."""
+    motion, page, status = recorded
     names = [b.name for b in motion.bodies]
     colors = [hue(k, len(names)) for k in range(len(names))]
     browser.events.clear()
@@ -202,6 +203,9 @@ def check_rig(browser: Chromium, seed: int, where: Path) -> None:
         if not np.abs(motion.positions[f]).max() < FAR:
             previous = None
             continue
+        # and it looks at the creature (a diverged last frame once lifted it 1e7 m throughout)
+        distance = browser.evaluate("legdsl.getView().distance")
+        assert math.dist(aim, motion.com[f]) < 10 * distance, f"t = {t:g} s: looking at {aim}"
         image = pixels(browser.screenshot())
         clear = visible_points(motion, f)
         if any(in_view(browser, p) for p in clear):
@@ -263,7 +267,7 @@ SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
 @pytest.mark.parametrize("seed", SEEDS)
 def test_the_player_draws_a_random_rig(browser: Chromium, seed: int, tmp_path: Path) -> None:
     try:
-        check_rig(browser, seed, tmp_path)
+        check_rig(browser, recorded_run(seed, tmp_path))
     except BaseException as e:
         if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
             raise
@@ -275,41 +279,45 @@ def test_the_player_draws_a_random_rig(browser: Chromium, seed: int, tmp_path: P
         ) from e
 
 
-def test_a_player_of_a_diverged_run_loads_and_its_camera_stays_finite(
-    browser: Chromium, tmp_path: Path
-) -> None:
-    """Seed 125 diverges at 0.12 s, its last sample 2e7 m out; at 50 frames per second that
-    sample is the last frame."""
-    motion, page, status = recorded_run(125, tmp_path, fps=50.0)
+@pytest.fixture(scope="module")
+def diverged(tmp_path_factory: pytest.TempPathFactory) -> tuple[Motion, Path, int]:
+    """Seed 125's run: it diverges at 0.12 s, its last sample 2e7 m out; at 50 frames per
+    second that sample is the player's last frame."""
+    motion, page, status = recorded_run(125, tmp_path_factory.mktemp("rig125"), fps=50.0)
     assert status == 3 and np.abs(motion.positions[-1]).max() > 1e6
-    browser.events.clear()
-    browser.open_player(page)
-    for t in (*motion.times[-3:].tolist(), 0.0):
-        browser.evaluate(f"legdsl.setTime({t!r})")
-        camera = browser.evaluate("[...legdsl.cameraPosition(), ...legdsl.cameraTarget()]")
-        assert all(isinstance(v, float | int) and math.isfinite(v) for v in camera), (t, camera)
-    assert complaints(browser) == []
+    return motion, page, status
+
+
+def test_a_player_of_a_diverged_run_loads_with_a_finite_camera(
+    browser: Chromium, diverged: tuple[Motion, Path, int]
+) -> None:
+    check_rig(browser, diverged)  # every frame before the last checked in full
 
 
 def test_a_diverged_frame_far_above_does_not_lift_the_camera_for_the_whole_run(
-    tmp_path: Path,
+    diverged: tuple[Motion, Path, int],
 ) -> None:
     """A planar run whose last frame flew 1e7 m up (a diverged step) raised the camera's target
     by 1e7 m at every frame within the lift's easing window (here the whole run): the player
     and the video showed empty sky. The far frame is not followed now."""
     import dataclasses
 
-    from anim_runs import creature_motion
-
     from legdsl.export.player import camera_hints
     from legdsl.export.player.camera import camera_lift
 
-    motion = creature_motion("kangaroo", tmp_path / "run", duration=1.0, fps=10.0)
-    assert motion.planar
-    hints = camera_hints(motion)
-    up = np.zeros((motion.frames, 1, 3))
-    up[-1, 0, 2] = 1e7
-    far = dataclasses.replace(motion, positions=motion.positions + up, com=motion.com + up[:, 0])
-    kept = camera_lift(motion, hints["lookHeight"], hints["distance"], hints["size"])
+    motion = dataclasses.replace(diverged[0], planar=True)
+    up = motion.positions[-2] + [0.0, 0.0, 1e7]
+    positions = np.concatenate([motion.positions[:-1], up[None]])
+    com = np.concatenate([motion.com[:-1], motion.com[-2:-1] + [0.0, 0.0, 1e7]])
+    far = dataclasses.replace(motion, positions=positions, com=com)
+    near = dataclasses.replace(
+        motion,
+        positions=positions[:-1],
+        com=com[:-1],
+        times=motion.times[:-1],
+        quaternions=motion.quaternions[:-1],
+    )
+    hints = camera_hints(near)
+    kept = camera_lift(near, hints["lookHeight"], hints["distance"], hints["size"])
     lift = camera_lift(far, hints["lookHeight"], hints["distance"], hints["size"])
-    assert np.allclose(lift[:-1], kept[:-1], atol=hints["size"]), lift
+    assert np.allclose(lift[:-1], kept, atol=hints["size"]), lift
