@@ -116,6 +116,12 @@ def scale_options(options: RunOptions, scale: float) -> RunOptions:
     )
 
 
+def scale_check_interval(interval: float, scale: float) -> float:
+    """The fall and divergence rules' longest wait for the unscaled model: the scaled file's
+    run looks every ``interval`` of its own time (at most), sqrt(L) times the model's."""
+    return interval / math.sqrt(scale)
+
+
 def scale_settings(
     settings: Settings, model: Model, controller: str | None, scale: float
 ) -> Settings:

@@ -239,6 +239,8 @@ class RunSession:
         sim = make_simulation(
             self.model, self.dynamics, options, machine, backend, where, self.log, self.note
         )
+        if scale is not None:
+            sim.check_interval = scaled.scale_check_interval(sim.check_interval, scale)
         self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")

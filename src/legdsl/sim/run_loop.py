@@ -48,11 +48,13 @@ def steps_per_sample(options: RunOptions) -> int:
 CHECK_INTERVAL = 0.002  # s: the fall and divergence rules are looked at at least this often
 
 
-def steps_per_check(options: RunOptions, control_every: int) -> int:
+def steps_per_check(
+    options: RunOptions, control_every: int, interval: float = CHECK_INTERVAL
+) -> int:
     """The fall and divergence rules are looked at at every control tick, but at least every
-    ``CHECK_INTERVAL`` (a run's last step is looked at too): with a longer control interval,
+    ``interval`` (a run's last step is looked at too): with a longer control interval,
     or one longer than the run, a creature lay fallen below the ground with status ok."""
-    most = max(1, int(round(CHECK_INTERVAL / options.dt)))
+    most = max(1, int(round(interval / options.dt)))
     return min(control_every, most)
 
 

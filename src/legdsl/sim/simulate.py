@@ -23,6 +23,7 @@ from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
 from legdsl.sim.run_loop import (
+    CHECK_INTERVAL,
     INITIAL_ROWS,
     Interrupted,
     RunLoop,
@@ -82,6 +83,10 @@ def divergence_speed(standing_height: float) -> float:
 
 
 class Simulation:
+    # the fall and divergence rules' longest wait; a --scale L run divides it by sqrt(L), so
+    # that it looks when the scaled file's run would (legdsl.pipeline.scaled)
+    check_interval = CHECK_INTERVAL
+
     def __init__(
         self,
         model: Model,
@@ -454,7 +459,7 @@ class Simulation:
             capacity=capacity,
             traj=empty_trajectory(self, min(capacity, rows)),
             control_every=control_every,
-            check_every=steps_per_check(opts, control_every),
+            check_every=steps_per_check(opts, control_every, self.check_interval),
             start_height=self.standing_height(),
         )
 

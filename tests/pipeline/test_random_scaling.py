@@ -1,0 +1,251 @@
+"""Dynamic scaling (Raibert & Hodgins 1991, Table 1; docs/scaling.md) on creatures no one wrote:
+the random rigs of tests/random_rigs.py (planar and 3D, free and welded roots, every joint kind,
+templates with mirrored instances, every actuator kind, limits and stops, every ground and
+terrain), each scaled by L = 4 (sqrt(L) = 2: every factor a power of two, the arithmetic exact)
+and by L = 0.37 (no factor a binary fraction).
+
+For each L:
+
+1. ``legdsl scale FILE --by L -o OUT.leg`` writes a file that checks and compiles, and its run
+   agrees with ``legdsl run FILE --scale L`` (same status, every recorded channel within 1e-9
+   of the larger value, as tests/pipeline/test_scaling.py compares);
+2. dynamic similarity: OUT's run, its times divided by sqrt(L), lengths by L, forces by L^3 and
+   so on, is the run of FILE over the same (unscaled) window -- anything the scaler forgets (a
+   terrain dimension, a pad thickness, a drop, an initial velocity) shows here, as a fall or a
+   divergence that comes at another time.
+
+The same for the random control laws of tests/random_laws.py on the hopper and the biped.
+
+``LEGDSL_RANDOM_SCALING=N`` checks N rigs (default ``CI_RIGS``) from seed
+``LEGDSL_RANDOM_SCALING_SEED`` (default 0), +1, ...; ``LEGDSL_RANDOM_SCALING_LAWS=N`` and
+``LEGDSL_RANDOM_SCALING_LAW_SEED=S`` the laws (default ``CI_LAWS``); a failure names its seed
+and prints the rig's or the law's text.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import io
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from legdsl.cli import main
+from legdsl.lang.errors import LegError
+from legdsl.lang.scaling import scale_name
+from legdsl.pipeline.scaled import run_options, scale_result
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import CHECK_INTERVAL, RunResult
+from legdsl.sim.trajectory import ARRAYS
+
+mujoco = pytest.importorskip("mujoco")  # random_rigs places welded roots with MuJoCo
+from random_laws import law_text  # noqa: E402
+from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402
+
+CI_RIGS = 1  # with rig 9 below and one law: about 20 s
+COUNT = int(os.environ.get("LEGDSL_RANDOM_SCALING", CI_RIGS))
+FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_SCALING_SEED", "0"))
+DURATION = 0.25  # s of the unscaled rig: short, before rounding grows in a chaotic run
+SCALES = (4.0, 0.37)
+BACKEND = os.environ.get("LEGDSL_RANDOM_SCALING_BACKEND", "python")
+
+
+def relative_difference(a: RunResult, b: RunResult) -> float:
+    """The largest difference of two runs' recorded values, each relative to the larger of the
+    two (with a floor of 1e-9 of the channel's magnitude, for values that cross zero)."""
+    x_traj, y_traj = a.trajectory, b.trajectory
+    assert len(x_traj) == len(y_traj) > 0, (len(x_traj), len(y_traj))
+    worst = 0.0
+    for name in ARRAYS:
+        x, y = getattr(x_traj, name).astype(float), getattr(y_traj, name).astype(float)
+        assert x.shape == y.shape, name
+        assert (np.isnan(x) == np.isnan(y)).all(), name
+        both = np.isfinite(x) & np.isfinite(y)
+        if not both.any():
+            continue
+        x, y = x[both], y[both]
+        floor = 1e-9 * max(float(np.abs(x).max()), float(np.abs(y).max()), 1e-300)
+        rel = np.abs(x - y) / np.maximum(np.maximum(np.abs(x), np.abs(y)), floor)
+        worst = max(worst, float(rel.max()))
+    return worst
+
+
+def _same_ending(a: RunResult, b: RunResult, what: str, within: float = 0.0) -> None:
+    """The same status, at the same time (within ``within`` s; inf: either may end first)."""
+    if within < math.inf:
+        assert a.status == b.status, f"{what}: {a.status} ({a.message}) vs {b.status} ({b.message})"
+    assert abs(a.sim_time - b.sim_time) <= within + 1e-9 * b.sim_time, (
+        f"{what}: ended at {a.sim_time} s and {b.sim_time} s"
+    )
+
+
+def _common(a: RunResult, b: RunResult) -> int:
+    """The samples two runs both have (of runs that diverged, those before their last 10)."""
+    both = min(len(a.trajectory), len(b.trajectory))
+    return max(1, both - 10) if "diverged" in (a.status, b.status) else both
+
+
+def _first(result: RunResult, samples: int) -> RunResult:
+    """The run's first ``samples`` samples."""
+    traj = result.trajectory
+    cut = {name: getattr(traj, name)[:samples] for name in ARRAYS}
+    return dataclasses.replace(result, trajectory=dataclasses.replace(traj, **cut))
+
+
+def _given(scale: float, drop: float | None, falls: bool, record_rate: float) -> dict[str, Any]:
+    """Run options for the rig scaled by ``scale`` (1: the rig), the step and control interval
+    left to the file (or to --scale, which scales the rig's)."""
+    tick = math.sqrt(scale)
+    return {
+        "duration": DURATION * tick,
+        "drop": None if drop is None else drop * scale,
+        "record_rate": record_rate / tick,
+        **({} if falls else {"fall_height": 0.0, "fall_tilt": math.pi}),
+    }
+
+
+def _scaled_file(source: Path, scale: float) -> Path:
+    """``legdsl scale SOURCE --by L -o OUT.leg``, which checks OUT."""
+    out = source.with_name(f"{scale_name(source.stem, scale)}.leg")
+    said = io.StringIO()
+    with contextlib.redirect_stderr(said):
+        status = main(["scale", str(source), "--by", repr(scale), "-o", str(out)])
+    assert status == 0, f"legdsl scale --by {scale:g} failed: {said.getvalue()}"
+    return out
+
+
+def check_rig(seed: int, folder: Path) -> None:
+    source, drop = placed_rig(seed, folder)
+    generated = folder / "generated"
+    rng = np.random.default_rng([seed, 10])
+    falls = bool(rng.random() < 0.5)  # the default fall rules, or none: the whole run
+    record_rate = float(rng.choice([0.0, 200.0]))
+    for _ in range(3):
+        session = RunSession.from_file(source, generated=generated)
+        opts = run_options(session.model, **_given(1.0, drop, falls, record_rate))
+        try:
+            plain = session.run(options=opts, backend=BACKEND).result
+            break
+        except LegError as e:  # an actuator too stiff or damped for the step: set as advised
+            follow_advice(source, str(e))
+    else:
+        pytest.fail("still refused after following the advice three times")
+    check_scalings(session, plain, None, _Drawn(drop, falls, record_rate))
+
+
+@dataclasses.dataclass
+class _Drawn:
+    drop: float | None
+    falls: bool
+    record_rate: float
+
+
+def check_scalings(
+    session: RunSession, plain: RunResult, controller: str | None, drawn: _Drawn
+) -> None:
+    """For each of SCALES: the scaled file's run agrees with the --scale run, and brought back
+    by Table 1 with ``plain``, the run of ``session``'s own file with ``drawn``."""
+    generated = session.generated
+    drop, falls, record_rate = drawn.drop, drawn.falls, drawn.record_rate
+    for scale in SCALES:
+        # sqrt(4) = 2: every factor a power of two, the two runs' arithmetic the same; else
+        # they start 1e-16 apart and contacts and stops amplify it
+        tolerance = 1e-9 if math.log(scale, 4).is_integer() else 1e-6
+        given = _given(scale, drop, falls, record_rate)
+        big = RunSession.from_file(_scaled_file(session.source, scale), generated=generated)
+        opts = run_options(big.model, **given)
+        file_run = big.run(controller, options=opts, backend=BACKEND).result
+        opts = run_options(session.model, scale, **given)
+        scaled_run = session.run(controller, options=opts, scale=scale, backend=BACKEND).result
+        what = f"L = {scale:g}"
+        # a divergence is found by absolute bounds (1000 m/s or rad/s), which no scale keeps
+        # (found, not fixed: docs/scaling.md): where one diverges, the samples both have (but
+        # the last 10) are compared, not how they end
+        tick = math.sqrt(scale)
+        blows = "diverged" in (plain.status, file_run.status, scaled_run.status)
+        within = math.inf if blows else 0.0
+        _same_ending(file_run, scaled_run, f"{what}, the scaled file and --scale", within)
+        both = _common(file_run, scaled_run)
+        diff = relative_difference(_first(file_run, both), _first(scaled_run, both))
+        assert diff < tolerance, f"{what}: the scaled file and --scale differ by {diff:.3g}"
+        # dynamic similarity: the scaled file's run, brought back by 1/L, is the rig's own
+        # (a fall or divergence is looked for every CHECK_INTERVAL of each creature's own time,
+        # so the two ends may be that far apart; the samples both have must agree)
+        back = scale_result(file_run, big.model, 1 / scale)
+        within = math.inf if blows else CHECK_INTERVAL * max(1.0, 1 / tick)
+        _same_ending(back, plain, f"{what}, the scaled file brought back and the rig", within)
+        both = _common(back, plain)
+        diff = relative_difference(_first(back, both), _first(plain, both))
+        assert diff < tolerance, f"{what}: the scaled file brought back differs by {diff:.3g}"
+
+
+SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
+NO_VALUE = "gives no finite real number"  # a law the lowering refuses, soundly: another drawn
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_a_random_rig_scaled_is_dynamically_similar(seed: int, tmp_path: Path) -> None:
+    try:
+        check_rig(seed, tmp_path)
+    except BaseException as e:
+        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
+            raise
+        written = tmp_path / f"rig{seed}.leg"
+        text = written.read_text() if written.exists() else rig_text(seed)
+        raise AssertionError(
+            f"random rig of seed {seed} (LEGDSL_RANDOM_SCALING_SEED={seed} "
+            f"LEGDSL_RANDOM_SCALING=1): {type(e).__name__}: {e}\n{text}"
+        ) from e
+
+
+def test_a_fall_of_the_scaled_file_and_of_its_scaled_run_comes_at_one_time(tmp_path: Path) -> None:
+    """Rig 9 falls. Its run with --scale 4 looked for a fall every 2 ms of the unscaled model's
+    time (4 ms of the scaled creature's), the scaled file's run every 2 ms of its own: the two
+    runs ended 1.6 ms apart. --scale L now looks every 2 ms / sqrt(L) of the model's time."""
+    check_rig(9, tmp_path)
+
+
+CI_LAWS = 1
+LAWS = int(os.environ.get("LEGDSL_RANDOM_SCALING_LAWS", CI_LAWS))
+FIRST_LAW = int(os.environ.get("LEGDSL_RANDOM_SCALING_LAW_SEED", "0"))
+
+
+def check_law(seed: int, folder: Path) -> None:
+    """The random law ``seed`` of tests/random_laws.py (a redrawn one for a law the lowering
+    refuses as having no value), on its creature, scaled by each of SCALES."""
+    for attempt in range(5):
+        source = folder / f"law{seed}.leg"
+        source.write_text(law_text(seed, attempt))
+        try:
+            session = RunSession.from_file(source, generated=folder / f"generated{attempt}")
+            session.control("rand")
+        except LegError as error:
+            if NO_VALUE not in str(error):
+                raise
+            continue
+        drawn = _Drawn(None, True, 200.0)
+        opts = run_options(session.model, **_given(1.0, None, True, 200.0))
+        plain = session.run("rand", options=opts, backend=BACKEND).result
+        check_scalings(session, plain, "rand", drawn)
+        return
+    pytest.skip(f"random law seed {seed}: 5 laws drawn, each refused: {NO_VALUE}")
+
+
+@pytest.mark.parametrize("seed", range(FIRST_LAW, FIRST_LAW + LAWS))
+def test_a_random_control_law_scaled_is_dynamically_similar(seed: int, tmp_path: Path) -> None:
+    try:
+        check_law(seed, tmp_path)
+    except BaseException as e:
+        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
+            raise
+        written = tmp_path / f"law{seed}.leg"
+        text = written.read_text() if written.exists() else ""
+        raise AssertionError(
+            f"random law of seed {seed} (LEGDSL_RANDOM_SCALING_LAW_SEED={seed} "
+            f"LEGDSL_RANDOM_SCALING_LAWS=1): {type(e).__name__}: {e}\n{text}"
+        ) from e
