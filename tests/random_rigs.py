@@ -232,3 +232,9 @@ def follow_advice(source: Path, message: str) -> None:
         lines[row], hits = re.subn(rf"\b{setting} = [-\d.e+]+", written, lines[row])
         assert hits == 1, f"no '{setting}' on line {row + 1}: {lines[row]}"
     source.write_text("\n".join(lines))
+
+
+def rig_shown(seed: int, folder: Path) -> str:
+    """The rig as last written to ``folder`` (the advice followed), else as drawn."""
+    written = folder / f"rig{seed}.leg"
+    return written.read_text() if written.exists() else rig_text(seed)

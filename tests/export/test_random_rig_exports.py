@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from runtime_helpers import legdsl_in_process
+from seeded import told_with_seed
 from test_bvh import world_poses
 from test_gltf import accessor, read_glb
 
@@ -39,7 +40,7 @@ pytest.importorskip("mujoco")  # the rigs are placed on their ground by MuJoCo's
 pytest.importorskip("pygltflib", reason="needs pygltflib: pip install 'legdsl[export]'")
 pytest.importorskip("pxr", reason="needs usd-core: pip install 'legdsl[export]'")
 from pxr import Usd, UsdGeom  # noqa: E402
-from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402
+from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402
 
 CI_RIGS = 2
 COUNT = int(os.environ.get("LEGDSL_RANDOM_RIG_EXPORTS", CI_RIGS))
@@ -236,17 +237,9 @@ SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
 def test_random_rig_exports_read_back_with_every_contact_where_the_run_had_it(
     seed: int, tmp_path: Path
 ) -> None:
-    try:
+    rerun = f"LEGDSL_RANDOM_RIG_EXPORT_SEED={seed} LEGDSL_RANDOM_RIG_EXPORTS=1"
+    with told_with_seed(f"random rig of seed {seed}", rerun, lambda: rig_shown(seed, tmp_path)):
         check_rig(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        written = tmp_path / f"rig{seed}.leg"
-        text = written.read_text() if written.exists() else rig_text(seed)
-        raise AssertionError(
-            f"random rig of seed {seed} (LEGDSL_RANDOM_RIG_EXPORT_SEED={seed} "
-            f"LEGDSL_RANDOM_RIG_EXPORTS=1): {type(e).__name__}: {e}\n{text}"
-        ) from e
 
 
 def test_a_frame_a_rounding_off_a_sample_is_that_sample() -> None:

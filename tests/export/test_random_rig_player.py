@@ -31,12 +31,13 @@ from chromium import Chromium
 from external_tools import chromium
 from pixels import hue_mask, pixels
 from runtime_helpers import legdsl_in_process
+from seeded import told_with_seed
 
 from legdsl.export.motion import Motion, load_motion, quaternion_to_matrix, terrain_height
 from legdsl.export.shapes import body_mesh
 
 pytest.importorskip("mujoco")  # the rigs are placed on their ground by MuJoCo's kinematics
-from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402
+from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402
 
 CI_RIGS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_PLAYER", CI_RIGS))
@@ -266,17 +267,9 @@ SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_the_player_draws_a_random_rig(browser: Chromium, seed: int, tmp_path: Path) -> None:
-    try:
+    rerun = f"LEGDSL_RANDOM_PLAYER_SEED={seed} LEGDSL_RANDOM_PLAYER=1"
+    with told_with_seed(f"random rig of seed {seed}", rerun, lambda: rig_shown(seed, tmp_path)):
         check_rig(browser, recorded_run(seed, tmp_path))
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        written = tmp_path / f"rig{seed}.leg"
-        text = written.read_text() if written.exists() else rig_text(seed)
-        raise AssertionError(
-            f"random rig of seed {seed} (LEGDSL_RANDOM_PLAYER_SEED={seed} "
-            f"LEGDSL_RANDOM_PLAYER=1): {type(e).__name__}: {e}\n{text}"
-        ) from e
 
 
 @pytest.fixture(scope="module")

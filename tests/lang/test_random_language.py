@@ -32,6 +32,7 @@ import pytest
 from random_language_use import USE_MISTAKE_SAYS, UseSpec, draw_use, files, use_lines
 from random_language_use import controller_lines as use_controller_lines
 from runtime_helpers import legdsl_in_process, needs_c_compiler
+from seeded import told_with_seed
 
 CI_FILES = 8  # 5 valid (gait by speed, use chains, extends of a used file, groups of 1 and 2 swapped), 3 mistakes (one in a used file)
 COUNT = int(os.environ.get("LEGDSL_RANDOM_LANGUAGE", CI_FILES))
@@ -603,15 +604,14 @@ def test_random_language_file_runs_alike_or_is_refused_well(
     seed: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    try:
+    rerun = f"LEGDSL_RANDOM_LANGUAGE_SEED={seed} LEGDSL_RANDOM_LANGUAGE=1"
+    with told_with_seed(f"random language file of seed {seed}", rerun, lambda: _shown(seed)):
         check_file(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        spec = draw(seed)
-        raise AssertionError(
-            f"random language file of seed {seed} (LEGDSL_RANDOM_LANGUAGE_SEED={seed} "
-            f"LEGDSL_RANDOM_LANGUAGE=1), mistake {spec.mistake or spec.use.mistake or 'none'}: "
-            f"{type(e).__name__}: {e}\n{file_text(spec)}"
-            + "".join(f"--- {n}\n{t}" for n, t in files(spec.use, _role_line(spec)[0]).items())
-        ) from e
+
+
+def _shown(seed: int) -> str:
+    """The drawn file, its mistake and the files it uses."""
+    spec = draw(seed)
+    mistake = f"mistake: {spec.mistake or spec.use.mistake or 'none'}\n"
+    used = files(spec.use, _role_line(spec)[0]).items()
+    return mistake + file_text(spec) + "".join(f"--- {n}\n{t}" for n, t in used)

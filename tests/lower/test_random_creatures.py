@@ -28,6 +28,7 @@ import pytest
 from mjhelpers import random_state
 from random_creatures import Body, body_properties, child_head, num, random_point, root_head
 from runtime_helpers import assert_same
+from seeded import told_with_seed
 from test_mujoco_oracle import Oracle, _err
 
 from legdsl.codegen.c.build import build, find_compiler, sources
@@ -163,12 +164,6 @@ SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_random_creature_agrees_with_mujoco(seed: int, tmp_path: Path) -> None:
-    try:
+    rerun = f"LEGDSL_RANDOM_SEED={seed} LEGDSL_RANDOM_CREATURES=1"
+    with told_with_seed(f"random creature of seed {seed}", rerun, lambda: creature_text(seed)):
         check_creature(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        raise AssertionError(
-            f"random creature of seed {seed} (LEGDSL_RANDOM_SEED={seed} "
-            f"LEGDSL_RANDOM_CREATURES=1): {type(e).__name__}: {e}\n{creature_text(seed)}"
-        ) from e

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from seeded import told_with_seed
 
 from legdsl.cli import main
 from legdsl.lang.errors import LegError
@@ -45,7 +46,7 @@ from legdsl.sim.trajectory import ARRAYS
 
 mujoco = pytest.importorskip("mujoco")  # random_rigs places welded roots with MuJoCo
 from random_laws import law_text  # noqa: E402
-from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402
+from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402
 
 CI_RIGS = 1  # with rig 9 below and one law: about 20 s
 COUNT = int(os.environ.get("LEGDSL_RANDOM_SCALING", CI_RIGS))
@@ -190,17 +191,9 @@ NO_VALUE = "gives no finite real number"  # a law the lowering refuses, soundly:
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_a_random_rig_scaled_is_dynamically_similar(seed: int, tmp_path: Path) -> None:
-    try:
+    rerun = f"LEGDSL_RANDOM_SCALING_SEED={seed} LEGDSL_RANDOM_SCALING=1"
+    with told_with_seed(f"random rig of seed {seed}", rerun, lambda: rig_shown(seed, tmp_path)):
         check_rig(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        written = tmp_path / f"rig{seed}.leg"
-        text = written.read_text() if written.exists() else rig_text(seed)
-        raise AssertionError(
-            f"random rig of seed {seed} (LEGDSL_RANDOM_SCALING_SEED={seed} "
-            f"LEGDSL_RANDOM_SCALING=1): {type(e).__name__}: {e}\n{text}"
-        ) from e
 
 
 def test_a_fall_of_the_scaled_file_and_of_its_scaled_run_comes_at_one_time(tmp_path: Path) -> None:
@@ -238,14 +231,8 @@ def check_law(seed: int, folder: Path) -> None:
 
 @pytest.mark.parametrize("seed", range(FIRST_LAW, FIRST_LAW + LAWS))
 def test_a_random_control_law_scaled_is_dynamically_similar(seed: int, tmp_path: Path) -> None:
-    try:
+    written = tmp_path / f"law{seed}.leg"
+    rerun = f"LEGDSL_RANDOM_SCALING_LAW_SEED={seed} LEGDSL_RANDOM_SCALING_LAWS=1"
+    shown = lambda: written.read_text() if written.exists() else ""  # noqa: E731
+    with told_with_seed(f"random law of seed {seed}", rerun, shown):
         check_law(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        written = tmp_path / f"law{seed}.leg"
-        text = written.read_text() if written.exists() else ""
-        raise AssertionError(
-            f"random law of seed {seed} (LEGDSL_RANDOM_SCALING_LAW_SEED={seed} "
-            f"LEGDSL_RANDOM_SCALING_LAWS=1): {type(e).__name__}: {e}\n{text}"
-        ) from e

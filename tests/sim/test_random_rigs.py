@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from runtime_helpers import assert_same, needs_c_compiler
+from seeded import told_with_seed
 
 from legdsl.cli import main
 from legdsl.lang.errors import LegError
@@ -34,7 +35,7 @@ from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
 mujoco = pytest.importorskip("mujoco")
-from random_rigs import follow_advice, placed_rig, rig_text  # noqa: E402  (needs mujoco)
+from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402  (needs mujoco)
 
 CI_RIGS = 3  # a planar free root; a 3D welded one with a mirrored limb; 3 planar limbs
 COUNT = int(os.environ.get("LEGDSL_RANDOM_RIGS", CI_RIGS))
@@ -102,14 +103,6 @@ SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_random_rig_runs_alike_on_both_backends_and_exports(seed: int, tmp_path: Path) -> None:
-    try:
+    rerun = f"LEGDSL_RANDOM_RIG_SEED={seed} LEGDSL_RANDOM_RIGS=1"
+    with told_with_seed(f"random rig of seed {seed}", rerun, lambda: rig_shown(seed, tmp_path)):
         check_rig(seed, tmp_path)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        written = tmp_path / f"rig{seed}.leg"
-        text = written.read_text() if written.exists() else rig_text(seed)
-        raise AssertionError(
-            f"random rig of seed {seed} (LEGDSL_RANDOM_RIG_SEED={seed} "
-            f"LEGDSL_RANDOM_RIGS=1): {type(e).__name__}: {e}\n{text}"
-        ) from e

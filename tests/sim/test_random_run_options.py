@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from runtime_helpers import legdsl_in_process, needs_c_compiler
+from seeded import told_with_seed
 
 from legdsl.check.source import check_file
 from legdsl.ir.model import SETTABLE, Model, setting_kind
@@ -242,13 +243,7 @@ def test_random_run_options_run_alike_on_both_backends(
     seed: int, tmp_path: Path, generated: Path
 ) -> None:
     case = draw(seed, tmp_path, POOL == "all")
-    try:
+    rerun = f"LEGDSL_RANDOM_RUN_SEED={seed} LEGDSL_RANDOM_RUNS=1 LEGDSL_RANDOM_RUN_POOL={POOL}"
+    shown = lambda: f"{case.command()}{_waypoints(tmp_path)}"  # noqa: E731
+    with told_with_seed(f"random run options of seed {seed}", rerun, shown):
         check_case(case, tmp_path, generated)
-    except BaseException as e:
-        if isinstance(e, KeyboardInterrupt | pytest.skip.Exception):
-            raise
-        raise AssertionError(
-            f"random run options of seed {seed} (LEGDSL_RANDOM_RUN_SEED={seed} "
-            f"LEGDSL_RANDOM_RUNS=1 LEGDSL_RANDOM_RUN_POOL={POOL}): {type(e).__name__}: {e}\n"
-            f"{case.command()}{_waypoints(tmp_path)}"
-        ) from e
