@@ -221,3 +221,16 @@ def test_a_3d_copys_orientation_is_a_unit_quaternion(quaternion: tuple, norm: st
         f"q0 of copy 1: the root's orientation (qw, qx, qy, qz) is a unit quaternion, and its norm is {norm};"
         in str(e.value)
     )
+
+
+def test_a_batch_run_again_gives_the_same_copies(roo: RunSession) -> None:
+    """A copy's result is made by moving the template to the copy's end (t too): a batch run
+    again then started every copy at the first run's end time (its first state entered at 0.4 s)."""
+    batch = Batch(roo, 2, "hop", options=HOP, vary={"speed": ([2, 3], "m/s")})
+    first = batch.run(threads=1)
+    ends = [first.result(k) for k in range(2)]
+    again = batch.run(threads=2)
+    for k in range(2):
+        first_state = next(e for e in again.result(k).events if e["kind"] == "state")
+        assert first_state["t"] == 0.0
+        assert_same(ends[k], again.result(k))

@@ -462,6 +462,15 @@ class Copies:
                  "contact": names[int(i)]} for t, kind, i in rows]  # fmt: skip
 
     def _result(self, k: int) -> RunResult:
+        sim = self.batch.sim
+        start = (sim.q, sim.v, sim.t)  # the template's: a batch run again starts from it
+        try:
+            return self._result_at_end(k)
+        finally:
+            sim.move_to(*start)
+
+    def _result_at_end(self, k: int) -> RunResult:
+        """Copy ``k``'s result, read with the template moved to the copy's end."""
         sim, s, code = self.batch.sim, self.structs[k], int(self.codes[k])
         model = sim.model
         q, v = self.blocks["q"][k, : model.nq], self.blocks["v"][k, : model.nv]
