@@ -1,6 +1,10 @@
-"""The random control laws of tests/codegen/test_random_laws.py, drawn here so that other tests
-(tests/pipeline/test_random_scaling.py) run the same law for the same seed: ``law_text(seed)``
-is a shipped creature (the hopper or the biped) with a random unit-correct controller ``rand``."""
+"""Random control laws for the shipped hopper and biped, drawn here so that every test runs the
+same law for the same seed (tests/codegen/test_random_laws.py on both backends,
+tests/pipeline/test_random_batches.py as batches, tests/pipeline/test_random_scaling.py scaled):
+``law_text(seed)`` is the creature with a random unit-correct controller ``rand``.
+
+Each law is unit-correct by construction: every subtree is generated for a dimension, and only
+compatible ones are combined."""
 
 from __future__ import annotations
 

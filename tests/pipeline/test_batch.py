@@ -221,3 +221,37 @@ def test_a_3d_copys_orientation_is_a_unit_quaternion(quaternion: tuple, norm: st
         f"q0 of copy 1: the root's orientation (qw, qx, qy, qz) is a unit quaternion, and its norm is {norm};"
         in str(e.value)
     )
+
+
+def test_a_batch_run_again_gives_the_same_copies(roo: RunSession) -> None:
+    """A copy's result is made by moving the template to the copy's end (t too): a batch run
+    again then started every copy at the first run's end time (its first state entered at 0.4 s)."""
+    batch = Batch(roo, 2, "hop", options=HOP, vary={"speed": ([2, 3], "m/s")})
+    first = batch.run(threads=1)
+    ends = [first.result(k) for k in range(2)]
+    again = batch.run(threads=2)
+    for k in range(2):
+        first_state = next(e for e in again.result(k).events if e["kind"] == "state")
+        assert first_state["t"] == 0.0
+        assert_same(ends[k], again.result(k))
+
+
+def test_a_copys_divergence_names_the_stiffness_its_controller_set(tmp_path) -> None:  # noqa: ANN001
+    """A copy's message was written with the template's actuators (as at the start), so a
+    divergence the controller caused by stiffening a spring left out the single run's 'Likely
+    cause: actuator 'leg_spring' has k = ... now, too stiff for the step' (random batch law 17)."""
+    from random_laws import creature_text
+
+    law = "leg_spring.k = 3000 N/m * (1 + growth * time / 1 ms) ^ 3"
+    source = tmp_path / "stiffen.leg"
+    source.write_text(creature_text("hopper") + "\ncontroller stiffen for hopper {\n  input growth"
+                      f" = 1\n  table {{\n    state S0 on time < 1 s: {law}\n  }}\n}}\n")  # fmt: skip
+    hopper = RunSession.from_file(source, generated=tmp_path / "generated")
+    opts = RunOptions(duration=0.5)
+    copies = Batch(hopper, 2, "stiffen", vary={"growth": ([0, 1], "")}, options=opts).run()
+    assert list(copies.status) == ["ok", "diverged"]
+    for k in range(2):
+        single = hopper.run("stiffen", copies.batch.texts(k), options=opts, backend="c").result
+        assert_same(single, copies.result(k))
+    assert "actuator 'leg_spring' has k = " in copies.result(1).message
+    assert copies.batch.sim.actuators.by_name["leg_spring"].gain == 3000.0  # the template's

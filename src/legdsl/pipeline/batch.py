@@ -71,9 +71,8 @@ Progress = Callable[[int, int, float], None]  # (copies done, copies, seconds le
 
 EVENTS_PER_SECOND = 200  # contact events a copy's buffer holds per contact per second of run
 LINE = 64  # bytes: a cache line
-PER_COPY_OBJECTS = (
-    1024  # bytes: about what Copies keeps per copy in Python (its struct's view, ...)
-)
+ACTUATOR_ARRAYS = ("gain", "damping", "target", "force", "last")  # act_gain, ... of leg_sim
+PER_COPY_OBJECTS = 1024  # bytes: about what Copies keeps per copy in Python
 
 
 class Batch:
@@ -462,6 +461,19 @@ class Copies:
                  "contact": names[int(i)]} for t, kind, i in rows]  # fmt: skip
 
     def _result(self, k: int) -> RunResult:
+        sim = self.batch.sim
+        start, saved = (sim.q, sim.v, sim.t), [copy(a) for a in sim.actuators.states]
+        try:
+            rows = [self.blocks[f"act_{f}"][k] for f in ACTUATOR_ARRAYS]
+            for i, a in enumerate(sim.actuators.states):  # as the copy's controller left them
+                a.gain, a.damping, a.target, a.force, a.last_force = (float(r[i]) for r in rows)
+            return self._result_at_end(k)  # its message names a setting too stiff, as alone
+        finally:  # the template as it starts: a batch run again starts from it
+            sim.move_to(*start)
+            for a, old in zip(sim.actuators.states, saved, strict=True):
+                a.__dict__.update(old.__dict__)
+
+    def _result_at_end(self, k: int) -> RunResult:  # the template moved to copy k's end
         sim, s, code = self.batch.sim, self.structs[k], int(self.codes[k])
         model = sim.model
         q, v = self.blocks["q"][k, : model.nq], self.blocks["v"][k, : model.nv]
