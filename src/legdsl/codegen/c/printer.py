@@ -183,6 +183,9 @@ class CPrinter(LegPrinter):
     def _print_re(self, expr: Expr) -> str:
         return f"({self._print(expr.args[0])})"  # of a real value (the Python print's note)
 
+    def _print_im(self, expr: Expr) -> str:
+        return "0.0"  # of a real value (the Python print's note)
+
     def _print_sign(self, expr: Expr) -> str:
         x = self._print(expr.args[0])
         # sign(NaN) is NaN, as in the Python print (the state machine then faults)

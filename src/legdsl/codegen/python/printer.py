@@ -116,6 +116,11 @@ class LegPrinter(PythonCodePrinter):
         its symbols are not declared real); the C printer does the same."""
         return f"({self._print(expr.args[0])})"
 
+    def _print_im(self, expr: Expr) -> str:
+        """The imaginary part of a real value: 0 (``abs(x / exp(1 / (0.25 + y)))`` comes out of
+        sympy with ``im(y)``, for the same reason as ``re``); the C printer does the same."""
+        return "0.0"
+
     def _print_sign(self, expr: Expr) -> str:
         """sign(NaN) is NaN, so that the state machine faults on it (``math.copysign`` of a NaN,
         sympy's print, is 1 or -1: a setpoint from a stance time before the first stance ran on
