@@ -15,6 +15,7 @@ import tempfile
 from pathlib import Path
 
 from conftest import CREATURES, ROOT
+from runtime_helpers import legdsl_in_process
 
 from legdsl.cli import main
 from legdsl.export.motion import Motion, load_motion
@@ -54,3 +55,24 @@ def creature_run(name: str, out: Path, duration: float = 1.0) -> Path:
 
 def creature_motion(name: str, out: Path, duration: float = 1.0, fps: float = 60.0) -> Motion:
     return load_motion(creature_run(name, out, duration), fps=fps, generated=generated_dir())
+
+
+# The four animation files a test reads back: key -> (--format, extra options)
+ANIMATION_FORMATS = {
+    "glb": ("glb", []),
+    "skin": ("glb", ["--skin"]),
+    "usda": ("usda", []),
+    "bvh": ("bvh", []),
+}
+
+
+def export_animations(run_dir: Path, stem: Path, fps: float, generated: Path) -> dict[str, Path]:
+    """``legdsl export-motion`` of ``run_dir`` in each of ANIMATION_FORMATS, to STEM-KEY.FORMAT."""
+    files = {}
+    for key, (fmt, extra) in ANIMATION_FORMATS.items():
+        out = stem.with_name(f"{stem.name}-{key}.{fmt}")
+        argv = ["export-motion", str(run_dir), "--format", fmt, "-o", str(out), *extra]
+        status, said = legdsl_in_process([*argv, "--fps", repr(fps), "--generated", str(generated)])
+        assert status == 0, f"legdsl export-motion --format {fmt} {extra}: {said}"
+        files[key] = out
+    return files

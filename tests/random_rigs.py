@@ -23,6 +23,7 @@ from random_creatures import (
     root_head,
     vec,
 )
+from runtime_helpers import legdsl_in_process
 
 from legdsl.check.source import check_file
 from legdsl.sim.contact import GroundContact
@@ -238,3 +239,25 @@ def rig_shown(seed: int, folder: Path) -> str:
     """The rig as last written to ``folder`` (the advice followed), else as drawn."""
     written = folder / f"rig{seed}.leg"
     return written.read_text() if written.exists() else rig_text(seed)
+
+
+def recorded_rig(seed: int, where: Path, duration: float, record_rate: float) -> tuple[Path, int]:
+    """``legdsl run`` of the placed rig into ``where``/run (modules in ``where``/generated) on
+    the Python backend, with the default fall rules or none (drawn as test_random_rigs.py
+    draws them), an actuator refused as too stiff set as advised: the rig and the exit status
+    (0 ok, 3 diverged, 4 fell)."""
+    source, drop = placed_rig(seed, where)
+    falls = np.random.default_rng([seed, 9]).random() < 0.5
+    argv = ["run", str(source), "--time", str(duration), "--backend", "python"]
+    argv += ["--record-rate", str(record_rate), "--out", str(where / "run")]
+    argv += ["--generated", str(where / "generated")]
+    argv += [] if drop is None else ["--drop", repr(drop)]
+    argv += [] if falls else ["--fall-height", "0", "--fall-tilt", "180"]
+    said = ""
+    for _ in range(4):
+        status, said = legdsl_in_process(argv)
+        if status != 2:
+            break
+        follow_advice(source, said)  # an actuator too stiff for the step
+    assert status in (0, 3, 4), f"legdsl run: {status}: {said}"
+    return source, status

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from anim_runs import export_animations
 from conftest import ROOT
 from test_bvh import world_poses
 from test_gltf import accessor, read_glb
@@ -64,17 +65,7 @@ class Exported:
             f: np.asarray(kinematics.contact_positions([float(x) for x in tr.q[i]]))[self.foot]
             for f, i in self.samples.items()
         }
-        self.files: dict[str, Path] = {}
-        for key, fmt, extra in (
-            ("glb", "glb", []),
-            ("skin", "glb", ["--skin"]),
-            ("usda", "usda", []),
-            ("bvh", "bvh", []),
-        ):
-            out = where / f"{name}-{key}.{fmt}"
-            argv = ["export-motion", str(self.run_dir), "--format", fmt, "-o", str(out)]
-            assert main([*argv, *extra, "--fps", str(FPS), "--generated", str(generated)]) == 0
-            self.files[key] = out
+        self.files = export_animations(self.run_dir, where / name, FPS, generated)
         for fmt, extra in (("mjcf", []), ("urdf", ["--link-mass", "1e-6"])):
             out = where / f"{name}.{fmt}"
             assert main(["export", str(self.source), "--format", fmt, "-o", str(out), *extra]) == 0

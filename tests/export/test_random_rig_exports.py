@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from anim_runs import export_animations
 from runtime_helpers import legdsl_in_process
 from seeded import told_with_seed
 from test_bvh import world_poses
@@ -40,7 +41,7 @@ pytest.importorskip("mujoco")  # the rigs are placed on their ground by MuJoCo's
 pytest.importorskip("pygltflib", reason="needs pygltflib: pip install 'legdsl[export]'")
 pytest.importorskip("pxr", reason="needs usd-core: pip install 'legdsl[export]'")
 from pxr import Usd, UsdGeom  # noqa: E402
-from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402
+from random_rigs import recorded_rig, rig_shown  # noqa: E402
 
 CI_RIGS = 2
 COUNT = int(os.environ.get("LEGDSL_RANDOM_RIG_EXPORTS", CI_RIGS))
@@ -55,23 +56,9 @@ class Exported:
     """A rig's run, its contacts at the recorded samples, and its four animation files."""
 
     def __init__(self, seed: int, where: Path) -> None:
-        self.source, drop = placed_rig(seed, where)
+        self.source, status = recorded_rig(seed, where, DURATION, RECORD_RATE)
         generated, self.run_dir = where / "generated", where / "run"
-        rng = np.random.default_rng([seed, 9])
-        falls = rng.random() < 0.5  # as tests/sim/test_random_rigs.py: default rules or none
         fps = float(np.random.default_rng([seed, 10]).choice(FRAME_RATES))
-        argv = ["run", str(self.source), "--time", str(DURATION), "--backend", "python"]
-        argv += ["--record-rate", str(RECORD_RATE), "--out", str(self.run_dir)]
-        argv += ["--generated", str(generated)]
-        argv += [] if drop is None else ["--drop", repr(drop)]
-        argv += [] if falls else ["--fall-height", "0", "--fall-tilt", "180"]
-        said = ""
-        for _ in range(4):
-            status, said = legdsl_in_process(argv)
-            if status != 2:
-                break
-            follow_advice(self.source, said)  # an actuator too stiff for the step
-        assert status in (0, 3, 4), f"legdsl run: {status}: {said}"  # ok, diverged, fell
         run = read_run(self.run_dir)
         self.model, tr = run.model, run.trajectory
         self.status = status
@@ -108,19 +95,7 @@ class Exported:
             f: np.asarray(kinematics.contact_positions([float(x) for x in tr.q[i]]))
             for f, i in self.samples.items()
         }
-        self.files: dict[str, Path] = {}
-        for key, fmt, extra in (
-            ("glb", "glb", []),
-            ("skin", "glb", ["--skin"]),
-            ("usda", "usda", []),
-            ("bvh", "bvh", []),
-        ):
-            out = where / f"{self.source.stem}-{key}.{fmt}"
-            argv = ["export-motion", str(self.run_dir), "--format", fmt, "-o", str(out)]
-            argv += [*extra, "--fps", repr(self.fps), "--generated", str(generated)]
-            status, said = legdsl_in_process(argv)
-            assert status == 0, f"legdsl export-motion --format {fmt} {extra}: {said}"
-            self.files[key] = out
+        self.files = export_animations(self.run_dir, where / self.source.stem, self.fps, generated)
 
     @property
     def body_names(self) -> list[str]:

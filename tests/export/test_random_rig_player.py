@@ -37,7 +37,7 @@ from legdsl.export.motion import Motion, load_motion, quaternion_to_matrix, terr
 from legdsl.export.shapes import body_mesh
 
 pytest.importorskip("mujoco")  # the rigs are placed on their ground by MuJoCo's kinematics
-from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402
+from random_rigs import recorded_rig, rig_shown  # noqa: E402
 
 CI_RIGS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_PLAYER", CI_RIGS))
@@ -81,20 +81,8 @@ def recorded_run(seed: int, where: Path, fps: float | None = None) -> tuple[Moti
 
     Stored at ``fps`` frames per second, by default one drawn from ``FRAME_RATES`` (a diverged
     run's last sample, its coordinates huge, is a frame when the rate's frames fall on it)."""
-    source, drop = placed_rig(seed, where)
+    _, status = recorded_rig(seed, where, DURATION, 100.0)
     generated, run_dir = where / "generated", where / "run"
-    falls = np.random.default_rng([seed, 9]).random() < 0.5
-    argv = ["run", str(source), "--time", str(DURATION), "--backend", "python"]
-    argv += ["--record-rate", "100", "--out", str(run_dir), "--generated", str(generated)]
-    argv += [] if drop is None else ["--drop", repr(drop)]
-    argv += [] if falls else ["--fall-height", "0", "--fall-tilt", "180"]
-    said = ""
-    for _ in range(4):
-        status, said = legdsl_in_process(argv)
-        if status != 2:
-            break
-        follow_advice(source, said)  # an actuator too stiff for the step
-    assert status in (0, 3, 4), f"legdsl run: {status}: {said}"  # ok, diverged, fell
     page = where / "player.html"
     if fps is None:
         fps = float(np.random.default_rng([seed, 11]).choice(FRAME_RATES))

@@ -300,6 +300,7 @@ class RunSession:
                 self._inverse_inertia[key] = inverse
         opts = sim.options
         rotary = {a.name: a.rotary for a in self.model.actuators}
+        spans = {a.name: a.span for a in self.model.actuators}
 
         def unit(f: TooStiff) -> str:
             return KINDS[setting_kind(f.setting, rotary[f.actuator])][1]
@@ -308,7 +309,6 @@ class RunSession:
             return f.message(opts.dt, unit(f)) + spans[f.actuator].within
 
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
-        spans = {a.name: a.span for a in self.model.actuators}
         if any(f"{f.actuator}.{f.setting}" in given or spans[f.actuator].line <= 0 for f in found):
             raise UsageError("; ".join(f.message(opts.dt, unit(f)) for f in found))
         if found:
