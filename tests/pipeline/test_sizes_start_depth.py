@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from legdsl.cli import main
-from legdsl.sim.simulate import START_DEPTH, start_depth
+from legdsl.sim.sizes import START_DEPTH, start_depth
 
 POGO = Path(__file__).resolve().parents[1] / "good" / "outside" / "insect_pogo.leg"
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from legdsl.cli import main
-from legdsl.sim.simulate import DIVERGENCE_SPEED, divergence_speed
+from legdsl.sim.sizes import DIVERGENCE_SPEED, divergence_speed
 
 POGO = Path(__file__).resolve().parents[1] / "good" / "outside" / "insect_pogo.leg"
 

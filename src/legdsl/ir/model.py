@@ -363,6 +363,15 @@ class Model:
         return tuple(names)
 
     @property
+    def v_angular(self) -> tuple[bool, ...]:
+        """Whether each entry of v is a rate of turn (rad/s), else a speed (m/s)."""
+        angular: list[bool] = []
+        for j in self.joints:
+            free = (False,) * 3 + (True,) * 3
+            angular += free if j.is_free_3d else [d.motion == "hinge" for d in j.dofs]
+        return tuple(angular)
+
+    @property
     def total_mass(self) -> float:
         return sum(b.mass for b in self.bodies)
 

@@ -28,6 +28,7 @@ from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.settings import Settings, plain_number
 from legdsl.sim.machine import InputChange
 from legdsl.sim.run_loop import RunOptions, RunResult, default_control_dt
+from legdsl.sim.simulate import Simulation
 from legdsl.sim.trajectory import Trajectory
 
 _LENGTH: Dim = KINDS["length"][0]
@@ -116,10 +117,12 @@ def scale_options(options: RunOptions, scale: float) -> RunOptions:
     )
 
 
-def scale_check_interval(interval: float, scale: float) -> float:
-    """The fall and divergence rules' longest wait for the unscaled model: the scaled file's
-    run looks every ``interval`` of its own time (at most), sqrt(L) times the model's."""
-    return interval / math.sqrt(scale)
+def scale_checks(sim: Simulation, scale: float) -> None:
+    """Hold the unscaled model's run to the fall and divergence rules of the scaled file's: it
+    looks every ``check_interval`` of its own time (at most), sqrt(L) times the model's, and
+    calls a speed a divergence past the limit of a creature of its size, in its numbers."""
+    sim.check_interval = sim.check_interval / math.sqrt(scale)
+    sim.size_scale, sim.v_factors = scale, tuple(float(f) for f in v_factors(sim.model, scale))
 
 
 def scale_settings(
@@ -195,17 +198,14 @@ def scale_path(spec: PathSpec, scale: float) -> PathSpec:
 
 def _q_dims(model: Model, rate: bool) -> list[Dim | None]:
     """The dimension of each entry of q (or of v): lengths, angles (1), quaternion parts (1)."""
+    if rate:
+        return [_ANGULAR_SPEED if turn else _SPEED for turn in model.v_angular]
     dims: list[Dim | None] = []
     for joint in model.joints:
         if joint.is_free_3d:
-            dims += [_SPEED if rate else _LENGTH] * 3
-            dims += [_ANGULAR_SPEED] * 3 if rate else [None] * 4
-            continue
-        for dof in joint.dofs:
-            if dof.motion == "hinge":
-                dims.append(_ANGULAR_SPEED if rate else None)
-            else:
-                dims.append(_SPEED if rate else _LENGTH)
+            dims += [_LENGTH] * 3 + [None] * 4
+        else:
+            dims += [None if dof.motion == "hinge" else _LENGTH for dof in joint.dofs]
     return dims
 
 

@@ -43,7 +43,8 @@ from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
-from legdsl.sim.simulate import Simulation, start_depth
+from legdsl.sim.simulate import Simulation
+from legdsl.sim.sizes import start_depth
 from legdsl.sim.stability import (
     TooStiff,
     inverse_inertia_diagonal,
@@ -240,7 +241,7 @@ class RunSession:
             self.model, self.dynamics, options, machine, backend, where, self.log, self.note
         )
         if scale is not None:
-            sim.check_interval = scaled.scale_check_interval(sim.check_interval, scale)
+            scaled.scale_checks(sim, scale)
         self._check_start(sim)
         for name, value in sorted_settings.actuators.items():
             actuator, _, key = name.partition(".")

@@ -1,7 +1,7 @@
 """The C backend: the same simulation as ``legdsl.sim.simulate``, its steps taken in C.
 
-``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording,
-the checks and the controller's state machine to the creature's shared library
+``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording, the
+checks and the controller's state machine to the creature's shared library
 (``legdsl.codegen.c.build``: the generated ``dynamics.c`` and ``control_CONTROLLER.c`` with the
 runtime ``step.c`` and ``machine.c``). C advances many steps per call and writes the recorded
 samples straight into the trajectory's numpy arrays; it returns to Python only
@@ -138,7 +138,8 @@ class CSimulation(Simulation):
         c.has_fall_height = int(opts.fall_height is not None)
         c.fall_height = opts.fall_height if opts.fall_height is not None else 0.0
         c.fall_tilt, c.start_height = opts.fall_tilt, loop.start_height
-        c.step_budget = STEP_BUDGET
+        c.size_scale, c.step_budget = self.size_scale, STEP_BUDGET
+        self._array("v_factor", self.v_factors)
         c.steps, c.phase, c.steps_taken, c.t = 0, 0, self.steps_taken, self.t
         c.recorded = loop.recorded
         self._array("q", self.q)
@@ -420,8 +421,7 @@ class CSimulation(Simulation):
         self.q, self.v, self.t, self._kinematics = q, v, t, None
 
     def fall_check(self, start_height: float) -> str | None:
-        """``Simulation._check`` at the state now: None, or 'fell' (and the message); raises
-        the divergence it finds."""
+        """``Simulation._check`` now: None, or 'fell' (and the message); raises a divergence."""
         return self._check(start_height)
 
     @property

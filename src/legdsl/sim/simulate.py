@@ -34,6 +34,7 @@ from legdsl.sim.run_loop import (
     steps_per_check,
     steps_per_sample,
 )
+from legdsl.sim.sizes import too_fast
 from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
 
 Vec = tuple[float, float, float]
@@ -50,36 +51,6 @@ class Controller(Protocol):
     def __call__(self, sim: Simulation) -> None: ...
 
     def speed_command(self, t: float) -> float: ...
-
-
-# How deep a contact may start under the ground (a resting foot sinks in a little): 1 cm,
-# but at most 4% and at least 0.25% of the creature's standing height, so an insect is not
-# let sink its whole leg and a giant may rest in its own (scaled) footprint. Every creature
-# from 25 cm to 4 m tall gets exactly 1 cm.
-START_DEPTH = 0.01  # m
-START_DEPTH_MOST, START_DEPTH_LEAST = 0.04, 0.0025  # of the standing height
-
-
-def start_depth(standing_height: float) -> float:
-    """How deep (m) a contact may start under the ground, for a creature this tall (0: a
-    root welded to the world, of no standing height, gets 1 cm)."""
-    if standing_height <= 0:
-        return START_DEPTH
-    least, most = START_DEPTH_LEAST * standing_height, START_DEPTH_MOST * standing_height
-    return max(least, START_DEPTH) if most >= START_DEPTH else most
-
-
-# A velocity past this is a divergence: 1000 m/s or rad/s for a creature 10 cm tall or taller;
-# a smaller one's joints turn faster, as 1/sqrt(its size) (Table 1), and so its limit grows
-# as sqrt(10 cm / standing height) (the kangaroo at 1/20 already swings at 173 rad/s).
-DIVERGENCE_SPEED, DIVERGENCE_HEIGHT = 1e3, 0.1
-
-
-def divergence_speed(standing_height: float) -> float:
-    """The fastest a coordinate may move (m/s or rad/s) for a creature this tall."""
-    if standing_height <= 0 or standing_height >= DIVERGENCE_HEIGHT:
-        return DIVERGENCE_SPEED
-    return DIVERGENCE_SPEED * math.sqrt(DIVERGENCE_HEIGHT / standing_height)
 
 
 class Simulation:
@@ -114,6 +85,8 @@ class Simulation:
         self._kinematics: tuple[Any, Any] | None = None
         self.q = [float(x) for x in model.q0]
         self.v = [float(x) for x in model.v0]
+        # the divergence limit's size: a --scale L run sets L and each velocity's Table 1 factor
+        self.size_scale, self.v_factors = 1.0, (1.0,) * len(self.v)
         self.events: list[ContactEvent] = []
         self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)
         self._contact_body = [model.bodies.index(model.body(c.body)) for c in model.contacts]
@@ -365,9 +338,14 @@ class Simulation:
         """None while healthy; otherwise 'fell' (with self.message) or raises Divergence."""
         if not all(math.isfinite(x) for x in self.v) or not all(math.isfinite(x) for x in self.q):
             raise Divergence("the state is no longer finite (NaN or infinity)")
-        fastest = max((abs(x) for x in self.v), default=0.0)  # a welded creature has no v
-        if fastest > divergence_speed(start_height):
-            raise Divergence(f"a velocity reached {fastest:.3g} (m/s or rad/s)")
+        fast = too_fast(self.v, start_height, self.size_scale, self.v_factors)
+        if fast is not None:
+            k, speed, most = fast
+            unit = "rad/s" if self.model.v_angular[k] else "m/s"
+            name = self.model.v_names[k]
+            raise Divergence(
+                f"a velocity reached {speed:.3g} {unit} ({name}; the limit is {most:.3g})"
+            )
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))
         limit = self.options.fall_height

@@ -13,7 +13,7 @@
     X(double, dt) X(int64_t, rk4) X(int64_t, n_steps) X(int64_t, control_every) \
     X(int64_t, check_every) X(int64_t, has_controller) X(int64_t, record_every) X(int64_t, capacity) \
     X(int64_t, has_fall_height) X(double, fall_height) X(double, fall_tilt) \
-    X(double, start_height) X(int64_t, step_budget) \
+    X(double, start_height) X(double, size_scale) X(double *, v_factor) X(int64_t, step_budget) \
     X(int64_t, steps) X(int64_t, phase) X(int64_t, steps_taken) X(double, t) \
     X(int64_t, recorded) X(int64_t, rows) \
     X(double *, q) X(double *, v) \

@@ -688,14 +688,12 @@ static int check_fails(leg_sim *s) {
     int e = 0;
     int *err = &e;
     if (!all_finite(s->v, NV) || !all_finite(s->q, NQ)) return 1;
-    double fastest = 0.0;
-    for (int k = 0; k < NV; k++) {
-        double x = fabs(s->v[k]);
-        if (k == 0 || x > fastest) fastest = x;
-    }
-    double most = 1e3; /* divergence_speed */
-    if (s->start_height > 0 && s->start_height < 0.1) most = 1e3 * sqrt(0.1 / s->start_height);
-    if (fastest > most) return 1;
+    /* sizes.too_fast: the limit of a creature of the scaled size, in its numbers */
+    double size = s->size_scale * s->start_height;
+    double most = 1e3; /* sizes.divergence_speed */
+    if (size > 0 && size < 0.1) most = 1e3 * sqrt(0.1 / size);
+    for (int k = 0; k < NV; k++)
+        if (fabs(s->v[k]) > most / s->v_factor[k]) return 1;
     double poses[NBP];
     const unsigned char root[2 * LEG_NB] = {1, 1}; /* its position and rotation: all _check reads */
     body_poses_some(s->q, root, poses, err);
