@@ -9,10 +9,12 @@ from conftest import CREATURES, GENERATED
 from runtime_helpers import assert_same
 
 import legdsl.pipeline.batch as batch_module
+import legdsl.pipeline.batch_memory as batch_memory
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.batch import Batch
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
+from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions
 
 pytestmark = pytest.mark.skipif(
@@ -198,8 +200,8 @@ def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
     """Only the recordings were counted: copies of a short run, recorded rarely, whose states
     outgrow the memory were laid out anyway (a MemoryError, or the system killing the run)."""
     options = RunOptions(duration=0.01, record_rate=100.0)
-    per_sample = batch_module.sample_bytes(roo.model) * batch_module.run_samples(options)
-    monkeypatch.setattr(batch_module, "recording_budget", lambda: 200 * per_sample)
+    per_sample = batch_memory.sample_bytes(roo.model) * batch_memory.run_samples(options)
+    monkeypatch.setattr(batch_memory, "recording_budget", lambda: 200 * per_sample)
     batch = Batch(roo, 100, "hop", options=options)  # their recordings fit
     laid: list[int] = []
     monkeypatch.setattr(batch_module, "lined_up", lambda n, *a: laid.append(n))
@@ -255,3 +257,24 @@ def test_a_copys_divergence_names_the_stiffness_its_controller_set(tmp_path) -> 
         assert_same(single, copies.result(k))
     assert "actuator 'leg_spring' has k = " in copies.result(1).message
     assert copies.batch.sim.actuators.by_name["leg_spring"].gain == 3000.0  # the template's
+
+
+def test_a_copys_run_keeps_the_state_machine_its_single_run_ends_with(roo: RunSession) -> None:
+    """``copies.run(k).machine`` was made fresh with the copy's events: its state, records,
+    inputs, integrals, schedule and clocks were the start's, where a single run's machine
+    keeps those of its end (what the API's runs hand on, e.g. the records a tune reads)."""
+    opts, settings = RunOptions(duration=0.7), ["speed=3m/s@0.3s"]  # a change mid-run
+    copies = Batch(roo, 2, "hop", settings=settings, options=opts,
+                   vary={"height": ([0.4, 0.5], "m")}).run(threads=1)  # fmt: skip
+    for k, height in enumerate((0.4, 0.5)):
+        ended = roo.run("hop", [f"height={height}m", *settings], options=opts, backend="c").machine
+        copy = copies.run(k).machine
+        assert isinstance(ended, StateMachine) and isinstance(copy, StateMachine)
+        for name in ("started", "state_index", "binding", "entered_at", "records", "inputs",
+                     "events", "_history", "schedule", "integrals"):  # fmt: skip
+            assert getattr(copy, name) == getattr(ended, name), name
+        assert _clocks(copy) == _clocks(ended)
+
+
+def _clocks(m: StateMachine) -> list[dict[str, object]]:
+    return [vars(c) for c in (*m.sensors.clocks.values(), *m.sensors.leg_clocks.values())]

@@ -159,7 +159,7 @@ def test_a_recording_that_would_fill_the_memory_stops_the_run_keeping_it(
 
 
 def test_a_batch_whose_recordings_cannot_fit_is_refused(generated: Path) -> None:
-    from legdsl.pipeline.batch import check_recordings
+    from legdsl.pipeline.batch_memory import check_recordings
 
     model = RunSession.from_file(HOPPER, generated=generated).model
     check_recordings(model, RunOptions(duration=10.0), copies=4)  # fits

@@ -15,7 +15,8 @@ values and their unit, checked as ``--set`` checks one value) and the start (``q
 ``runtime/batch.c`` runs the copies, each from start to end exactly as a single run, in
 ``threads`` threads that share them; Python is entered once per thread, not once per copy.
 All samples land in one trajectory of ``n * capacity`` rows (copy k's from row
-``k * capacity``); a copy's ``RunResult`` and ``Run`` are made only when asked for.
+``k * capacity``); a copy's ``RunResult`` and ``Run`` are made only when asked for
+(``Copies``).
 
 A copy that needs Python on the way (a controller with no C twin, a tick the C state machine
 hands over, more contact events than its buffer holds) stops in C and is run again through
@@ -37,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.batch_memory import check_copies_memory, check_recordings, lined_up
 from legdsl.pipeline.session import Plan, Run, RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
 from legdsl.sim.c_backend import (
@@ -54,25 +55,17 @@ from legdsl.sim.c_backend import (
     CSimulation,
 )
 from legdsl.sim.c_library import address
+from legdsl.sim.c_machine import pull_machine
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.recorder import Divergence, empty_trajectory, recording_budget, sample_bytes
-from legdsl.sim.run_loop import (
-    Interrupted,
-    RunLoop,
-    RunOptions,
-    RunResult,
-    run_samples,
-    steps_per_sample,
-)
+from legdsl.sim.recorder import Divergence, empty_trajectory
+from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
 Progress = Callable[[int, int, float], None]  # (copies done, copies, seconds left)
 
 EVENTS_PER_SECOND = 200  # contact events a copy's buffer holds per contact per second of run
-LINE = 64  # bytes: a cache line
 ACTUATOR_ARRAYS = ("gain", "damping", "target", "force", "last")  # act_gain, ... of leg_sim
-PER_COPY_OBJECTS = 1024  # bytes: about what Copies keeps per copy in Python
 
 
 class Batch:
@@ -309,51 +302,6 @@ class Batch:
         return heights
 
 
-def check_recordings(model: Model, opts: RunOptions, copies: int) -> None:
-    """The copies' recordings are laid out at once, for every sample of their runs: more than
-    ``recording_budget`` is refused before anything runs."""
-    budget = recording_budget()
-    samples = copies * run_samples(opts)
-    need = samples * sample_bytes(model)
-    if budget is None or need <= budget:
-        return
-    rate = 1.0 / (steps_per_sample(opts) * opts.dt)
-    raise UsageError(
-        f"a batch of {copies} copies of {opts.duration:g} s: their recordings would take "
-        f"{need / 2**30:,.1f} GiB ({samples:,} samples at {rate:g} Hz), more than half of this "
-        f"machine's memory ({budget / 2**30:,.1f} GiB); record less often (record_rate="
-        f"{rate * budget / need:.3g} fits), run for less time, or run fewer copies at once"
-    )
-
-
-def check_copies_memory(model: Model, opts: RunOptions, copies: int,
-                        laid: Mapping[str, tuple[int, Any]], struct: int) -> None:  # fmt: skip
-    """The copies' structs, their arrays and their recordings are laid out at once (and a
-    Python object per copy is made after): more than ``recording_budget`` in all is refused
-    before anything is allocated (else a huge batch is a MemoryError, or the system kills it)."""
-    budget = recording_budget()
-    rows = sum(-(-size * np.dtype(dtype).itemsize // LINE) * LINE for size, dtype in laid.values())
-    per_copy = rows + struct + PER_COPY_OBJECTS + run_samples(opts) * sample_bytes(model)
-    if budget is None or copies * per_copy <= budget:
-        return
-    raise UsageError(
-        f"a batch of {copies:,} copies: their states and recordings would take "
-        f"{copies * per_copy / 2**30:,.1f} GiB ({per_copy:,} bytes a copy), more than half of "
-        f"this machine's memory ({budget / 2**30:,.1f} GiB); run at most "
-        f"{budget // per_copy:,} copies at once"
-    )
-
-
-def lined_up(n: int, size: int, dtype: Any) -> np.ndarray:
-    """An (n, size) block of zeros whose rows each start a cache line: the copies two threads
-    run side by side then never write to one line (which would make the cores take turns)."""
-    item = np.dtype(dtype).itemsize
-    per = -(-size * item // LINE) * LINE // item  # a row's length, padded to whole lines
-    raw = np.zeros(n * per * item + LINE, dtype=np.uint8)
-    start = -raw.ctypes.data % LINE
-    return raw[start : start + n * per * item].view(dtype).reshape(n, per)[:, :size]
-
-
 def _actuator_array(state: Any, key: str) -> str:
     """The struct's array that ``ActuatorState.set(key, ...)`` changes (act_gain, ...)."""
     probe = copy(state)
@@ -440,7 +388,9 @@ class Copies:
             assert isinstance(m, StateMachine)  # a batch does not switch controllers
             machine = StateMachine(b.session.model, m.module, settings.inputs, settings.params,
                                    settings.schedule, m.paths)  # fmt: skip
-            machine.events = self._state_events(k)
+            if b.sim.machine_in_c is not None:  # as the copy's C machine left it
+                rows = {name: block[k] for name, block in self.blocks.items()}
+                pull_machine(machine, self.structs[k], rows, machine.schedule)
         return b.plan.finish(self.result(k), settings, machine)
 
     # ------------------------------------------------------------ one copy

@@ -35,11 +35,11 @@ from typing import Any
 import numpy as np
 
 from legdsl.ir.model import Model, Pad
-from legdsl.ir.paths import MEMBERS
 from legdsl.sim.c_library import CLibrary, address, available, load_library
+from legdsl.sim.c_machine import pull_machine, push_machine
 from legdsl.sim.c_mirrors import machine_matches
 from legdsl.sim.contact import ContactEvent
-from legdsl.sim.machine import Integral, StateMachine
+from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence
 from legdsl.sim.run_loop import RunLoop, RunOptions, grow_recording
 from legdsl.sim.simulate import Controller, Simulation
@@ -308,56 +308,16 @@ class CSimulation(Simulation):
         self._array("path_state", [], size=12 * len(at))
 
     def _push_machine(self) -> None:
-        c, m, keep = self.c, self._running, self._keep
-        assert m is not None
+        assert self._running is not None
         if isinstance(self.controller, SwitchingMachine):
             ticks = self.controller.own_ticks(self.ground is not None)
-            c.ctl_command_at, c.ctl_switch_at, c.ctl_switch_until = ticks
-        c.ctl_started, c.ctl_state, c.ctl_binding = int(m.started), m.state_index, m.binding
-        c.ctl_entered_at = m.entered_at
-        keep["ctl_records"][: len(m.records)] = m.records
-        keep["ctl_inputs"][: len(m.inputs)] = m.inputs
-        keep["ctl_integral"][: 2 * len(m.inputs)] = m.integral_state()
-        c.sched_pos = len(self._schedule) - len(m.schedule)
-        for k, tracker in enumerate(m.sensors.paths.values()):
-            values = [tracker.values[name] for name in MEMBERS]
-            keep["path_state"][12 * k : 12 * k + 12] = [tracker.progress, tracker._last_s, *values]
-        clocks = [*m.sensors.clocks.values(), *m.sensors.leg_clocks.values()]
-        for i, clock in enumerate(clocks):
-            keep["clocks"][5 * i : 5 * i + 5] = [float(clock.touching), clock.touchdown,
-                                                 clock.liftoff, clock.stance, clock.flight]  # fmt: skip
+            self.c.ctl_command_at, self.c.ctl_switch_at, self.c.ctl_switch_until = ticks
+        push_machine(self._running, self.c, self._keep, self._schedule)
 
     def _pull_machine(self) -> None:
-        c, m, keep = self.c, self._running, self._keep
-        assert m is not None
-        m.started, m.state_index = bool(c.ctl_started), int(c.ctl_state)
-        m.binding = int(c.ctl_binding)
-        m.entered_at = float(c.ctl_entered_at)
-        m.records = keep["ctl_records"][: len(m.records)].tolist()
-        m.inputs = keep["ctl_inputs"][: len(m.inputs)].tolist()
-        state = keep["ctl_integral"].tolist()
-        m.integrals = [Integral(*state[2 * i : 2 * i + 2]) for i in range(len(m.inputs))]
-        m.schedule = self._schedule[int(c.sched_pos) :]
-        for k, tracker in enumerate(m.sensors.paths.values()):
-            state = keep["path_state"][12 * k : 12 * k + 12].tolist()
-            tracker.progress, tracker._last_s = state[0], state[1]
-            if tracker.geometry is not None:
-                tracker.values = dict(zip(MEMBERS, state[2:], strict=True))
-        clocks = [*m.sensors.clocks.values(), *m.sensors.leg_clocks.values()]
-        for i, clock in enumerate(clocks):
-            touching, clock.touchdown, clock.liftoff, clock.stance, clock.flight = keep["clocks"][
-                5 * i : 5 * i + 5
-            ].tolist()
-            clock.touching = touching != 0.0
-        ni = len(m.inputs)
-        for k in range(int(c.n_hist)):
-            values = keep["hist_inputs"][k * ni : (k + 1) * ni].tolist()
-            m._history.append((float(keep["hist_t"][k]), values))
-        c.n_hist = 0
-        for k in range(int(c.n_ctl_events)):
-            t, state = float(keep["ctl_event_t"][k]), int(keep["ctl_event_state"][k])
-            m.events.append({"t": round(t, 9), "kind": "state", "state": m.state_names[state]})
-        c.n_ctl_events = 0
+        assert self._running is not None
+        pull_machine(self._running, self.c, self._keep, self._schedule)
+        self.c.n_hist = self.c.n_ctl_events = 0  # drained: C gathers afresh
 
     # ------------------------------------------------------------ state between C and Python
     def _push_actuators(self) -> None:
