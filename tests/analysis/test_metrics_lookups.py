@@ -4,6 +4,7 @@ window time in a wrong unit (its example had a stray space: "start= 100s")."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -35,3 +36,20 @@ def test_a_window_time_of_the_api_is_told_without_a_stray_space() -> None:
     with pytest.raises(UsageError) as wrong:
         read_seconds("start=", "100 kg")
     assert str(wrong.value).endswith("write e.g. start=100s")
+
+
+def test_a_run_without_legs_groups_its_contacts(tmp_path: Path) -> None:
+    """A run without legs measures each contact as a leg of its own (``--leg CONTACT``), but a
+    group of its contacts was refused, "no leg named ... (legs: none)": the virtual leg of
+    several contacts (a legless rig's feet) could not be had. It stands while any touches."""
+    tr = Trajectory.load(creature_run("quadruped", tmp_path / "run"))
+    legless = dataclasses.replace(tr, leg_names=(), leg_feet=(), leg_length=tr.leg_length[:, :0],
+                                  leg_spring_energy=tr.leg_spring_energy[:, :0])  # fmt: skip
+    front = [tr.contact_names[tr.leg_feet[tr.leg_names.index(leg)]] for leg in ("fl", "fr")]
+    grouped = compute_metrics(legless, groups={"front": front}, leg="front")
+    as_legs = compute_metrics(tr, groups={"front": ["fl", "fr"]}, leg="front")
+    assert grouped.value("stride_duration") == as_legs.value("stride_duration")
+    with pytest.raises(MetricsError, match=r"group 'a' names .* twice: give each contact once"):
+        compute_metrics(legless, groups={"a": [front[0], front[0]]})
+    with pytest.raises(MetricsError, match=r"group 'a': no contact named fl \(contacts: "):
+        compute_metrics(legless, groups={"a": ["fl"]})

@@ -44,25 +44,30 @@ def stance_units(tr: Trajectory, groups: dict[str, Sequence[str]]) -> list[Unit]
     else:  # a run without legs: each contact stands for itself
         units = [Unit(n, "contact", (i,), ()) for i, n in enumerate(tr.contact_names)]
     taken = {u.name for u in units}
+    names, kind = (legs, "leg") if legs else (list(tr.contact_names), "contact")
     for name, members in groups.items():
-        unknown = [m for m in members if m not in legs]
+        unknown = [m for m in members if m not in names]
         if unknown:
             raise MetricsError(
-                f"group {name!r}: no leg named {', '.join(unknown)} (legs: {', '.join(legs) or 'none'})"
+                f"group {name!r}: no {kind} named {', '.join(unknown)} "
+                f"({kind}s: {', '.join(names) or 'none'})"
             )
         if name in taken:
             raise MetricsError(
-                f"group {name!r} has the name of a leg: give it a name of its own (--group "
+                f"group {name!r} has the name of a {kind}: give it a name of its own (--group "
                 f"{name}_group={','.join(members)})"
             )
         twice = sorted({m for m in members if list(members).count(m) > 1})
         if twice:  # its stances would count that foot twice, as two feet landing together
             raise MetricsError(
-                f"group {name!r} names {', '.join(twice)} twice: give each leg once "
+                f"group {name!r} names {', '.join(twice)} twice: give each {kind} once "
                 f"(--group {name}={','.join(dict.fromkeys(members))})"
             )
-        idx = tuple(legs.index(m) for m in members)
-        units.append(Unit(name, "group", sum((foot_contacts(tr, i) for i in idx), ()), idx))
+        idx = tuple(names.index(m) for m in members)
+        if legs:
+            units.append(Unit(name, "group", sum((foot_contacts(tr, i) for i in idx), ()), idx))
+        else:  # a run without legs: a group of its contacts
+            units.append(Unit(name, "group", idx, ()))
     return units
 
 

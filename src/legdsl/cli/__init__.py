@@ -261,8 +261,8 @@ def _parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="NAME=LEG,LEG",
-        help="a virtual leg: the union of the contacts of these legs, e.g. front=fl,fr "
-        "(repeat for each virtual leg)",
+        help="a virtual leg: the union of the contacts of these legs (of a run without legs: "
+        "these contacts), e.g. front=fl,fr (repeat for each virtual leg)",
     )
     m.add_argument(
         "--joint",
