@@ -7,6 +7,7 @@ from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.paths import (
     DEFAULT_LOOKAHEAD,
     FARTHEST,
+    SAME_POINT,
     SHAPES,
     PathSpec,
     far,
@@ -92,9 +93,17 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         if v is not None and v <= 0:
             diag.error(given[key].value.span, f"'{key}' must be positive, got {v:g} m")
             return None
-        if v is not None and key != "lookahead" and far(v):
+        # the look-ahead too: the tracker divides it by a circle's radius (1e300 m made NaN)
+        if v is not None and far(v):
             diag.error(
                 given[key].value.span, f"'{key}' must be at most {FARTHEST:g} m, got {v:g} m"
+            )
+            return None
+        # a radius under a point's size is a point (5e-324 m divided a look-ahead into NaN)
+        if v is not None and key != "lookahead" and v <= SAME_POINT:
+            diag.error(
+                given[key].value.span,
+                f"'{key}' must be more than {SAME_POINT:g} m (shorter is a point), got {v:g} m",
             )
             return None
         return v
@@ -143,9 +152,16 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         return PathSpec(
             name, "circle", center=center, radius=extent, turn=turn, lookahead=lookahead
         )
-    return PathSpec(
-        name, "square", square_corners(center, extent, turn), closed=True, lookahead=lookahead
-    )
+    corners = square_corners(center, extent, turn)
+    if any(same_point(a, b) for a, b in zip(corners, corners[1:], strict=False)):
+        # far from the origin a short side rounds away: the corners were one point, no segment
+        diag.error(
+            given["side"].value.span,
+            f"'side' = {extent:g} m is lost in the rounding of a corner at ({center[0]:g}, "
+            f"{center[1]:g}) m: its corners are one point; give a longer side or a nearer corner",
+        )
+        return None
+    return PathSpec(name, "square", corners, closed=True, lookahead=lookahead)
 
 
 def _near(point: tuple[float, ...], value: ast.Value, diag: Diagnostics) -> bool:
