@@ -43,15 +43,15 @@ class PathGeometry:
         pts = list(spec.points)
         if self.closed and pts[0] != pts[-1]:
             pts.append(pts[0])
-        # drop repeated vertices (zero-length segments have no direction)
-        clean = [pts[0]]
+        # drop repeated vertices (zero-length segments have no direction), and a vertex that
+        # adds nothing to the arclength (1e-8 m after 1e9 m of path: ``at`` divided by zero)
+        clean, self.starts = [pts[0]], [0.0]
         for p in pts[1:]:
-            if not same_point(p, clean[-1]):
+            end = self.starts[-1] + math.dist(clean[-1], p)
+            if not same_point(p, clean[-1]) and end > self.starts[-1]:
                 clean.append(p)
+                self.starts.append(end)
         self.vertices = tuple(clean)
-        self.starts = [0.0]
-        for a, b in zip(self.vertices, self.vertices[1:], strict=False):
-            self.starts.append(self.starts[-1] + math.dist(a, b))
         self.length = self.starts[-1]
 
     # ---------------------------------------------------------------- circle
