@@ -273,6 +273,9 @@ REFUSED = [  # (the --path text, what the message must say)
     # a look-ahead past 1e9 m: NaN ahead of a small circle (diverged at 0 s)
     ("circle(center = (0, 0) m, radius = 1e-9 m, lookahead = 1e300 m)", "at most 1e+09 m"),
     ("ellipse(center = (0, 0) m)", "unknown path shape"),
+    # a path's point is (x, y) on the ground: it said "(x, z) in a planar creature"
+    ("circle(center = (0, 0, 0) m, radius = 1 m)", "2 components (x, y on the ground), got 3"),
+    ("polyline((0, 0) m, (1, 2, 3) m)", "2 components (x, y on the ground), got 3"),
     ("", "empty value"),
     ("route = ", "gives no path"),
 ]
@@ -294,7 +297,7 @@ def test_a_path_the_language_refuses_is_told_with_its_place(
 
 WAYPOINTS_REFUSED = [  # (a waypoints file, what the message must say)
     ("x,y\r\n1,2\r\n", "at least 2 points"),
-    ("\n\n# nothing\n", "at least 2 points"),
+    ("\n\n# nothing\n", "give one 'x,y' line (metres) per point"),
     ("0,0\n1,0\n1,0\n", "repeats the point before it"),
     ("0,0\n1,nan\n", "not finite"),
     ("0,0\n1,2,3\n", "is not 'x,y'"),
@@ -310,3 +313,25 @@ def test_a_waypoints_file_the_runtime_refuses_is_told_in_one_line(
     with pytest.raises(UsageError) as told:
         parse_path_option(str(tmp_path / "w.csv"))
     assert said in str(told.value) and "\n" not in str(told.value)
+
+
+@pytest.mark.parametrize(
+    ("name", "content"),
+    [
+        ("w.csv", "# my route, exported\r\n\r\nx,y\r\n0,0\r\n1,0\r\n"),  # header after a note
+        ("W.CSV", "0,0\n1,0\n"),  # was parsed as a shape: "unexpected '.'"
+        ("route.tsv", "0;0\n1;0\n"),  # any file without a shape's '('
+    ],
+)
+def test_a_waypoints_file_is_read_as_a_spreadsheet_writes_it(
+    name: str, content: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / name).write_bytes(content.encode())
+    monkeypatch.chdir(tmp_path)
+    assert parse_path_option(name).points == ((0.0, 0.0), (1.0, 0.0))
+
+
+def test_a_directory_given_as_waypoints_is_told_so(tmp_path: Path) -> None:
+    (tmp_path / "d.csv").mkdir()
+    with pytest.raises(UsageError, match="is a directory; give a file of 'x,y' lines"):
+        parse_path_option(str(tmp_path / "d.csv"))

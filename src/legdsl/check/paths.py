@@ -23,6 +23,8 @@ _PATH_ARGS = {
     "polyline": ("lookahead",),
     "polygon": ("lookahead",),
 }
+# a path's points are on the ground, planar creature or not (not a planar creature's (x, z))
+_GROUND = "x, y on the ground"
 _PATH_EXAMPLES = {
     "circle": "circle(center = (0, 5) m, radius = 5 m, turn = left)",
     "square": "square(corner = (0, 0) m, side = 8 m, turn = left)",
@@ -59,7 +61,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
                 )
                 ok = False
                 continue
-            p = values.vector(arg.value, "length", 2, "a point of the path")
+            p = values.vector(arg.value, "length", 2, "a point of the path", _GROUND)
             if p is None or not _near(p, arg.value, diag):
                 ok = False
             elif points and same_point((p[0], p[1]), points[-1]):
@@ -134,7 +136,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         if key not in given:
             diag.error(value.span, f"{shape}() needs '{key} = ...', as in {_PATH_EXAMPLES[shape]}")
             return None
-    where = values.vector(given[place].value, "length", 2, f"the {place}")
+    where = values.vector(given[place].value, "length", 2, f"the {place}", _GROUND)
     if where is not None and not _near(where, given[place].value, diag):
         return None
     extent = length(size)

@@ -128,10 +128,12 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
             "save it as UTF-8 text"
         ) from None
     points: list[Point] = []
+    header_allowed = True  # the first line with text, after any comments and blank lines
     for n, line in enumerate(lines, 1):
         text = line.split("#", 1)[0].strip()
         if not text:
             continue
+        first, header_allowed = header_allowed, False
         parts = [p.strip() for p in text.replace(";", ",").split(",")]
         try:
             if len(parts) != 2:
@@ -150,11 +152,14 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
                 )
             points.append(point)
         except ValueError:
-            if not points and n == 1:
+            if first:
                 continue  # a header
             raise UsageError(
                 f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
             ) from None
     if len(points) < 2:
-        raise UsageError(f"--path {path}: a path needs at least 2 points, got {len(points)}")
+        raise UsageError(
+            f"--path {path}: a path needs at least 2 points, got {len(points)}; "
+            "give one 'x,y' line (metres) per point"
+        )
     return PathSpec(name=name, shape="polyline", points=tuple(points))
