@@ -69,7 +69,13 @@ def _offset(rng: np.random.Generator) -> np.ndarray:
 
 def _polyline_points(rng: np.random.Generator) -> list[tuple[float, float]]:
     scale = _scale(rng)
-    kind = rng.choice(["random", "hairpin", "cross", "two", "collinear", "short", "repeat"])
+    kind = rng.choice(
+        ["random", "hairpin", "cross", "two", "collinear", "short", "repeat", "far_short"]
+    )
+    if kind == "far_short":  # a short last segment after a kilometre or up to 2e9 m of path
+        far = 10 ** rng.uniform(3, 9)
+        tiny = rng.normal(size=2) * 10 ** rng.uniform(-11.5, -6)
+        return [(-far, 0.0), (0.0, 0.0), (float(tiny[0]), float(tiny[1]))]
     if kind == "two":
         pts = rng.normal(size=(2, 2)) * scale
     elif kind == "hairpin":  # out and back: a 180 degree turn, the return beside or on it
@@ -145,7 +151,8 @@ def draw_path(seed: int) -> tuple[str, str | None]:
 
 def _csv(rng: np.random.Generator, pts: list[tuple[float, float]]) -> str:
     """The points as a waypoints file, written as a spreadsheet or an editor might."""
-    lines = [f"{x!r},{y!r}" if rng.random() < 0.5 else f" {x!r} ; {y!r} " for x, y in pts]
+    forms = ["{x!r},{y!r}", " {x!r} ; {y!r} ", "\t{x!r},\t{y!r}", "{x!r},{y!r}  # a note"]
+    lines = [str(rng.choice(forms)).format(x=x, y=y) for x, y in pts]
     if rng.random() < 0.5:
         lines.insert(0, "x,y")
     for _ in range(int(rng.integers(0, 3))):
@@ -242,6 +249,25 @@ def test_a_hand_picked_path_is_followed_the_same_on_both_backends(
     assert runs[0].status == "ok", runs[0].result.message
     assert_same(runs[0].result, runs[1].result)
     _finite_geometry(spec, runs[0])
+
+
+@pytest.mark.parametrize(
+    "text", ["square(corner = (0, 0) m, side = 2e-12 m)", "polyline((0, 0) m, (2e-12, 0) m)"]
+)
+def test_a_path_for_the_scaled_creature_keeps_its_sides(
+    sessions: dict[str, RunSession], text: str
+) -> None:
+    """Given for the creature 4 times the size, its 2e-12 m sides are 5e-13 m for the model:
+    under SAME_POINT, which the tracker dropped to no segment at all (an internal error)."""
+    spec = parse_path_option(text)
+    opts = RunOptions(duration=0.05)
+    runs = [
+        sessions["biped"].run("run", [], [spec], options=opts, scale=4.0, backend=backend)
+        for backend in ("python", "c")
+    ]
+    assert runs[0].status == "ok", runs[0].result.message
+    assert_same(runs[0].result, runs[1].result)
+    json.dumps(runs[0].info(), allow_nan=False)
 
 
 def test_the_top_view_draws_a_path_far_and_small(tmp_path: Path) -> None:

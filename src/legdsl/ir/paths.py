@@ -32,7 +32,7 @@ DEFAULT_LOOKAHEAD = 1.0  # m
 # segment's squared length stays finite (the tracker divides by it); beyond about 1e154 m
 # it overflows and every point projects onto the segment's start.
 FARTHEST = 1e9
-# Points nearer than this (m) are one point: the tracker drops the segment between them.
+# Points nearer than this (m) are one point: a path's checks refuse a segment between them.
 SAME_POINT = 1e-12
 
 
@@ -42,7 +42,7 @@ def far(value: float) -> bool:
 
 
 def same_point(a: Point, b: Point) -> bool:
-    """Whether two points are one (the tracker keeps a segment only if longer than this)."""
+    """Whether two points are one (a path's checks refuse a segment no longer than this)."""
     return math.dist(a, b) <= SAME_POINT
 
 
