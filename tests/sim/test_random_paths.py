@@ -3,11 +3,12 @@ segments, hairpins, self-crossing, two points, collinear, far and near), circles
 radius either way round, squares, polygons, and CSV waypoint files (blank lines, a header,
 Windows line endings, a byte-order mark), starting behind, on or far from the creature.
 
-Each is followed by the biped's ``run`` (and every fourth by the 3D quadruped's ``trot``) for a
-short run on both backends: the run ends ok, fell or diverged (never an internal error), the C
-and Python runs are the same bit for bit, and the path's geometry (run.json's ``paths``, the top
-view's and the exports' points, the projection of the track) is finite. A path the language
-refuses is told at a caret or in one line that says how to fix it.
+Each is followed by the biped's ``run`` (every fourth by the 3D quadruped's ``trot``, every
+fifth by the creature scaled by 0.5 or 4 as ``--scale`` runs it) for a short run on both
+backends: the run ends ok, fell or diverged (never an internal error), the C and Python runs are
+the same bit for bit, and the path's geometry (run.json's ``paths``, the top view's and the
+exports' points, the projection of the track) is finite. A path the language refuses is told at
+a caret or in one line that says how to fix it.
 
     LEGDSL_RANDOM_PATHS=100 LEGDSL_RANDOM_PATH_SEED=0 pytest tests/sim/test_random_paths.py
 """
@@ -199,10 +200,14 @@ def follow(sessions: dict[str, RunSession], seed: int, tmp: Path) -> None:
     name, controller, settings = ("biped", "run", ["speed=1.5m/s"])
     if seed % 4 == 3:
         name, controller, settings = ("quadruped", "trot", [])
+    # every fifth for the creature scaled (--scale): the path given at that size
+    scale = [None, None, None, None, 0.5, None, None, None, None, 4.0][seed % 10]
     sess = sessions[name]
     opts = RunOptions(duration=DURATION)
-    python = sess.run(controller, settings, [spec], options=opts, backend="python")
-    c = sess.run(controller, settings, [spec], options=opts, backend="c")
+    python, c = (
+        sess.run(controller, settings, [spec], options=opts, scale=scale, backend=backend)
+        for backend in ("python", "c")
+    )
     assert python.status in STATUSES, python.result.message
     assert "internal error" not in python.result.message
     assert_same(python.result, c.result)
@@ -302,6 +307,8 @@ REFUSED = [  # (the --path text, what the message must say)
     # a path's point is (x, y) on the ground: it said "(x, z) in a planar creature"
     ("circle(center = (0, 0, 0) m, radius = 1 m)", "2 components (x, y on the ground), got 3"),
     ("polyline((0, 0) m, (1, 2, 3) m)", "2 components (x, y on the ground), got 3"),
+    # it said "must be a number with a unit of no unit"
+    ("polyline((0, 0) m, (nan, 0) m)", "(the unit is after ')') must be a number\n"),
     ("", "empty value"),
     ("route = ", "gives no path"),
 ]

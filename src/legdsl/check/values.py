@@ -145,7 +145,8 @@ class ValueChecker:
         while isinstance(node, ast.Neg):
             sign, node = -sign, node.value
         if not isinstance(node, ast.Number):
-            self.err(value.span, f"{what} must be a number with a unit of {unit_hint(kind)}")
+            unit = "" if kind == "dimensionless" else f" with a unit of {unit_hint(kind)}"
+            self.err(value.span, f"{what} must be a number{unit}")  # not "a unit of no unit"
             return None
         q = node.quantity
         trouble = out_of_range(node.text, q.value)
