@@ -130,7 +130,7 @@ def draw_path(seed: int) -> tuple[str, str | None]:
                 f"turn = {turn}{_lookahead(rng)})")  # fmt: skip
         return text, None
     if shape == "square":
-        c = _offset(rng)
+        c = _offset(rng) / 2  # its corners within 1e9 m (a side is at most 1e8 m)
         side = min(_scale(rng), 1e8)
         turn = rng.choice(["left", "right"])
         text = (f"square(corner = ({_num(c[0])}, {_num(c[1])}) m, side = {_num(side)} m, "
@@ -181,6 +181,15 @@ def _finite_geometry(spec: PathSpec, run: Run) -> None:
     json.dumps(info["path_reports"], allow_nan=False)
     (written,) = [PathSpec.from_json(p) for p in info["paths"]]
     assert dataclasses.replace(written, name="") == spec  # named by the controller's path
+    # its text reads back as the path (it was rounded to 6 digits: 1000.0001 m read 1000 m)
+    again = parse_path_option(info["paths"][0]["text"])
+    assert (again.points, again.center, again.radius, again.turn, again.lookahead) == (
+        spec.points,
+        spec.center,
+        spec.radius,
+        spec.turn,
+        spec.lookahead,
+    )
     geometry = PathGeometry(spec)
     assert math.isfinite(geometry.length) and geometry.length > 0
     s = np.linspace(0.0, geometry.length, 400)  # as the top view draws it
@@ -237,7 +246,7 @@ HAND_PICKED = [
     # the smallest circle there is, with the longest look-ahead: 1e21 rad round it
     "circle(center = (0, 0) m, radius = 1.1e-12 m, turn = right, lookahead = 1e9 m)",
     "circle(center = (1e9, -1e9) m, radius = 1e9 m, turn = left)",
-    "square(corner = (1e9, 1e9) m, side = 1e-6 m, turn = right)",
+    "square(corner = (999999999, 1e9) m, side = 1e-6 m, turn = right)",
 ]
 
 
@@ -301,6 +310,8 @@ REFUSED = [  # (the --path text, what the message must say)
     ("square(corner = (0, 0) m, side = 1e-13 m)", "must be more than 1e-12 m"),
     # a side lost in the rounding of a far corner: one point, an internal error
     ("square(corner = (1e9, 0) m, side = 1e-8 m)", "give a longer side or a nearer corner"),
+    # its corners past 1e9 m, where a polygon's are refused (and its text, a polygon, was)
+    ("square(corner = (1e9, 0) m, side = 1 m)", "give a shorter side or a corner nearer"),
     # a look-ahead past 1e9 m: NaN ahead of a small circle (diverged at 0 s)
     ("circle(center = (0, 0) m, radius = 1e-9 m, lookahead = 1e300 m)", "at most 1e+09 m"),
     ("ellipse(center = (0, 0) m)", "unknown path shape"),

@@ -163,6 +163,13 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
             f"{center[1]:g}) m: its corners are one point; give a longer side or a nearer corner",
         )
         return None
+    if any(far(c) for corner in corners for c in corner):  # as a polygon's points are held
+        diag.error(
+            given["side"].value.span,
+            f"'side' = {extent:g} m takes a corner of the square past {FARTHEST:g} m from the "
+            "origin; give a shorter side or a corner nearer the origin",
+        )
+        return None
     return PathSpec(name, "square", corners, closed=True, lookahead=lookahead)
 
 

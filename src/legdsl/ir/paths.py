@@ -36,6 +36,12 @@ FARTHEST = 1e9
 SAME_POINT = 1e-12
 
 
+def number(value: float) -> str:
+    """``value`` as short as it reads back the same (5 for 5.0, 1000.0001 whole, not 1000)."""
+    short = f"{value:g}"
+    return short if float(short) == value else repr(value)
+
+
 def far(value: float) -> bool:
     """Whether a coordinate or size is past ``FARTHEST``."""
     return not abs(value) <= FARTHEST
@@ -64,17 +70,18 @@ class PathSpec:
 
     def describe(self) -> str:
         """The path as it could be written in a .leg file (SI units)."""
-        look = f", lookahead = {self.lookahead:g} m" if self.lookahead != DEFAULT_LOOKAHEAD else ""
+        look = self.lookahead
+        look_text = f", lookahead = {number(look)} m" if look != DEFAULT_LOOKAHEAD else ""
         if self.shape == "none":
             return "none"
         if self.shape == "circle":
             side = "left" if self.turn > 0 else "right"
             return (
-                f"circle(center = ({self.center[0]:g}, {self.center[1]:g}) m, "
-                f"radius = {self.radius:g} m, turn = {side}{look})"
+                f"circle(center = ({number(self.center[0])}, {number(self.center[1])}) m, "
+                f"radius = {number(self.radius)} m, turn = {side}{look_text})"
             )
-        points = ", ".join(f"({x:g}, {y:g}) m" for x, y in self.points)
-        return f"{'polygon' if self.closed else 'polyline'}({points}{look})"
+        points = ", ".join(f"({number(x)}, {number(y)}) m" for x, y in self.points)
+        return f"{'polygon' if self.closed else 'polyline'}({points}{look_text})"
 
     def as_json(self) -> dict[str, object]:
         return {
