@@ -7,6 +7,7 @@ from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.paths import (
     DEFAULT_LOOKAHEAD,
     FARTHEST,
+    SAME_POINT,
     SHAPES,
     PathSpec,
     far,
@@ -22,6 +23,8 @@ _PATH_ARGS = {
     "polyline": ("lookahead",),
     "polygon": ("lookahead",),
 }
+# a path's points are on the ground, planar creature or not (not a planar creature's (x, z))
+_GROUND = "x, y on the ground"
 _PATH_EXAMPLES = {
     "circle": "circle(center = (0, 5) m, radius = 5 m, turn = left)",
     "square": "square(corner = (0, 0) m, side = 8 m, turn = left)",
@@ -58,7 +61,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
                 )
                 ok = False
                 continue
-            p = values.vector(arg.value, "length", 2, "a point of the path")
+            p = values.vector(arg.value, "length", 2, "a point of the path", _GROUND)
             if p is None or not _near(p, arg.value, diag):
                 ok = False
             elif points and same_point((p[0], p[1]), points[-1]):
@@ -92,9 +95,17 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         if v is not None and v <= 0:
             diag.error(given[key].value.span, f"'{key}' must be positive, got {v:g} m")
             return None
-        if v is not None and key != "lookahead" and far(v):
+        # the look-ahead too: the tracker divides it by a circle's radius (1e300 m made NaN)
+        if v is not None and far(v):
             diag.error(
                 given[key].value.span, f"'{key}' must be at most {FARTHEST:g} m, got {v:g} m"
+            )
+            return None
+        # a radius under a point's size is a point (5e-324 m divided a look-ahead into NaN)
+        if v is not None and key != "lookahead" and v <= SAME_POINT:
+            diag.error(
+                given[key].value.span,
+                f"'{key}' must be more than {SAME_POINT:g} m (shorter is a point), got {v:g} m",
             )
             return None
         return v
@@ -125,7 +136,7 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         if key not in given:
             diag.error(value.span, f"{shape}() needs '{key} = ...', as in {_PATH_EXAMPLES[shape]}")
             return None
-    where = values.vector(given[place].value, "length", 2, f"the {place}")
+    where = values.vector(given[place].value, "length", 2, f"the {place}", _GROUND)
     if where is not None and not _near(where, given[place].value, diag):
         return None
     extent = length(size)
@@ -143,9 +154,23 @@ def check_path(name: str, value: ast.Value, diag: Diagnostics) -> PathSpec | Non
         return PathSpec(
             name, "circle", center=center, radius=extent, turn=turn, lookahead=lookahead
         )
-    return PathSpec(
-        name, "square", square_corners(center, extent, turn), closed=True, lookahead=lookahead
-    )
+    corners = square_corners(center, extent, turn)
+    if any(same_point(a, b) for a, b in zip(corners, corners[1:], strict=False)):
+        # far from the origin a short side rounds away: the corners were one point, no segment
+        diag.error(
+            given["side"].value.span,
+            f"'side' = {extent:g} m is lost in the rounding of a corner at ({center[0]:g}, "
+            f"{center[1]:g}) m: its corners are one point; give a longer side or a nearer corner",
+        )
+        return None
+    if any(far(c) for corner in corners for c in corner):  # as a polygon's points are held
+        diag.error(
+            given["side"].value.span,
+            f"'side' = {extent:g} m takes a corner of the square past {FARTHEST:g} m from the "
+            "origin; give a shorter side or a corner nearer the origin",
+        )
+        return None
+    return PathSpec(name, "square", corners, closed=True, lookahead=lookahead)
 
 
 def _near(point: tuple[float, ...], value: ast.Value, diag: Diagnostics) -> bool:

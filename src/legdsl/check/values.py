@@ -145,7 +145,8 @@ class ValueChecker:
         while isinstance(node, ast.Neg):
             sign, node = -sign, node.value
         if not isinstance(node, ast.Number):
-            self.err(value.span, f"{what} must be a number with a unit of {unit_hint(kind)}")
+            unit = "" if kind == "dimensionless" else f" with a unit of {unit_hint(kind)}"
+            self.err(value.span, f"{what} must be a number{unit}")  # not "a unit of no unit"
             return None
         q = node.quantity
         trouble = out_of_range(node.text, q.value)
@@ -167,8 +168,11 @@ class ValueChecker:
             return None
         return sign * q.value
 
-    def vector(self, value: ast.Value, kind: str, n: int, what: str) -> tuple[float, ...] | None:
-        """A tuple of ``n`` numbers of dimension ``kind``; a unit after ')' applies to all."""
+    def vector(
+        self, value: ast.Value, kind: str, n: int, what: str, axes: str | None = None
+    ) -> tuple[float, ...] | None:
+        """A tuple of ``n`` numbers of dimension ``kind``; a unit after ')' applies to all.
+        ``axes`` names the components in the error (a planar creature's (x, z) if n is 2)."""
         if not isinstance(value, ast.Vector):
             self.err(
                 value.span,
@@ -178,7 +182,8 @@ class ValueChecker:
         if len(value.items) != n:
             self.err(
                 value.span,
-                f"{what} needs {n} components{' (x, z) in a planar creature' if n == 2 else ''}, "
+                f"{what} needs {n} components"
+                f"{f' ({axes})' if axes else ' (x, z) in a planar creature' if n == 2 else ''}, "
                 f"got {len(value.items)}",
             )
             return None

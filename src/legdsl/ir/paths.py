@@ -32,8 +32,14 @@ DEFAULT_LOOKAHEAD = 1.0  # m
 # segment's squared length stays finite (the tracker divides by it); beyond about 1e154 m
 # it overflows and every point projects onto the segment's start.
 FARTHEST = 1e9
-# Points nearer than this (m) are one point: the tracker drops the segment between them.
+# Points nearer than this (m) are one point: a path's checks refuse a segment between them.
 SAME_POINT = 1e-12
+
+
+def number(value: float) -> str:
+    """``value`` as short as it reads back the same (5 for 5.0, 1000.0001 whole, not 1000)."""
+    short = f"{value:g}"
+    return short if float(short) == value else repr(value)
 
 
 def far(value: float) -> bool:
@@ -42,7 +48,7 @@ def far(value: float) -> bool:
 
 
 def same_point(a: Point, b: Point) -> bool:
-    """Whether two points are one (the tracker keeps a segment only if longer than this)."""
+    """Whether two points are one (a path's checks refuse a segment no longer than this)."""
     return math.dist(a, b) <= SAME_POINT
 
 
@@ -64,17 +70,18 @@ class PathSpec:
 
     def describe(self) -> str:
         """The path as it could be written in a .leg file (SI units)."""
-        look = f", lookahead = {self.lookahead:g} m" if self.lookahead != DEFAULT_LOOKAHEAD else ""
+        look = self.lookahead
+        look_text = f", lookahead = {number(look)} m" if look != DEFAULT_LOOKAHEAD else ""
         if self.shape == "none":
             return "none"
         if self.shape == "circle":
             side = "left" if self.turn > 0 else "right"
             return (
-                f"circle(center = ({self.center[0]:g}, {self.center[1]:g}) m, "
-                f"radius = {self.radius:g} m, turn = {side}{look})"
+                f"circle(center = ({number(self.center[0])}, {number(self.center[1])}) m, "
+                f"radius = {number(self.radius)} m, turn = {side}{look_text})"
             )
-        points = ", ".join(f"({x:g}, {y:g}) m" for x, y in self.points)
-        return f"{'polygon' if self.closed else 'polyline'}({points}{look})"
+        points = ", ".join(f"({number(x)}, {number(y)}) m" for x, y in self.points)
+        return f"{'polygon' if self.closed else 'polyline'}({points}{look_text})"
 
     def as_json(self) -> dict[str, object]:
         return {
@@ -128,10 +135,12 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
             "save it as UTF-8 text"
         ) from None
     points: list[Point] = []
+    header_allowed = True  # the first line with text, after any comments and blank lines
     for n, line in enumerate(lines, 1):
         text = line.split("#", 1)[0].strip()
         if not text:
             continue
+        first, header_allowed = header_allowed, False
         parts = [p.strip() for p in text.replace(";", ",").split(",")]
         try:
             if len(parts) != 2:
@@ -150,11 +159,14 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
                 )
             points.append(point)
         except ValueError:
-            if not points and n == 1:
+            if first:
                 continue  # a header
             raise UsageError(
                 f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
             ) from None
     if len(points) < 2:
-        raise UsageError(f"--path {path}: a path needs at least 2 points, got {len(points)}")
+        raise UsageError(
+            f"--path {path}: a path needs at least 2 points, got {len(points)}; "
+            "give one 'x,y' line (metres) per point"
+        )
     return PathSpec(name=name, shape="polyline", points=tuple(points))

@@ -426,10 +426,13 @@ def parse_path_option(text: str) -> PathSpec:
 
     match = re.match(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)", text)
     name, shape = ("", text) if match is None else (match.group(1), text[match.end() :])
-    if re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape):
-        file = Path(shape.strip())
+    # a waypoints file: named .csv or .txt (W.CSV too), or any file there without a shape's '('
+    file = Path(shape.strip())
+    named = re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape, re.IGNORECASE)
+    if named or ("(" not in shape and shape.strip() and file.is_file()):
         if not file.is_file():
-            raise UsageError(f"--path {text}: no such file {file}")
+            there = f"{file} is a directory" if file.is_dir() else f"no such file {file}"
+            raise UsageError(f"--path {text}: {there}; give a file of 'x,y' lines")
         return read_waypoints(file, name)
     if not shape.strip():
         raise UsageError(

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from legdsl.ir.paths import MEMBERS, PathSpec, Point, same_point
+from legdsl.ir.paths import MEMBERS, PathSpec, Point
 
 
 @dataclass(frozen=True)
@@ -43,15 +43,17 @@ class PathGeometry:
         pts = list(spec.points)
         if self.closed and pts[0] != pts[-1]:
             pts.append(pts[0])
-        # drop repeated vertices (zero-length segments have no direction)
-        clean = [pts[0]]
+        # drop a vertex whose segment has no direction (``project`` divides by its squared
+        # length) or adds nothing to the arclength (``at`` divides by that: 1e-8 m after 1e9 m
+        # of path). Not SAME_POINT: a checked path scaled by --scale 4 has sides under it.
+        clean, self.starts = [pts[0]], [0.0]
         for p in pts[1:]:
-            if not same_point(p, clean[-1]):
+            seg = math.dist(clean[-1], p)
+            end = self.starts[-1] + seg
+            if seg * seg > 0 and end > self.starts[-1]:
                 clean.append(p)
+                self.starts.append(end)
         self.vertices = tuple(clean)
-        self.starts = [0.0]
-        for a, b in zip(self.vertices, self.vertices[1:], strict=False):
-            self.starts.append(self.starts[-1] + math.dist(a, b))
         self.length = self.starts[-1]
 
     # ---------------------------------------------------------------- circle
