@@ -174,6 +174,10 @@ def scene_plan(
             f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
             f"(bands, SI: {bands})"
         )
+    # a band's own values ('set pace.kp = ...') wait for its band: without it the run has none
+    chosen = {first, *(name for _, name in planned)}
+    idle = {n for n in names if n not in chosen}
+    texts = [t for t in texts if t.partition("=")[0].partition(".")[0].strip() not in idle]
     return first, texts, [f"{t!r}s={name}" for t, name in planned]
 
 
