@@ -223,8 +223,15 @@ def gaits_as_flags(d: Draw) -> None:
         d.flags += ["--set", f"speed={v:g}m/s" + (f"@{flag_t}" if t >= 0 else "")]
     # a band's own values wait for its band: a band the run never takes has none
     idle = {n for n, _, _ in d.bands} - {*start, *d.flags[1:2], *(n for _, n in d.switches)}
+    names = {n: {v.name for v in (*c.inputs, *c.params)} for n, _, _ in d.bands
+             for c in [d.model.controller(n)]}  # fmt: skip
+    chosen = {*start, *d.flags[1:2], *(n for _, n in d.switches)}
+    waiting = set().union(*(names[n] for n in idle)) - set().union(
+        *(names.get(n) or {v.name for c in [d.model.controller(n)] for v in (*c.inputs, *c.params)}
+          for n in chosen))  # fmt: skip
     for k in range(len(d.flags) - 1, 0, -1):
-        if d.flags[k - 1] == "--set" and d.flags[k].partition(".")[0] in idle:
+        name = d.flags[k].partition("=")[0]
+        if d.flags[k - 1] == "--set" and (name.partition(".")[0] in idle or name in waiting):
             del d.flags[k - 1 : k + 1]
 
 
@@ -418,6 +425,10 @@ GAITS = "gait by speed { gallop to 1.6 m/s; run from 1.4 m/s }"
         ),
         (  # run's band is never taken: its own value waits for it, refused by no --set
             "set speed = 1 m/s\n  set run.k_speed = 50 ms",
+            ["--controller", "gallop", "--set", "speed=1m/s"],
+        ),
+        (  # nor is a name only run has (seed 18: the gallop's stagger)
+            "set speed = 1 m/s\n  set balance = 2",
             ["--controller", "gallop", "--set", "speed=1m/s"],
         ),
     ],
