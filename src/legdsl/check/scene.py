@@ -194,17 +194,30 @@ class _SceneChecker:
                     "a switch comes after the start (the scene's 'controller' starts it)",
                 )
             elif t is not None and t in seen:
-                diag.error(item.span, f"two switches at {t:g} s (the other at line {seen[t].line})")
+                diag.error(
+                    item.span,
+                    f"two switches at {t:g} s (the other at line {seen[t].line}); the run "
+                    "changes to one controller at a time: keep one",
+                )
             elif t is not None and good:
                 seen[t] = item.span
                 switches.append(SceneSwitch(t, item.controller.name, item.span))
         return switches
 
     def _two_commands(self, values: list[SceneValue]) -> None:
-        """Two ``at T set`` lines for one input at one time: the run would keep the later."""
+        """Two ``at T set`` lines for one input at one time, or two ``set`` lines of one name:
+        the run would keep the later (as ``--set`` given twice is refused)."""
         seen: dict[tuple[str, float], Span] = {}
+        given: dict[str, Span] = {}
         for v in values:
+            if v.at is None and v.name in given:
+                self.diag.error(
+                    v.span,
+                    f"{v.name} is set twice (the other at line {given[v.name].line}); the later "
+                    "would win silently: keep one",
+                )
             if v.at is None:
+                given.setdefault(v.name, v.span)
                 continue
             if (v.name, v.at) in seen:
                 self.diag.error(
@@ -293,7 +306,9 @@ class _SceneChecker:
             if at is None:
                 return None
             if at < 0:
-                diag.error(item.at.span, "the time after 'at' must not be negative")
+                diag.error(
+                    item.at.span, "the time after 'at' must not be negative: 0 s is the start"
+                )
                 return None
         name = ".".join(i.name for i in item.target)
         where = item.target[0].span
@@ -417,7 +432,8 @@ def check_scenes(tree: ast.SourceFile, models: list[Model], diag: Diagnostics) -
         if key in seen:
             diag.error(
                 decl.name.span,
-                f"scene '{decl.name.name}' is defined twice (first at line {seen[key].line})",
+                f"scene '{decl.name.name}' is defined twice (first at line {seen[key].line}); "
+                "give each scene of a creature a name of its own",
             )
             continue
         seen[key] = decl.name.span

@@ -70,6 +70,11 @@ def choose_gaits(
             lost.append((t, v))
         return found
 
+    # a command at 0 s is the one the run starts with: it chooses the first band, as the
+    # untimed one would (a switch at 0 s cannot be made)
+    for _, v in sorted(c for c in changes if c[0] <= 0.0):
+        speed = v
+    changes = [c for c in changes if c[0] > 0.0]
     current = start if start is not None else pick(speed, 0.0)
     current = current if current is not None else bands[0].controller
     first = current

@@ -174,7 +174,20 @@ def scene_plan(
             f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
             f"(bands, SI: {bands})"
         )
-    return first, texts, [f"{t!r}s={name}" for t, name in planned]
+    # a band's values ('set pace.kp = ...', or a name only its controller has) wait for its
+    # band: a band the commands never reach has none (the run refuses names it lacks)
+    chosen = {first, *(name for _, name in planned)}
+    idle = {n for n in names if n not in chosen}
+    has = {n: {v.name for v in (*c.inputs, *c.params)} for n in names
+           for c in [model.controller(n)]}  # fmt: skip
+    kept = set().union(*(has[n] for n in chosen))
+    waiting = set().union(*(has[n] for n in idle)) - kept
+
+    def runs(text: str) -> bool:
+        name = text.partition("=")[0].strip()
+        return name.partition(".")[0] not in idle and name not in waiting
+
+    return first, [t for t in texts if runs(t)], [f"{t!r}s={name}" for t, name in planned]
 
 
 def switches_not_made(run: Any) -> list[str]:

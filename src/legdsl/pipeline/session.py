@@ -52,7 +52,7 @@ from legdsl.sim.stability import (
     stops_too_stiff,
     too_stiff,
 )
-from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths
+from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths, natural_scale
 
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
@@ -407,6 +407,9 @@ class Plan:
         """The ``Run`` of ``result`` (with other ``settings`` and ``machine``: a copy's of a
         batch, ``legdsl.pipeline.batch``): scaled back, its paths reported."""
         machine = machine or self.machine
+        if isinstance(machine, SwitchingMachine) and machine.unit is None:
+            # a C run ticks it only from its first command or switch: the notes need the size
+            machine.unit = natural_scale(self.sim)
         if self.scale is not None:
             result = scaled.scale_result(result, self.model, self.scale)
         reports = []
