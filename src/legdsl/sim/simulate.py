@@ -344,7 +344,7 @@ class Simulation:
             unit = "rad/s" if self.model.v_angular[k] else "m/s"
             name = self.model.v_names[k]
             raise Divergence(
-                f"a velocity reached {speed:.3g} {unit} ({name}; the limit is {most:.3g})"
+                f"a velocity reached {speed:.3g} {unit} ({name}; the limit is {most:.3g} {unit})"
             )
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))

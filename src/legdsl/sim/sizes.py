@@ -42,12 +42,13 @@ def divergence_speed(standing_height: float) -> float:
 def too_fast(
     v: Sequence[float], standing_height: float, scale: float, factors: Sequence[float]
 ) -> tuple[int, float, float] | None:
-    """The first coordinate of ``v`` past the divergence limit, as (its index, its speed, the
+    """The first coordinate of ``v`` past the divergence limit, as (its index, its speed, its
     limit), or None. A ``--scale L`` run (``scale`` L, ``factors`` each coordinate's Table 1
-    factor; 1 and ones otherwise) is held to the scaled creature's limit, in its numbers, so
-    that it diverges when the file ``legdsl scale`` writes would."""
+    factor; 1 and ones otherwise) is held to the scaled creature's limit, brought to the
+    model's numbers (as the rest of its divergence message is), so that it diverges when the
+    file ``legdsl scale`` writes would."""
     most = divergence_speed(scale * standing_height)
     for k, x in enumerate(v):
         if abs(x) > most / factors[k]:
-            return k, abs(x) * factors[k], most
+            return k, abs(x), most / factors[k]
     return None
