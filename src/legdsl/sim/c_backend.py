@@ -1,7 +1,7 @@
 """The C backend: the same simulation as ``legdsl.sim.simulate``, its steps taken in C.
 
-``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording, the
-checks and the controller's state machine to the creature's shared library
+``CSimulation`` is a ``Simulation`` whose run loop (``_loop``) hands the steps, the recording,
+the checks and the controller's state machine to the creature's shared library
 (``legdsl.codegen.c.build``: the generated ``dynamics.c`` and ``control_CONTROLLER.c`` with the
 runtime ``step.c`` and ``machine.c``). C advances many steps per call and writes the recorded
 samples straight into the trajectory's numpy arrays; it returns to Python only
@@ -381,7 +381,8 @@ class CSimulation(Simulation):
         self.q, self.v, self.t, self._kinematics = q, v, t, None
 
     def fall_check(self, start_height: float) -> str | None:
-        """``Simulation._check`` now: None, or 'fell' (and the message); raises a divergence."""
+        """``Simulation._check`` at the state now: None, or 'fell' (and the message); raises
+        the divergence it finds."""
         return self._check(start_height)
 
     @property
