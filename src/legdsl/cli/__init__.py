@@ -149,6 +149,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
     from legdsl.pipeline.compile import compile_file
     from legdsl.pipeline.generated import write_generated
+    from legdsl.pipeline.report import CompileProgress
 
     if args.all == bool(args.files):
         print("legdsl compile: give .leg files or --all (not both)", file=sys.stderr)
@@ -165,14 +166,13 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
     check_output_dir(args.out, "--out")
 
-    def progress(message: str) -> None:
-        print(f"legdsl: {message}", file=sys.stderr, flush=True)
-
+    shown = CompileProgress()
+    progress = shown.line
     failed = False
     for path in files:
         start = time.perf_counter()
         try:
-            compiled = compile_file(path, progress)
+            compiled = compile_file(path, progress, shown.done)
         except LegError as e:
             print(e.render(), file=sys.stderr)
             failed = True

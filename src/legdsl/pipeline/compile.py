@@ -34,6 +34,10 @@ from legdsl.lower.symbolic import SymbolicSystem, lower
 from legdsl.pipeline.forked import Forked
 
 Progress = Callable[[str], None]
+Done = Callable[[str, float], None]  # (creature, share of its compile done)
+# Shares of a compile's time (the quadruped's and the kangaroo's): its dynamics lowered, then
+# printed; the rest is waiting for the controllers, lowered and printed in other processes.
+LOWERING, PRINTING = 0.4, 0.15
 
 
 @dataclass(frozen=True)
@@ -73,7 +77,9 @@ def source_label(path: str | Path) -> str:
     return p.as_posix()
 
 
-def compile_file(path: str | Path, progress: Progress | None = None) -> list[Compiled]:
+def compile_file(
+    path: str | Path, progress: Progress | None = None, done: Done | None = None
+) -> list[Compiled]:
     """Compile every creature in a ``.leg`` file (parsed once, then checked and lowered)."""
     say = progress or (lambda _: None)
     start = time.perf_counter()
@@ -85,16 +91,19 @@ def compile_file(path: str | Path, progress: Progress | None = None) -> list[Com
     say(f"{path}: parsed in {parsed:.2f} s, checked in {checked:.2f} s")
     timings = (("parse", parsed), ("check", checked))
     try:
-        return [compile_checked(syntax, m, progress, timings) for m in models]
+        return [compile_checked(syntax, m, progress, timings, done) for m in models]
     except LegError as e:  # found in lowering: shown with its line, as the checker's are
         raise LegError(e.diagnostics, {**e.sources, str(path): text}) from None
 
 
 def compile_model(
-    path: str | Path, creature: str | None = None, progress: Progress | None = None
+    path: str | Path,
+    creature: str | None = None,
+    progress: Progress | None = None,
+    done: Done | None = None,
 ) -> Compiled:
     """Compile the one creature of a ``.leg`` file (or the named one)."""
-    return choose(compile_file(path, progress), creature, path)
+    return choose(compile_file(path, progress, done), creature, path)
 
 
 def compile_checked(
@@ -102,18 +111,25 @@ def compile_checked(
     model: Model,
     progress: Progress | None = None,
     timings: tuple[tuple[str, float], ...] = (),
+    done: Done | None = None,
 ) -> Compiled:
     """Lower and print a model already checked from ``syntax`` (the stages after the checker).
 
     A creature's controllers are lowered and printed in other processes while this one
-    lowers its dynamics (``compile_jobs``): they depend on the model alone."""
+    lowers its dynamics (``compile_jobs``): they depend on the model alone. ``done`` is told
+    the creature's name and the share of its compile done, as it goes."""
     say = progress or (lambda _: None)
     source = source_label(model.source)
+
+    def tick(share: float) -> None:
+        if done is not None:
+            done(model.name, share)
+
     others = _controller_processes(model, source)
     try:
         say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
         start = time.perf_counter()
-        system = lower(model)
+        system = lower(model, done=lambda share: tick(LOWERING * share))
         lowered = time.perf_counter() - start
         say(f"{model.name}: lowered in {lowered:.2f} s; printing")
         start = time.perf_counter()
@@ -124,6 +140,7 @@ def compile_checked(
             ("dynamics_some.c", render_some_source(system, source)),
             ("dynamics.h", render_header(system, source)),
         )
+        tick(LOWERING + PRINTING)
         controllers: tuple[LoweredController, ...] = ()
         for k, controller in enumerate(model.controllers):
             say(f"{model.name}: lowering controller {controller.name}")
@@ -137,12 +154,14 @@ def compile_checked(
                 (f"control_{controller.name}.py", text),
                 (f"control_{controller.name}.c", c_text),
             )
+            tick(LOWERING + PRINTING + (1 - LOWERING - PRINTING) * (k + 1) / len(model.controllers))
     finally:
         if others:
             others.close()
     printed = time.perf_counter() - start
     lines = sum(text.count("\n") for _, text in files)
     files += ((SUMS, sha256_sums(files)),)
+    tick(1.0)
     say(f"{model.name}: printed {lines} lines in {printed:.2f} s")
     return Compiled(
         source=source,

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from types import ModuleType
@@ -31,7 +32,8 @@ from legdsl.files import (
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.compile import SUMS, Compiled, compile_checked, compile_model
+from legdsl.pipeline.compile import SUMS, Compiled, Done, compile_checked, compile_model
+from legdsl.pipeline.report import CompileProgress
 from legdsl.pipeline.settings import require_controller
 
 
@@ -98,7 +100,7 @@ def _load(
             reason = "stale"
     if log is not None:
         print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
-    _recompile(model, source, generated, syntax)
+    _recompile(model, source, generated, syntax, log)
     return import_module_file(path, label + "_new")
 
 
@@ -133,7 +135,7 @@ def c_sources(
         if log is not None:
             listed = ", ".join(names)
             print(f"legdsl: {folder}/{{{listed}}}: {why}; compiling {source}", file=log)
-        _recompile(model, source, generated, syntax)
+        _recompile(model, source, generated, syntax, log)
     return folder
 
 
@@ -156,15 +158,23 @@ def _body(path: Path) -> str | None:
         return None
 
 
-def _compiled(model: Model, source: Path, syntax: ast.SourceFile | None) -> Compiled:
+def _compiled(
+    model: Model, source: Path, syntax: ast.SourceFile | None, done: Done | None = None
+) -> Compiled:
     """The creature compiled again (from its checked syntax tree when at hand)."""
-    return compile_model(source, model.name) if syntax is None else compile_checked(syntax, model)
+    if syntax is None:
+        return compile_model(source, model.name, done=done)
+    return compile_checked(syntax, model, done=done)
 
 
-def _recompile(model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None) -> None:
-    """Compile the creature again into ``generated/NAME/``; a tree that cannot be written (a
-    read-only checkout, a shared install) is the user's to fix, and the message says how."""
-    compiled = _compiled(model, source, syntax)
+def _recompile(
+    model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None, log: Any = None
+) -> None:
+    """Compile the creature again into ``generated/NAME/``, with a bar and the time left on a
+    terminal's standard error (``log``); a tree that cannot be written (a read-only checkout,
+    a shared install) is the user's to fix, and the message says how."""
+    done = CompileProgress().done if log is sys.stderr else None
+    compiled = _compiled(model, source, syntax, done)
     try:
         write_generated(compiled, generated)
     except OSError as e:

@@ -17,7 +17,12 @@ def progress_line(done: float, total: float, unit: str, left: float | None) -> N
     width = 30
     frac = min(1.0, done / total) if total > 0 else 1.0
     filled = int(frac * width)
-    amount = f"{done:6.2f} / {total:.2f} s" if unit == "s" else f"{done:g}/{total:g} {unit}"
+    if unit == "s":
+        amount = f"{done:6.2f} / {total:.2f} s"
+    elif unit == "%":  # a share of some work (a compile's)
+        amount = f"{100 * frac:3.0f}%"
+    else:
+        amount = f"{done:g}/{total:g} {unit}"
     if frac >= 1.0:
         tail = "done\n"
     elif left is None:
@@ -29,10 +34,11 @@ def progress_line(done: float, total: float, unit: str, left: float | None) -> N
 
 
 class ProgressBar:
-    """``progress(t, total)`` of a run or a video: ``progress_line`` with the wall time left
-    at the pace since the first call."""
+    """``progress(t, total)`` of a run or a video (``unit`` s), or of work done in shares
+    (``unit`` %): ``progress_line`` with the wall time left at the pace since the first call."""
 
-    def __init__(self) -> None:
+    def __init__(self, unit: str = "s") -> None:
+        self.unit = unit
         self._first: tuple[float, float] | None = None  # (wall clock, t) at the first call
 
     def __call__(self, t: float, total: float) -> None:
@@ -41,7 +47,30 @@ class ProgressBar:
             self._first = (now, t)
         wall, t0 = self._first
         left = (now - wall) * (total - t) / (t - t0) if t > t0 else None
-        progress_line(t, total, "s", left)
+        progress_line(t, total, self.unit, left)
+
+
+class CompileProgress:
+    """A compile's lines (``legdsl: ...``) on standard error and, on a terminal, under them a
+    bar for each creature with the time left at the pace so far (its sympy lowering and the
+    printing of its modules take seconds to minutes, and said nothing meanwhile)."""
+
+    def __init__(self) -> None:
+        self.shown = sys.stderr.isatty()
+        self.bars: dict[str, ProgressBar] = {}
+        self.finished: set[str] = set()  # creatures whose bar said done
+
+    def line(self, message: str) -> None:
+        clear = "\r\033[K" if self.bars else ""  # the bar's line, written over
+        print(f"{clear}legdsl: {message}", file=sys.stderr, flush=True)
+
+    def done(self, creature: str, share: float) -> None:
+        if not self.shown or creature in self.finished:
+            return
+        if share >= 1.0 - 1e-9:  # the last share, however its parts summed
+            share = 1.0
+            self.finished.add(creature)
+        self.bars.setdefault(creature, ProgressBar("%"))(share, 1.0)
 
 
 def summary(model: Model, result: RunResult) -> str:
