@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from conftest import CREATURES
+from runtime_helpers import needs_c_compiler
 
 from legdsl.cli import main
 from legdsl.pipeline.compile import compile_file
@@ -43,3 +44,22 @@ def test_a_terminal_sees_a_bar_with_the_time_left(
     assert "s left" in text and text.count("100%, done") == 1
     # each line written over the bar, not after it on its line
     assert "\r\033[Klegdsl: hopper: printed" in text
+
+
+@needs_c_compiler
+def test_a_run_says_it_builds_the_c_library_before_the_compiler_runs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The kangaroo's library takes gcc 3 s, a hexapod's 5 s, a large creature's a minute: the
+    run said nothing until it was built."""
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    said = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", said)
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.01"]
+    argv += ["--backend", "c", "--out", str(tmp_path / "run")]
+    assert main(argv) == 0
+    lines = said.getvalue().splitlines()
+    building = next(i for i, line in enumerate(lines) if "building the C library of hop" in line)
+    assert "lines of C; kept in" in lines[building] and "built" in lines[building + 1]
+    assert main(argv) == 0  # from the cache: nothing to say
+    assert said.getvalue().count("building the C library") == 1

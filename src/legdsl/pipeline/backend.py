@@ -96,10 +96,11 @@ def make_simulation(
     if version_note is not None:
         tell(version_note)
     libraries = {}
+    said = None if log is None else lambda text: print(f"legdsl: {text}", file=log, flush=True)
     for name in names:
         folder = _fresh_sources(model, source, generated, log, syntax, name)
         try:
-            library = load_library(model, folder, name, trust=_BATCH[0] > 0)
+            library = load_library(model, folder, name, trust=_BATCH[0] > 0, starting=said)
         except NoCompiler as e:  # the compiler went away between the check and the build
             raise UsageError(f"--backend {backend}: {e}") from None
         except CompilerUnusable as e:  # LEGDSL_CC is no compiler, or one without its headers

@@ -13,6 +13,7 @@ import ctypes
 import os
 import re
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -108,11 +109,16 @@ def available() -> str | None:
 
 
 def load_library(
-    model: Model, generated_dir: Path, controller: str | None = None, trust: bool = False
+    model: Model,
+    generated_dir: Path,
+    controller: str | None = None,
+    trust: bool = False,
+    starting: Callable[[str], None] | None = None,
 ) -> CLibrary:
     """Build (or take from the cache) and load the library of ``generated_dir``'s C, with the
     controller's state machine in C when it has one. With ``trust`` (the runs of one batch), a
-    library this process has loaded for these files is given again without looking at them."""
+    library this process has loaded for these files is given again without looking at them.
+    ``starting`` is told when the compiler is about to run (seconds, for a large creature)."""
     name = model.name if controller is None else f"{model.name}-{controller}"
     trusted = (name, str(generated_dir))
     if trust and trusted in _TRUSTED:
@@ -129,14 +135,14 @@ def load_library(
         _TRUSTED[trusted] = _BY_STAT[key]
         return _BY_STAT[key]
     files_text = sources(generated_dir, controller)
-    built = _build(name, files_text)
+    built = _build(name, files_text, starting)
     if built.path not in _LOADED:
         try:
             _LOADED[built.path] = CLibrary(built, model)
         except OSError:
             if built.path.exists():
                 raise  # e.g. a cache on a file system that may not map code (noexec)
-            built = _build(name, files_text)  # another process trimmed the cache meanwhile
+            built = _build(name, files_text, starting)  # another process trimmed the cache
             _LOADED[built.path] = CLibrary(built, model)
         except (ValueError, AttributeError) as e:  # a symbol missing: not built as legdsl's C
             built.path.unlink(missing_ok=True)  # so that no later run loads it again
@@ -149,12 +155,12 @@ def load_library(
     return _LOADED[built.path]
 
 
-def _build(name: str, files: dict[str, str]) -> Built:
+def _build(name: str, files: dict[str, str], starting: Callable[[str], None] | None) -> Built:
     """``build``, with a compiler that failed for want of room in the cache (it says "No space
     left on device") as the ``OSError`` of a full cache: legdsl's cause to say what to free,
     not a bug in its C (nor a compiler to install)."""
     try:
-        return build(name, files)
+        return build(name, files, starting=starting)
     except (BuildFailed, CompilerUnusable) as e:
         disk = refused_in(str(e))
         if disk is None:

@@ -47,6 +47,7 @@ import signal
 import subprocess
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -219,8 +220,14 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
     return digest.hexdigest()[:20]
 
 
-def build(name: str, files: dict[str, str], compiler: Compiler | None = None) -> Built:
-    """The shared library of ``files`` (compiled now unless the cache has it)."""
+def build(
+    name: str,
+    files: dict[str, str],
+    compiler: Compiler | None = None,
+    starting: Callable[[str], None] | None = None,
+) -> Built:
+    """The shared library of ``files`` (compiled now unless the cache has it; ``starting`` is
+    told what is built, before the compiler runs)."""
     compiler = compiler or find_compiler()
     if compiler is None:
         raise NoCompiler(no_compiler() or "no C compiler found")
@@ -233,6 +240,9 @@ def build(name: str, files: dict[str, str], compiler: Compiler | None = None) ->
                 os.utime(final)  # used now: the last to go when the cache is trimmed
             return Built(final, cached=True, seconds=0.0)
         final.unlink(missing_ok=True)  # damaged: built again below
+    if starting is not None:
+        lines = sum(text.count("\n") for text in files.values())
+        starting(f"building the C library of {name} ({lines} lines of C; kept in {root})")
     start = time.perf_counter()
     try:
         _compile(name, files, compiler, root, final)
