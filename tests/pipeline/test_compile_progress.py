@@ -26,7 +26,7 @@ def test_a_compile_tells_the_share_of_each_creature_done() -> None:
     compile_file(CREATURES / "kangaroo.leg", done=lambda name, share: told.append((name, share)))
     shares = [share for _, share in told]
     assert {name for name, _ in told} == {"kangaroo"} and len(shares) >= 14
-    assert shares == sorted(shares) and 0 < shares[0] and shares[-1] == 1.0
+    assert shares == sorted(shares) and shares[0] > 0 and shares[-1] == 1.0
 
 
 @pytest.mark.parametrize("terminal", [True, False])
