@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import multiprocessing
 import pickle
+import signal
 import sys
 import threading
 from collections.abc import Callable, Sequence
@@ -67,8 +68,8 @@ class Forked:
     def close(self) -> None:
         """Stop the processes (those still working after an error here) and close the pipes."""
         for process in self._processes:
-            if process.is_alive():
-                process.terminate()
+            if process.is_alive():  # SIGKILL: one forked with a handler that notes SIGTERM
+                process.kill()  # (a run writing its files) would not stop, nor say so
             process.join()
         for pipe in self._pipes:
             if pipe is not None:
@@ -77,6 +78,14 @@ class Forked:
 
 def _answer(work: Work, items: Sequence[Any], pipe: Connection) -> None:
     """In the process: each item's result in turn, or the exception that stopped it."""
+    # A forked process inherits the command's handlers: one that notes a signal and goes on
+    # (a run writing its directory) kept it working past close()'s terminate(), then blocked
+    # for ever on a pipe no one read, and close() waited for it. Ctrl-C is the command's to
+    # handle (it stops this process); the ending signals end it.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
     for item in items:
         try:
             answer = (False, work(item))
