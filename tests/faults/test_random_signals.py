@@ -327,10 +327,43 @@ forked.close()  # as after an interrupt: nothing read
 
 
 def test_a_stopped_compile_does_not_wait_for_its_controller_processes() -> None:
-    """A part of seeds 5 and 14 (which still hang: see the report): SIGQUIT as ``legdsl compile`` (or a run compiling) lowered controllers
-    in forked processes. They inherited a handler that notes SIGTERM and goes on, so
-    close()'s terminate() did not end them; each then blocked writing its result to a pipe no
-    one read, and the command waited for it for ever."""
+    """A part of seeds 5 and 14: a compile lowers controllers in forked processes. They
+    inherited a handler that notes SIGTERM and goes on (a run's), so close()'s terminate() did
+    not end them; each then blocked writing its result to a pipe no one read, and the command
+    waited for it for ever."""
     done = subprocess.run([sys.executable, "-c", NOTING_PARENT], env=_env(Path("/nonexistent")),
                           capture_output=True, text=True, timeout=60)  # fmt: skip
     assert done.returncode == 0, done.stderr
+
+
+@pytest.mark.parametrize(
+    ("argv", "said", "sig"),
+    [
+        (["compile", "creatures/biped.leg", "--out", "out"], "lowering 14 DOF", signal.SIGQUIT),
+        (["run", "creatures/kangaroo.leg", "--controller", "hop", "--time", "0.1", "--backend",
+          "python", "--generated", "gen", "--out", "run"], "compiling", signal.SIGTERM),
+    ],
+)  # fmt: skip
+def test_a_signal_while_compiling_ends_the_command_and_its_controller_processes(
+    argv: list[str], said: str, sig: int, tmp_path: Path
+) -> None:
+    """Seeds 5 and 14: SIGQUIT (or SIGTERM) while a command compiled killed it on the spot (no
+    handler there), and its forked controller processes, orphaned, blocked for ever writing to
+    pipes they held open themselves: the terminal got its prompt back, the processes stayed
+    (and a caller reading the command's output waited for ever). It now unwinds: the processes
+    are stopped, one line says so, exit status 128 + the signal; and a process whose command is
+    gone (SIGKILL) ends at its next write."""
+    scratch = _scratch(tmp_path / "s")
+    proc = _start(argv, scratch)
+    assert proc.stderr is not None
+    seen = ""
+    while said not in seen:  # the compile has begun
+        line = proc.stderr.readline()
+        assert line, f"ended before '{said}': {seen}"
+        seen += line
+    proc.send_signal(sig)
+    _, err = _finish(proc, " ".join(argv))  # and nobody left in its session
+    assert proc.returncode in (128 + sig, -sig), seen + err
+    if proc.returncode > 0:  # the handlers were in place: one line
+        assert f"legdsl: terminated ({signal.Signals(sig).name})" in err, seen + err
+    assert "Traceback" not in err, err

@@ -136,8 +136,9 @@ class QuietWhenClosed:
 # Readers that write one output through a temporary file and, for a video, an ffmpeg, and the
 # commands with worker processes: SIGTERM unwinds them as Ctrl-C does (the temporary file
 # removed, ffmpeg and the workers stopped, a tune's best so far written), where Python's
-# default would end the process on the spot and leave them behind. (``run`` has its own.)
-TERM_UNWINDS = ("animate", "export-motion", "replay", "plot", "sweep", "tune")
+# default would end the process on the spot and leave them behind (a compile's controller
+# processes). (``run`` has its own, and unwinds so while it compiles.)
+TERM_UNWINDS = ("animate", "export-motion", "replay", "plot", "sweep", "tune", "compile")
 
 
 # Signals that end a command as SIGTERM does, where Python's default would kill it on the

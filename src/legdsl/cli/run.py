@@ -23,7 +23,7 @@ from legdsl.cli.common import (
     Command,
     numeric,
 )
-from legdsl.cli.process import ENDING_SIGNALS, exit_status, handled
+from legdsl.cli.process import ENDING_SIGNALS, exit_status, handled, sigterm_unwinds
 from legdsl.lang.errors import UsageError
 
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
@@ -93,9 +93,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         tilt = math.radians(tilt)  # the default, in degrees
     if args.out:  # checked before anything is compiled or simulated
         check_output_dir(args.out, "--out")
-    session = RunSession.from_file(
-        args.file, args.creature, args.generated, sys.stderr, args.scene, args.controller
-    )
+    with sigterm_unwinds():  # a compile of stale modules, its controller processes stopped
+        session = RunSession.from_file(
+            args.file, args.creature, args.generated, sys.stderr, args.scene, args.controller
+        )
     if args.scale is not None and args.animate:  # its run.json names the unscaled creature
         raise UsageError(
             "--animate draws the file's creature: animate the run of 'legdsl scale's file"

@@ -38,11 +38,18 @@ class Forked:
         context = (
             multiprocessing.get_context("fork") if alone else multiprocessing.get_context("spawn")
         )
+        forked = context.get_start_method() == "fork"
         for first in range(min(processes, len(items))):
             try:
                 reading, writing = context.Pipe(duplex=False)
+                # a forked process holds copies of the reading ends made so far: it closes them,
+                # so that with this process gone its writes fail (it held its own pipe open and
+                # blocked for ever on a full one, orphaned, when a signal ended a compile)
+                others = [*(p for p in self._pipes if p is not None), reading] if forked else []
                 process = context.Process(
-                    target=_answer, args=(work, items[first::processes], writing), daemon=True
+                    target=_answer,
+                    args=(work, items[first::processes], writing, others),
+                    daemon=True,
                 )
                 process.start()
             except (OSError, MemoryError, RuntimeError):  # no memory or processes left
@@ -76,8 +83,13 @@ class Forked:
                 pipe.close()
 
 
-def _answer(work: Work, items: Sequence[Any], pipe: Connection) -> None:
-    """In the process: each item's result in turn, or the exception that stopped it."""
+def _answer(
+    work: Work, items: Sequence[Any], pipe: Connection, inherited: Sequence[Connection]
+) -> None:
+    """In the process: each item's result in turn, or the exception that stopped it; once the
+    command that forked it is gone (nobody reads), it ends quietly."""
+    for reading in inherited:
+        reading.close()
     # A forked process inherits the command's handlers: one that notes a signal and goes on
     # (a run writing its directory) kept it working past close()'s terminate(), then blocked
     # for ever on a pipe no one read, and close() waited for it. Ctrl-C is the command's to
@@ -86,10 +98,13 @@ def _answer(work: Work, items: Sequence[Any], pipe: Connection) -> None:
     for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
-    for item in items:
-        try:
-            answer = (False, work(item))
-        except Exception as e:  # raised again where the result is asked for
-            pipe.send_bytes(pickle.dumps((True, e)))
-            return
-        pipe.send_bytes(pickle.dumps(answer))
+    try:
+        for item in items:
+            try:
+                answer = (False, work(item))
+            except Exception as e:  # raised again where the result is asked for
+                pipe.send_bytes(pickle.dumps((True, e)))
+                return
+            pipe.send_bytes(pickle.dumps(answer))
+    except BrokenPipeError:  # the command ended (a signal, a kill): nobody reads
+        return
