@@ -12,6 +12,7 @@ started as many threads again. One thread, unless the user asks for more.
 """
 
 import os
+import signal
 import sys
 
 
@@ -26,7 +27,14 @@ def main() -> int:
         # the import machinery then fails as SystemError ("... without setting an exception")
         print("legdsl: out of memory: raise the memory limit (ulimit -v)", file=sys.stderr)
         return 2
-    return command_line()
+    # A second Ctrl-C as an interrupted command ends (flushing its output, or in Python's exit
+    # handlers) was a traceback after "legdsl: interrupted": the command is over by then.
+    try:
+        return command_line()
+    except KeyboardInterrupt:  # it has said "interrupted" already
+        return 130
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ were not left corrupt.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -367,3 +368,21 @@ def test_a_signal_while_compiling_ends_the_command_and_its_controller_processes(
     if proc.returncode > 0:  # the handlers were in place: one line
         assert f"legdsl: terminated ({signal.Signals(sig).name})" in err, seen + err
     assert "Traceback" not in err, err
+
+
+def test_ctrl_c_pressed_again_and_again_as_an_interrupted_command_ends(tmp_path: Path) -> None:
+    """Seed 43: a second Ctrl-C 0.1 s after the first, as the interrupted command flushed its
+    output or ran Python's exit handlers, printed a traceback under "legdsl: interrupted"."""
+    scratch = _scratch(tmp_path / "s")
+    argv = ["run", "creatures/kangaroo.leg", "--time", "0.5", "--generated", "gen", "--out", "o"]
+    proc = _start(argv, scratch)
+    assert proc.stderr is not None
+    while "compiling" not in (line := proc.stderr.readline()):
+        assert line, "ended before compiling"
+    while proc.poll() is None:  # Ctrl-C held down: every 0.2 ms until it has ended
+        with contextlib.suppress(ProcessLookupError):
+            proc.send_signal(signal.SIGINT)
+        time.sleep(0.0002)
+    _, err = _finish(proc, " ".join(argv))
+    assert proc.returncode in (130, -signal.SIGINT), err
+    assert "Traceback" not in err and "Exception ignored" not in err, err
