@@ -218,7 +218,7 @@ def test_a_c_cache_on_a_full_disk_falls_back_or_says_what_to_free(
     if available() is not None:
         pytest.skip(f"no C backend here: {available()}")
 
-    def full(name: str, files: dict[str, str]) -> None:
+    def full(name: str, files: dict[str, str], **told: object) -> None:
         raise BuildFailed(
             f"cc failed on the C of {name}:\nFatal error: can't write 132 bytes to section "
             ".text of dynamics.c.o: 'No space left on device'"
@@ -383,7 +383,7 @@ def test_a_full_temporary_folder_of_the_compiler_is_named_not_the_cache(
     import legdsl.sim.c_library as c_library
     from legdsl.codegen.c.build import BuildFailed
 
-    def full(name: str, files: dict[str, str]) -> None:
+    def full(name: str, files: dict[str, str], **told: object) -> None:
         raise BuildFailed(f"{tempfile.gettempdir()}/cc1.s: Fatal error: No space left on device")
 
     monkeypatch.setattr(c_library, "build", full)

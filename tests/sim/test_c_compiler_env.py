@@ -134,7 +134,7 @@ def test_a_library_without_legdsls_symbols_is_refused_and_removed(
     subprocess.run(
         ["gcc", "-shared", "-fPIC", "-o", str(other), str(tmp_path / "other.c")], check=True
     )
-    monkeypatch.setattr(c_library, "build", lambda name, files: Built(other, True, 0.0))
+    monkeypatch.setattr(c_library, "build", lambda name, files, **told: Built(other, True, 0.0))
     assert main(_run(tmp_path, "c")) == 2
     err = capsys.readouterr().err
     assert "lacks legdsl's symbols" in err and "set LEGDSL_CC to a C compiler" in err, err

@@ -96,7 +96,13 @@ def make_simulation(
     if version_note is not None:
         tell(version_note)
     libraries = {}
-    said = None if log is None else lambda text: print(f"legdsl: {text}", file=log, flush=True)
+
+    def building(text: str) -> None:
+        print(f"legdsl: {text}", file=log, flush=True)
+
+    # on a terminal, a build's seconds (a minute for a large creature) are announced; a log
+    # keeps to the one line a failed build is
+    said = building if log is not None and log.isatty() else None
     for name in names:
         folder = _fresh_sources(model, source, generated, log, syntax, name)
         try:

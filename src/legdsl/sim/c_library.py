@@ -155,7 +155,9 @@ def load_library(
     return _LOADED[built.path]
 
 
-def _build(name: str, files: dict[str, str], starting: Callable[[str], None] | None) -> Built:
+def _build(
+    name: str, files: dict[str, str], starting: Callable[[str], None] | None = None
+) -> Built:
     """``build``, with a compiler that failed for want of room in the cache (it says "No space
     left on device") as the ``OSError`` of a full cache: legdsl's cause to say what to free,
     not a bug in its C (nor a compiler to install)."""
