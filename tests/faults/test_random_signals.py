@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -190,11 +191,17 @@ def _reference(argv: list[str], base: Path) -> tuple[Path, float]:
 
 
 # ------------------------------------------------------------------------ what each leaves
-def _hidden_leftovers(scratch: Path) -> list[str]:
+def _hidden_leftovers(scratch: Path, workers: bool = False) -> list[str]:
+    """Hidden files left in the outputs and caches. A sweep's or tune's worker is ended at once
+    by its command's SIGTERM (``api.workers``): a C build it had begun leaves its sources in
+    the cache, which a later build removes after an hour (``build.LEFTOVER_SECONDS``; seeds
+    45 and 71)."""
     found = []
     for path in (scratch / "out", scratch / "gen", scratch / "cache"):
         if path.is_dir():
             found += [str(p.relative_to(scratch)) for p in path.rglob(".*") if p.name not in KEPT]
+    if workers:
+        found = [f for f in found if not re.fullmatch(r"cache/\.[\w.-]+-src-\w+", f)]
     return found
 
 
@@ -305,7 +312,7 @@ def test_a_signal_at_a_random_moment(seed: int, tmp_path_factory: pytest.TempPat
         sig = d.signals[0]
         assert code in (0, 128 + sig, -sig), f"{d}: exit {code}\n{err}"
         assert "Traceback" not in err and "internal error" not in err, f"{d}\n{err}"
-        leftovers = _hidden_leftovers(scratch)
+        leftovers = _hidden_leftovers(scratch, workers="--jobs" in d.argv)
         assert not leftovers, f"{d}: left {leftovers}\n{err}"
         _check_stopped(d, scratch, reference, stopped=code != 0)
         _run(d.argv, scratch, f"{d}, run again")
