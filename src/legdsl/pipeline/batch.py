@@ -55,7 +55,7 @@ from legdsl.sim.c_backend import (
     CSimulation,
 )
 from legdsl.sim.c_library import address
-from legdsl.sim.c_machine import pull_machine
+from legdsl.sim.c_machine import pull_machine, state_events
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
 from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult
@@ -400,8 +400,7 @@ class Copies:
             return []
         n = int(self.structs[k].n_ctl_events)
         times, states = self.blocks["ctl_event_t"][k, :n], self.blocks["ctl_event_state"][k, :n]
-        return [{"t": round(float(t), 9), "kind": "state", "state": m.state_names[int(s)]}
-                for t, s in zip(times, states, strict=True)]  # fmt: skip
+        return state_events(times, states, m.state_names)
 
     def _contact_events(self, k: int) -> list[dict[str, Any]]:
         names, n = self.batch.sim.contact_names, int(self.structs[k].n_events)

@@ -45,7 +45,7 @@ class Forked:
                 # a forked process holds copies of the reading ends made so far: it closes them,
                 # so that with this process gone its writes fail (it held its own pipe open and
                 # blocked for ever on a full one, orphaned, when a signal ended a compile)
-                others = [*(p for p in self._pipes if p is not None), reading] if forked else []
+                others = [*self._pipes, reading] if forked else []
                 process = context.Process(
                     target=_answer,
                     args=(work, items[first::processes], writing, others),

@@ -62,9 +62,17 @@ def pull_machine(
     for k in range(int(c.n_hist)):
         values = keep["hist_inputs"][k * ni : (k + 1) * ni].tolist()
         m._history.append((float(keep["hist_t"][k]), values))
-    for k in range(int(c.n_ctl_events)):
-        t, state_at = float(keep["ctl_event_t"][k]), int(keep["ctl_event_state"][k])
-        m.events.append({"t": round(t, 9), "kind": "state", "state": m.state_names[state_at]})
+    n = int(c.n_ctl_events)
+    m.events += state_events(keep["ctl_event_t"][:n], keep["ctl_event_state"][:n], m.state_names)
+
+
+def state_events(
+    times: np.ndarray, states: np.ndarray, names: Sequence[str]
+) -> list[dict[str, Any]]:
+    """The state events C recorded (the times, the indices of the states entered), as the
+    Python state machine writes them."""
+    return [{"t": round(float(t), 9), "kind": "state", "state": names[int(s)]}
+            for t, s in zip(times, states, strict=True)]  # fmt: skip
 
 
 def _clocks(m: StateMachine) -> list[Any]:
