@@ -14,10 +14,28 @@ started as many threads again. One thread, unless the user asks for more.
 import os
 import signal
 import sys
+import time
+
+
+class _CtrlC:
+    """Ctrl-C in the console script: a KeyboardInterrupt, then none for a second. Held down
+    (or pressed again) as the command unwinds, each one was raised where it landed: in the
+    cleanup of a ``finally``, or in a ``__del__`` that printed "Exception ignored" and its
+    traceback. One so lost is raised again by the next Ctrl-C a second later."""
+
+    def __init__(self) -> None:
+        self.raised_at = -1.0
+
+    def __call__(self, signum: int, frame: object) -> None:
+        if time.monotonic() - self.raised_at >= 1.0:
+            self.raised_at = time.monotonic()
+            raise KeyboardInterrupt
 
 
 def main() -> int:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # read when numpy is first imported
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # not ignored (nohup)
+        signal.signal(signal.SIGINT, _CtrlC())
     try:
         from legdsl.cli import main as command_line
     except KeyboardInterrupt:
@@ -30,7 +48,7 @@ def main() -> int:
     # A second Ctrl-C as an interrupted command ends (flushing its output, or in Python's exit
     # handlers) was a traceback after "legdsl: interrupted": the command is over by then.
     try:
-        return command_line()
+        return command_line(process_ends=True)
     except KeyboardInterrupt:  # it has said "interrupted" already
         return 130
     finally:

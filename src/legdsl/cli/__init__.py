@@ -19,11 +19,11 @@ from typing import TextIO, cast
 from legdsl import __version__
 from legdsl.cli.common import (
     EXIT_INTERNAL,
-    EXIT_INTERRUPTED,
     EXIT_USER_ERROR,
     Command,
     empty_argument,
     file_read_as_option,
+    interrupted,
     negative_values_joined,
     os_refusal,
     read_window,
@@ -402,7 +402,7 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, process_ends: bool = False) -> int:
     streams_that_cannot_fail()
     if not current_directory_exists():
         print(
@@ -413,12 +413,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USER_ERROR
     stdout = sys.stdout
     if stdout is None:  # started with standard output closed: print() writes nothing
-        return _main(argv)
+        return _main(argv, process_ends)
     quiet = QuietWhenClosed(stdout)
     sys.stdout = cast(TextIO, quiet)
     try:
         try:
-            status = _main(argv)
+            status = _main(argv, process_ends)
         finally:  # --help's SystemExit too
             quiet.flush()  # here, not at exit, where a reader gone is exit status 120
     except OSError as e:  # standard output refused what was left of it (> /dev/full)
@@ -440,7 +440,7 @@ def _short_of_memory(e: MemoryError | ImportError | SystemError, command: str = 
     return out_of_memory(command)
 
 
-def _main(argv: Sequence[str] | None) -> int:
+def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
     try:  # the parsers import their commands' modules: a Ctrl-C may come meanwhile
         from legdsl.sim.run_loop import Interrupted
 
@@ -451,8 +451,7 @@ def _main(argv: Sequence[str] | None) -> int:
             return EXIT_USER_ERROR
         args = parser.parse_args(given)
     except KeyboardInterrupt:
-        print("legdsl: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return interrupted(process_ends)
     except (MemoryError, ImportError, SystemError) as e:  # a memory limit (ulimit -v) too low
         print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)  # to load numpy and sympy,
         return EXIT_USER_ERROR  # or a Python without legdsl's dependencies
@@ -476,8 +475,7 @@ def _main(argv: Sequence[str] | None) -> int:
         print(f"legdsl: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
-        print("legdsl: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return interrupted(process_ends)
     except Interrupted as e:
         print(f"legdsl: terminated ({e.signal})", file=sys.stderr)
         return exit_status(e.signal)

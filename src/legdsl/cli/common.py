@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 import errno
 import re
+import signal
+import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -151,3 +153,13 @@ def read_window(args: argparse.Namespace) -> None:
     args.t_to = numeric(args, "t_to", "--to", WINDOW)
     if args.t_to is not None and args.t_to <= args.t_from:
         raise UsageError(f"--to {args.t_to:g}s must come after --from {args.t_from:g}s")
+
+
+def interrupted(process_ends: bool) -> int:
+    """Says a command was interrupted. In the console script, whose process ends after it, a
+    Ctrl-C held down is ignored from here: the unwound command's objects are freed after this,
+    and a KeyboardInterrupt raised in one's ``__del__`` printed a traceback."""
+    if process_ends:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    print("legdsl: interrupted", file=sys.stderr)
+    return EXIT_INTERRUPTED

@@ -10,16 +10,33 @@ would not start, or it died) is done here instead: the result is the same, only 
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import pickle
 import signal
 import sys
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import Connection
 from typing import Any
 
 Work = Callable[[Any], bytes]  # an item's result, pickled (what crosses the pipe)
+
+
+@contextlib.contextmanager
+def ctrl_c_held() -> Iterator[None]:
+    """Ctrl-C held back while a process starts: its KeyboardInterrupt raised in the fork's
+    handlers (logging's lock, in this process or the new one) was printed and dropped, and one
+    in the new process before it ignores Ctrl-C printed its traceback. It comes once this is
+    over; the new process starts with it blocked, ignores it, then unblocks it."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
 class Forked:
@@ -51,7 +68,8 @@ class Forked:
                     args=(work, items[first::processes], writing, others),
                     daemon=True,
                 )
-                process.start()
+                with ctrl_c_held():
+                    process.start()
             except (OSError, MemoryError, RuntimeError):  # no memory or processes left
                 break
             writing.close()  # here: so that a process that dies is an end of file
@@ -98,6 +116,8 @@ def _answer(
     for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if hasattr(signal, "pthread_sigmask"):  # started with Ctrl-C held (ctrl_c_held)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     try:
         for item in items:
             try:
