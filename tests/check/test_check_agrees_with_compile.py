@@ -46,7 +46,7 @@ def test_every_good_file_compiles(path: Path) -> None:
 
 
 @settings(
-    max_examples=30,  # each mutant that checks is lowered and printed: about a second each
+    max_examples=15,  # each mutant that checks is lowered and printed: about a second each
     derandomize=True,
     database=None,
     deadline=None,
