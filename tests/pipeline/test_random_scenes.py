@@ -7,7 +7,8 @@ one-line refusal), never an internal error; the backends agree to the byte; the 
 the --controller/--set/--switch/--time flags it stands for (docs/language.md, "Scenes"); every
 switch the run reached took over, was superseded or is told as not made.
 
-LEGDSL_RANDOM_SCENES=60 LEGDSL_RANDOM_SCENE_SEED=0 runs seeds 0-59 (CI: two)."""
+LEGDSL_RANDOM_SCENES=60 LEGDSL_RANDOM_SCENE_SEED=0 runs seeds 0-59 (CI: seed 0; seed 1, the quadruped,
+27 s, with LEGDSL_RANDOM_SCENES=2)."""
 
 from __future__ import annotations
 
@@ -33,7 +34,7 @@ from legdsl.pipeline.settings import si_unit
 pytestmark = needs_c_compiler
 T = TypeVar("T")
 
-COUNT = int(os.environ.get("LEGDSL_RANDOM_SCENES", "2"))
+COUNT = int(os.environ.get("LEGDSL_RANDOM_SCENES", "1"))
 FIRST = int(os.environ.get("LEGDSL_RANDOM_SCENE_SEED", "0"))
 RERUN = "LEGDSL_RANDOM_SCENES=1 LEGDSL_RANDOM_SCENE_SEED={}"
 

@@ -47,10 +47,10 @@ from legdsl.sim.simulate import Simulation
 pytest.importorskip("mujoco")
 from random_rigs import follow_advice, placed_rig, rig_shown  # noqa: E402  (needs mujoco)
 
-# CI's rigs, each meeting the ground (5, 9, 25, 33 of the five chosen: 32, planar on a pad,
-# left out for CI's time): 3D on a slope with springs, a servo, stops and a mirrored limb; 3D
-# with torsion and stops on a step; a paw pad and a box; planar on a step with mirrored limbs
-CI_SEEDS = (5, 9, 25, 33)
+# CI's rigs, each meeting the ground (9, 25, 33 of the five chosen; left out for CI's time: 5,
+# 3D on a slope with springs, a servo, stops and a mirrored limb, 30 s; 32, planar on a pad):
+# 3D with torsion and stops on a step; a paw pad and a box; planar on a step with mirrored limbs
+CI_SEEDS = (9, 25, 33)
 COUNT = os.environ.get("LEGDSL_RANDOM_ENERGY")
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_ENERGY_SEED", "0"))
 DURATION = 0.1  # s: a dropped or lowered rig meets the ground
