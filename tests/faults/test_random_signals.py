@@ -393,3 +393,34 @@ def test_ctrl_c_pressed_again_and_again_as_an_interrupted_command_ends(tmp_path:
     _, err = _finish(proc, " ".join(argv))
     assert proc.returncode in (130, -signal.SIGINT), err
     assert "Traceback" not in err and "Exception ignored" not in err, err
+
+
+def _children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (Linux's /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with contextlib.suppress(OSError, IndexError):
+            if int(stat.read_text().rsplit(")", 1)[1].split()[1]) == pid:
+                found.append(int(stat.parent.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+def test_ctrl_c_held_down_at_a_terminal_as_a_sweep_starts_its_workers(tmp_path: Path) -> None:
+    """A terminal's Ctrl-C goes to the command's whole process group: a worker forked a moment
+    before, not yet ignoring it, printed "Exception ignored in: <bound method Random.seed ...>"
+    and a KeyboardInterrupt (random's fork handler; 3 of 5 tries). Workers start with Ctrl-C
+    held back, and take it once they ignore it."""
+    scratch = _scratch(tmp_path / "s")
+    shutil.copytree(ROOT / "generated" / "hopper", scratch / "gen" / "hopper")
+    _run(["run", *HOP, "--time", "0.1", "--generated", "gen"], scratch, "the C library built")
+    proc = _start(SWEEP, scratch)
+    while proc.poll() is None and not _children(proc.pid):
+        time.sleep(0.0005)
+    while proc.poll() is None:  # Ctrl-C held down at the terminal: the whole group
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(proc.pid, signal.SIGINT)
+        time.sleep(0.0002)
+    _, err = _finish(proc, " ".join(SWEEP))
+    assert proc.returncode in (130, -signal.SIGINT), err
+    assert "Traceback" not in err and "Exception ignored" not in err, err
