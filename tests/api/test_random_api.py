@@ -435,3 +435,12 @@ def test_found_a_change_before_the_start_is_refused(generated: Path, tmp_path: P
                                    "hop", "--set", "speed=1m/s@-1s", "--generated",
                                    str(generated), "--out", str(tmp_path / "run")])  # fmt: skip
     assert code == 2 and "0 or more" in err
+
+
+def test_found_copies_of_a_value_too_large_for_a_double_are_told(generated: Path) -> None:
+    """run_copies(vary={'speed': ([10**400, 2], 'm/s')}) (or such a q0) was OverflowError."""
+    hopper = _loaded(ROOT / "creatures" / "hopper.leg", None, generated)
+    with pytest.raises(UsageError, match="vary speed: a value is too large for a double"):
+        hopper.run_copies(2, "hop", vary={"speed": ([10**400, 2], "m/s")}, time=0.1)
+    with pytest.raises(UsageError, match="q0: a value is too large for a double"):
+        hopper.run_copies(2, "hop", q0=[[10**400] * 5] * 2, time=0.1)
