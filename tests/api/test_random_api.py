@@ -444,3 +444,18 @@ def test_found_copies_of_a_value_too_large_for_a_double_are_told(generated: Path
         hopper.run_copies(2, "hop", vary={"speed": ([10**400, 2], "m/s")}, time=0.1)
     with pytest.raises(UsageError, match="q0: a value is too large for a double"):
         hopper.run_copies(2, "hop", q0=[[10**400] * 5] * 2, time=0.1)
+
+
+def test_found_an_empty_path_is_no_directory(
+    generated: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """run.save("") wrote the run into the current directory (``Path("")`` is "."), and
+    generated="" would have compiled there."""
+    monkeypatch.chdir(tmp_path)
+    hopper = _loaded(ROOT / "creatures" / "hopper.leg", None, generated)
+    run = hopper.run(controller="hop", time=0.05)
+    with pytest.raises(UsageError, match="give a path"):
+        run.save("")
+    with pytest.raises(UsageError, match="generated= is the directory"):
+        legdsl.load(ROOT / "creatures" / "hopper.leg", generated=" ")
+    assert not list(tmp_path.iterdir())

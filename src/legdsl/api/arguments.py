@@ -65,14 +65,19 @@ def with_units(options: dict[str, Any]) -> dict[str, Any]:
 
 
 def a_path(call: str, path: object) -> Path:
-    if not isinstance(path, str | Path):
+    """A path given as text or ``pathlib.Path``; an empty text (``Path("")`` is the current
+    directory: ``save("")`` wrote the run there) is refused."""
+    if not isinstance(path, str | Path) or (isinstance(path, str) and not path.strip()):
         raise UsageError(f"{call}: give a path (a text or a pathlib.Path), not {path!r}")
     return Path(path)
 
 
 def a_generated(call: str, generated: object) -> Path:
-    """``generated=``: the directory of the generated code."""
-    if not isinstance(generated, str | Path):
+    """``generated=``: the directory of the generated code (not an empty text, which would be
+    the current directory)."""
+    if not isinstance(generated, str | Path) or (
+        isinstance(generated, str) and not generated.strip()
+    ):
         raise UsageError(f"{call}: generated= is the directory of the generated code, not "
                          f"{generated!r}")  # fmt: skip
     return Path(generated)
