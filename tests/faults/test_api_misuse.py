@@ -26,7 +26,7 @@ RUN_MISTAKES: list[tuple[dict[str, Any], str]] = [
     ({"set": {"speed": [1]}}, "give a value with its unit as text"),
     ({"set": ["speed=1m/s"]}, "set= maps names to values"),
     ({"set": "speed=1m/s"}, "set= maps names to values"),
-    ({"set": {3: "1 m/s"}}, "give a value with its unit as text"),
+    ({"set": {3: "1 m/s"}}, "set 3: a name is a text"),
     ({"time": True}, "time= is seconds"),
     ({"time": [1]}, "time= is seconds"),
     ({"time": "2 kg"}, r"--time is a time \(s\)"),

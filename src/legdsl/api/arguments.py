@@ -14,16 +14,40 @@ import numpy as np
 from legdsl.lang.errors import UsageError
 
 
+def as_text(value: object) -> object:
+    """A ``Quantity`` (a creature's default, as ``load`` gives it) as the text of its SI value
+    and unit, every digit kept, so that its dimension is checked as a text's (one without a
+    unit as its number: SI, as any number); else ``value``."""
+    from legdsl.api import Quantity
+
+    if not isinstance(value, Quantity):
+        return value
+    return f"{value.value!r}{value.unit}" if value.unit else value.value
+
+
+def a_float(value: int | float | np.number, meaning: str) -> float:
+    """``float(value)``; a whole number too large for a double is ``meaning``'s UsageError (it
+    was float()'s OverflowError)."""
+    try:
+        return float(value)
+    except OverflowError:
+        size = int(value).bit_length()  # its digits may be too many to print (str() refuses)
+        raise UsageError(f"{meaning}, not a whole number of about 2**{size}, too large for "
+                         "a double") from None  # fmt: skip
+
+
 def seconds(time: object) -> float:
-    """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``)."""
+    """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``), or a
+    ``Quantity`` of a time."""
     from legdsl.pipeline.options import read_seconds
 
+    time = as_text(time)
+    meaning = "run(): time= is seconds (a number, or a text like '500 ms')"
     if isinstance(time, str):
         return read_seconds("--time", time)
     if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
-        raise UsageError(f"run(): time= is seconds (a number, or a text like '500 ms'), "
-                         f"not {time!r}")  # fmt: skip
-    return float(time)
+        raise UsageError(f"{meaning}, not {time!r}")
+    return a_float(time, meaning)
 
 
 def with_units(options: dict[str, Any]) -> dict[str, Any]:
@@ -33,6 +57,7 @@ def with_units(options: dict[str, Any]) -> dict[str, Any]:
 
     out = dict(options)
     for key, value in options.items():
+        value = out[key] = as_text(value)
         if key in RUN_NUMERIC and isinstance(value, str):
             flag, spec = RUN_NUMERIC[key]
             out[key] = read_numeric(flag, value.replace(" ", ""), spec)
@@ -40,14 +65,19 @@ def with_units(options: dict[str, Any]) -> dict[str, Any]:
 
 
 def a_path(call: str, path: object) -> Path:
-    if not isinstance(path, str | Path):
+    """A path given as text or ``pathlib.Path``; an empty text (``Path("")`` is the current
+    directory: ``save("")`` wrote the run there) is refused."""
+    if not isinstance(path, str | Path) or (isinstance(path, str) and not path.strip()):
         raise UsageError(f"{call}: give a path (a text or a pathlib.Path), not {path!r}")
     return Path(path)
 
 
 def a_generated(call: str, generated: object) -> Path:
-    """``generated=``: the directory of the generated code."""
-    if not isinstance(generated, str | Path):
+    """``generated=``: the directory of the generated code (not an empty text, which would be
+    the current directory)."""
+    if not isinstance(generated, str | Path) or (
+        isinstance(generated, str) and not generated.strip()
+    ):
         raise UsageError(f"{call}: generated= is the directory of the generated code, not "
                          f"{generated!r}")  # fmt: skip
     return Path(generated)
@@ -91,33 +121,33 @@ def _seconds(name: str, value: object, least: str, meaning: str) -> float:
     more (``least="nonnegative"``) or more than 0 (``"positive"``); else ``meaning``."""
     from legdsl.pipeline.options import read_seconds
 
+    value = as_text(value)
     if isinstance(value, str):
         return read_seconds(f"{name}=", value, least)
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float | np.integer | np.floating)
-        or not math.isfinite(value)
-        or not (value > 0 or (least == "nonnegative" and value == 0))
-    ):
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise UsageError(f"{meaning}, not {value!r}")
-    return float(value)
+    number = a_float(value, meaning)
+    if not math.isfinite(number) or not (number > 0 or (least == "nonnegative" and number == 0)):
+        raise UsageError(f"{meaning}, not {value!r}")
+    return number
 
 
 def setting_text(name: str, value: object) -> str:
     """``("speed@4s", "2 m/s")`` -> ``speed=2m/s@4s`` (the CLI's form); a ``Quantity`` (a
     controller's default, as ``load`` gives it) goes with its SI unit, every digit kept."""
-    from legdsl.api import Quantity
-
-    if isinstance(value, Quantity):
-        value = f"{value.value!r}{value.unit}"
-    if not isinstance(name, str) or not (
+    value = as_text(value)
+    if not isinstance(name, str):  # the name is the mistake, not its value
+        raise UsageError(f"set {name!r}: a name is a text, an input, parameter or actuator "
+                         f"setting as --set takes it, e.g. {{'speed': '2 m/s'}}")  # fmt: skip
+    if not (
         isinstance(value, str | int | float | np.integer | np.floating)
         and not isinstance(value, bool)
     ):
         raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
                          f"{{'speed': '2 m/s'}} (or a Quantity), not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
-    text = str(value).replace(" ", "") if isinstance(value, str) else repr(float(value))
+    meaning = f"set {name!r}: give a value with its unit as text, e.g. {{'speed': '2 m/s'}}"
+    text = str(value).replace(" ", "") if isinstance(value, str) else repr(a_float(value, meaning))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
 
 

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.api.arguments import seconds, with_units
+from legdsl.api.arguments import a_float, seconds, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -44,7 +44,7 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise UsageError(f"run(): {key}= is a number in SI units, or a text with its "
                                  f"unit (e.g. {key}='{RUN_EXAMPLES[key]}'), not {value!r}")  # fmt: skip
-            options[key] = float(value)
+            options[key] = a_float(value, f"run(): {key}= is a number in SI units")
     for key in ("dt", "control_dt", "record_rate"):  # None is the file's (or the runner's)
         options.setdefault(key, None)
     duration = seconds(5.0 if time is None else time)

@@ -128,6 +128,8 @@ class Batch:
             values = np.asarray(numbers, dtype=float)
         except (TypeError, ValueError):
             raise UsageError(f"vary {name}: its values are not all numbers") from None
+        except OverflowError:  # a whole number past a double's range (was an internal error)
+            raise UsageError(f"vary {name}: a value is too large for a double") from None
         if values.shape != (self.n,):
             raise UsageError(
                 f"vary {name}: give {self.n} values (one per copy), not {values.shape}"
@@ -154,6 +156,8 @@ class Batch:
             values = np.asarray(given, dtype=float)
         except (TypeError, ValueError):
             raise UsageError(f"{what}: its values are not all numbers") from None
+        except OverflowError:  # a whole number past a double's range (was an internal error)
+            raise UsageError(f"{what}: a value is too large for a double") from None
         if values.shape != (self.n, size):
             raise UsageError(
                 f"{what}: give {self.n} rows of {size} (one per copy), not {values.shape}"

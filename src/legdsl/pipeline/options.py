@@ -117,6 +117,7 @@ def check_run_options(options: RunOptions) -> None:
         )
     if options.integrator not in ("euler", "rk4"):
         raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
+    _check_step_counts(options)
     if options.dt > options.duration:
         raise UsageError(
             f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s)"
@@ -128,6 +129,27 @@ def check_run_options(options: RunOptions) -> None:
             f"(--dt {options.dt:g}s), and the controller runs at most once a step; give "
             f"--control-dt {options.dt:g}s or more, or a --dt of {options.control_dt:g}s or less"
         )
+
+
+# The most steps a run or a control interval may count: the C loop counts them in an int64 (a
+# larger count wrapped, and --time 1e300 ended at its start, 'ok'), and past 2**53 a double no
+# longer tells one step from the next.
+MOST_STEPS = 2**53
+
+
+def _check_step_counts(options: RunOptions) -> None:
+    """A step so small that its square is 0 (the stiffness check divides by it), or a run or
+    control interval of more steps than ``MOST_STEPS``: refused."""
+    dt = options.dt
+    if not dt * dt > 0:
+        raise UsageError(f"--dt {dt:g}s is too small to compute with; give --dt 1e-9s or more")
+    for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
+        if seconds / dt > MOST_STEPS:
+            raise UsageError(
+                f"{flag} {seconds:g}s is {seconds / dt:.3g} steps of --dt {dt:g}s, more than a "
+                f"run can count ({MOST_STEPS:.3g}); give {flag} {MOST_STEPS * dt:.3g}s or less, "
+                f"or a longer --dt"
+            )
 
 
 # A drop is refused where doubles at its height are further apart than this fraction of

@@ -297,6 +297,9 @@ def sort_settings(
             given = parse_given(when, f"--set ...@{when}")
             check_dimension(where, "the time after '@' is in seconds", given, _TIME, "@{}")
             at = given.value
+            if at < 0:  # ran as if given from the start, unsaid
+                raise UsageError(f"{where}: a change comes at a time from the run's start, 0 or "
+                                 f"more; to set it from the start, write --set {text}")  # fmt: skip
         name, given = _split(text, original)
         owner, dot, own_name = name.partition(".")
         if dot and owner in {c.name for c in model.controllers}:
