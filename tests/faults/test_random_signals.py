@@ -1,7 +1,7 @@
 """Signals at moments no one picked (docs/runtime.md, Interrupts).
 
 Each draw, from its seed, picks a command (a compile, a run, an export or video of a finished
-run, a sweep, a tune), a signal (SIGINT, SIGTERM, SIGHUP, SIGQUIT, or two SIGINTs in a row),
+run, a sweep, a tune), a signal (SIGINT, SIGTERM, SIGHUP, SIGQUIT, two SIGINTs in a row, or SIGINT held down),
 to the command alone or to its process group (as a terminal's Ctrl-C), and a delay anywhere in
 the command's life, from its imports to its last writes (the command's undisturbed duration
 is measured once, by the reference run each draw is compared with). The command must exit
@@ -81,9 +81,11 @@ class Draw:
     gap: float  # between two SIGINTs
     whole_group: bool
     fraction: float  # of the command's undisturbed duration
+    held: bool = False  # Ctrl-C held down: sent again every 0.2 ms until the command ends
 
     def __str__(self) -> str:
         names = "+".join(signal.Signals(s).name for s in self.signals)
+        names += " held down" if self.held else ""
         to = "its process group" if self.whole_group else "the command"
         return (f"seed {self.seed}: legdsl {' '.join(self.argv)}; {names} to {to} at "
                 f"{self.fraction:.3f} of its duration")  # fmt: skip
@@ -101,7 +103,9 @@ def draw(seed: int) -> Draw:
     # a third of the draws in the first tenth (imports, compiling, building), the rest anywhere
     # up to just past the end
     fraction = float(rng.uniform(0.0, 0.1) if rng.random() < 1 / 3 else rng.uniform(0.0, 1.05))
-    return Draw(seed, kind, argv, signals, gap, whole_group, fraction)
+    # drawn apart, so that the draws above stay those of their seeds
+    held = signals[0] == signal.SIGINT and bool(np.random.default_rng([seed, 1]).random() < 0.5)
+    return Draw(seed, kind, argv, signals, gap, whole_group, fraction, held)
 
 
 # ------------------------------------------------------------------------ running commands
@@ -307,11 +311,16 @@ def test_a_signal_at_a_random_moment(seed: int, tmp_path_factory: pytest.TempPat
                 (os.killpg if d.whole_group else os.kill)(proc.pid, sig)
             except ProcessLookupError:  # it had finished
                 break
+        while d.held and proc.poll() is None:
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                (os.killpg if d.whole_group else os.kill)(proc.pid, signal.SIGINT)
+            time.sleep(0.0002)
         _, err = _finish(proc, str(d))
         code = proc.returncode
         sig = d.signals[0]
         assert code in (0, 128 + sig, -sig), f"{d}: exit {code}\n{err}"
         assert "Traceback" not in err and "internal error" not in err, f"{d}\n{err}"
+        assert "Exception ignored" not in err, f"{d}\n{err}"
         leftovers = _hidden_leftovers(scratch, workers="--jobs" in d.argv)
         assert not leftovers, f"{d}: left {leftovers}\n{err}"
         _check_stopped(d, scratch, reference, stopped=code != 0)
