@@ -106,3 +106,9 @@ def test_random_rig_runs_alike_on_both_backends_and_exports(seed: int, tmp_path:
     rerun = f"LEGDSL_RANDOM_RIG_SEED={seed} LEGDSL_RANDOM_RIGS=1"
     with told_with_seed(f"random rig of seed {seed}", rerun, lambda: rig_shown(seed, tmp_path)):
         check_rig(seed, tmp_path)
+
+
+def test_the_torsion_spring_on_a_slope_turns_a_foot_alike_on_both_backends(tmp_path: Path) -> None:
+    """Rig 107: 3D, torsion, a slope of -14.9 degrees. The spring turns the foot about the slope's
+    normal (tests/sim/test_random_energy.py checks the physics): C follows Python bit for bit."""
+    check_rig(107, tmp_path)

@@ -18,6 +18,7 @@ plane (a slope); the side faces of steps and boxes are not modelled.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from legdsl.ir.model import Ground, Pad
@@ -127,6 +128,25 @@ class GroundContact:
             fn * n[1] + f1 * t1[1] + f2 * t2[1],
             fn * n[2] + f1 * t1[2] + f2 * t2[2],
         )
+
+    def yaw(self, rot: Sequence[float]) -> float:
+        """A body's turn about the ground's normal, which the torsion spring holds: the angle of
+        its x axis (rotation matrix ``rot``, row by row) from t1 in the ground's plane; on level
+        ground its yaw, atan2(R10, R00). (t1 x t2 is the normal: the angle grows as it turns
+        about the normal.)"""
+        if self._slope is None:
+            return math.atan2(rot[3], rot[0])
+        a = self._slope.get("angle")
+        return math.atan2(rot[3], math.cos(a) * rot[0] + math.sin(a) * rot[6])
+
+    def about_normal(self, jac_w: Sequence[Sequence[float]]) -> Sequence[float]:
+        """The row of a body's angular Jacobian (its x, y and z rows) about the ground's normal:
+        its rate about the normal, and the torque there as generalized forces."""
+        if self._slope is None:
+            return jac_w[2]
+        a = self._slope.get("angle")
+        nx, nz = -math.sin(a), math.cos(a)  # the slope's normal, as surface() has it
+        return [nx * x + nz * z for x, z in zip(jac_w[0], jac_w[2], strict=True)]
 
     def torsion(self, i: int, yaw: float, yaw_rate: float) -> float:
         """Torque about the normal on the contact's body, pulling its yaw back to the anchor."""

@@ -168,11 +168,11 @@ class Simulation:
         for i, touching in enumerate(self.ground.touching):
             if not touching:
                 continue
-            jz = jac_w[i][2]
-            rate = sum(jz[k] * v[k] for k in range(len(v)))
+            jn = self.ground.about_normal(jac_w[i])
+            rate = sum(jn[k] * v[k] for k in range(len(v)))
             torque = self.ground.torsion(i, yaws[i], rate)
             for k in range(len(tau)):
-                tau[k] += jz[k] * torque
+                tau[k] += jn[k] * torque
 
     def _contact_kinematics(
         self, q: list[float], v: list[float]
@@ -198,7 +198,7 @@ class Simulation:
             yaws = None
             if self._torsion:
                 poses = self.dyn.body_poses(q)
-                yaws = [math.atan2(poses[b][1][3], poses[b][1][0]) for b in self._contact_body]
+                yaws = [self.ground.yaw(poses[b][1]) for b in self._contact_body]
             found = (positions, self.dyn.contact_velocities(q, v), yaws)
         self._kinematics = (key, found)
         return found

@@ -221,6 +221,22 @@ static void ground_force(const leg_sim *s, int i, const double *p, const double 
     out[2] = fn * n[2] + f1 * t1[2] + f2 * t2[2];
 }
 
+/* GroundContact.yaw: a body's turn about the ground's normal (rot row by row) */
+static double ground_yaw(const leg_sim *s, const double *rot) {
+    if (!s->has_slope) return atan2(rot[3], rot[0]);
+    double a = s->slope_angle;
+    return atan2(rot[3], cos(a) * rot[0] + sin(a) * rot[6]);
+}
+
+/* GroundContact.about_normal: a body's angular Jacobian row about the ground's normal */
+static const double *about_normal(const leg_sim *s, const double *jw, double *row) {
+    if (!s->has_slope) return jw + 2 * NV;
+    double a = s->slope_angle;
+    double nx = -sin(a), nz = cos(a);
+    for (int k = 0; k < NV; k++) row[k] = nx * jw[k] + nz * jw[2 * NV + k];
+    return row;
+}
+
 static double ground_torsion(const leg_sim *s, int i, double yaw, double rate, int *err) {
     if (!s->touching[i]) return 0.0;
     double e = leg_remainder_e(yaw - s->yaw_anchor[i], PY_TAU, err);
@@ -307,7 +323,7 @@ static void contact_kinematics(const leg_sim *s, const double *q, const double *
         body_poses_some(q, rotations, poses, err);
         for (int i = 0; i < NC; i++) {
             const double *rot = poses + 12 * s->contact_body[i] + 3;
-            if (feet[i]) yaws[i] = atan2(rot[3], rot[0]);
+            if (feet[i]) yaws[i] = ground_yaw(s, rot);
         }
     }
     contact_velocities_some(q, v, feet, vel, err);
@@ -375,11 +391,12 @@ static void generalized_forces(leg_sim *s, const double *q, const double *v, int
             contact_angular_jacobians_some(q, touching, jw, err);
             for (int i = 0; i < NC; i++) {
                 if (!s->touching[i]) continue;
-                const double *jz = jw + 3 * NV * i + 2 * NV;
+                double row[NV];
+                const double *jn = about_normal(s, jw + 3 * NV * i, row);
                 double rate = 0.0;
-                for (int k = 0; k < NV; k++) rate += jz[k] * v[k];
+                for (int k = 0; k < NV; k++) rate += jn[k] * v[k];
                 double torque = ground_torsion(s, i, yaws[i], rate, err);
-                for (int k = 0; k < NV; k++) tau[k] += jz[k] * torque;
+                for (int k = 0; k < NV; k++) tau[k] += jn[k] * torque;
             }
         }
     } else if (record) {
