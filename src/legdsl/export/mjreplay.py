@@ -63,7 +63,9 @@ def replay_frames(
     from legdsl.export.mjcf import model_to_mjcf
 
     run = drawable(read_run(directory, source))
-    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model))
+    # the bare link tree: anchor pads are for MuJoCo's simulation, and one a light body cannot
+    # carry refused the replay, saying to export with --no-anchor-pads, which replay has not
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model, pads=False))
     try:
         data = mujoco.MjData(mj)
     except mujoco.FatalError as e:  # "Could not allocate memory": its arena, under ulimit -v
@@ -139,7 +141,9 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     mujoco.mj_forward(mj, data)
     camera = mujoco.MjvCamera()
     camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-    extent = float(np.ptp(data.xpos[1:], axis=0).max())
+    # the bodies and the contacts (the feet: the bare tree's bodies end at the knees, and the
+    # biped's 0.83 m were 0.2 m without them)
+    extent = float(np.ptp(np.vstack([data.xpos[1:], data.site_xpos]), axis=0).max())
     # half a metre of margin; a creature under 25 cm gets 0.6 of its extent, as the shipped
     # ones (0.8 m) have about (a 5 cm hopper was a speck in a 2.5 m view)
     size = extent + (0.5 if extent >= 0.25 else 0.6 * extent)
