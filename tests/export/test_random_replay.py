@@ -224,3 +224,18 @@ def test_the_camera_frames_the_feet_of_the_bare_link_tree() -> None:
     camera = _camera(mujoco, model, mj, mujoco.MjData(mj), mj.qpos0)
     assert camera.distance == pytest.approx(4.5 * (0.83 + 0.5), abs=1e-9)
 
+
+def test_a_body_with_its_contacts_at_its_origin_is_seen_from_outside(tmp_path: Path) -> None:
+    from legdsl.check.source import check_file
+    from legdsl.export.mjcf import model_to_mjcf
+    from legdsl.export.mjreplay import _camera
+
+    source = tmp_path / "dot.leg"
+    source.write_text(
+        "creature dot {\n  spatial\n  body b0 free {\n    mass 1 kg\n"
+        "    inertia (0.01 kg*m^2, 0.01 kg*m^2, 0.01 kg*m^2)\n  }\n  contact c0 on b0\n}\n"
+    )
+    model = check_file(source)[0]
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=False))
+    camera = _camera(mujoco, model, mj, mujoco.MjData(mj), mj.qpos0)
+    assert camera.distance > 0

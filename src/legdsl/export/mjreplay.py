@@ -146,6 +146,8 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     extent = float(np.ptp(np.vstack([data.xpos[1:], data.site_xpos]), axis=0).max())
     # half a metre of margin; a creature under 25 cm gets 0.6 of its extent, as the shipped
     # ones (0.8 m) have about (a 5 cm hopper was a speck in a 2.5 m view)
+    # one body with its contacts at its origin has no extent: the camera stood inside it
+    extent = extent or float(mj.stat.extent)
     size = extent + (0.5 if extent >= 0.25 else 0.6 * extent)
     camera.distance = 4.5 * size
     camera.azimuth = 90.0 if model.planar else 120.0
