@@ -239,3 +239,19 @@ def test_a_body_with_its_contacts_at_its_origin_is_seen_from_outside(tmp_path: P
     mj = mujoco.MjModel.from_xml_string(model_to_mjcf(model, pads=False))
     camera = _camera(mujoco, model, mj, mujoco.MjData(mj), mj.qpos0)
     assert camera.distance > 0
+
+
+def test_a_creature_lighter_than_mujocos_inertia_floor_replays(tmp_path: Path) -> None:
+    """A 1 mm dot (inertia 4e-17 kg*m^2, under MuJoCo's 1e-14): replay was refused with the
+    export's advice to scale the creature up; a drawing needs no inertia, so it is raised."""
+    source = tmp_path / "dot.leg"
+    source.write_text(
+        "creature dot {\n  spatial\n  body b0 free {\n    mass 0.0001 kg\n"
+        "    inertia (4e-17 kg*m^2, 4e-17 kg*m^2, 4e-17 kg*m^2)\n"
+        "    initial z = 0.001 m\n  }\n  contact c0 on b0 at (0.001 m, 0 m, 0 m)\n}\n"
+    )
+    argv = ["run", str(source), "--time", "0.02", "--backend", "python", "--fall-height", "0"]
+    argv += ["--out", str(tmp_path / "run"), "--generated", str(tmp_path / "generated")]
+    status, said = legdsl_in_process(argv)
+    assert status in (0, 4), said  # a fall through its ground, 16 ms in, is a run too
+    assert check_poses(tmp_path / "run", tmp_path / "generated", 100.0) >= 1

@@ -64,8 +64,9 @@ def replay_frames(
 
     run = drawable(read_run(directory, source))
     # the bare link tree: anchor pads are for MuJoCo's simulation, and one a light body cannot
-    # carry refused the replay, saying to export with --no-anchor-pads, which replay has not
-    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model, pads=False))
+    # carry refused the replay, saying to export with --no-anchor-pads, which replay has not;
+    # a drawing: a mite's inertias under MuJoCo's floor are raised to it, not refused
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model, pads=False, drawing=True))
     try:
         data = mujoco.MjData(mj)
     except mujoco.FatalError as e:  # "Could not allocate memory": its arena, under ulimit -v
