@@ -19,6 +19,8 @@ a planar rig, and a ``--scale`` run, which replay cannot show and must refuse in
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import os
 import shutil
@@ -31,6 +33,7 @@ import pytest
 from runtime_helpers import legdsl_in_process
 from seeded import told_with_seed
 
+from legdsl.cli import main
 from legdsl.export.motion import read_run
 from legdsl.pipeline.generated import load_dynamics
 
@@ -105,12 +108,19 @@ def ffprobe_frames(path: Path) -> tuple[int, int, int]:
     return width, height, frames
 
 
+WROTE: dict[str, str] = {}  # each mp4's "legdsl: wrote ..." line
+
+
 def replay(args: list[str]) -> tuple[int, str]:
     """``legdsl replay ARGS`` in this process, or in a process of its own where this one's
     MuJoCo was imported without an offscreen OpenGL backend (MUJOCO_GL is read on import)."""
     status, said = 2, "offscreen renderer could not start"
     if RENDERS_HERE:
-        status, said = legdsl_in_process(["replay", *args])
+        printed, told = io.StringIO(), io.StringIO()  # legdsl_in_process's, with the stdout
+        with contextlib.redirect_stdout(printed), contextlib.redirect_stderr(told):
+            status = main(["replay", *args])
+        said = told.getvalue()
+        WROTE[args[args.index("-o") + 1]] = printed.getvalue() + said
     if status == 2 and "offscreen renderer could not start" in said:
         env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY")}
         env["PYTHONPATH"] = os.pathsep.join(sys.path)
@@ -122,6 +132,7 @@ def replay(args: list[str]) -> tuple[int, str]:
             timeout=300,
         )
         status, said = done.returncode, done.stderr
+        WROTE[args[args.index("-o") + 1]] = done.stdout + said
         if status == 2 and "offscreen renderer could not start" in said:
             from external_tools import loud_skip
 
@@ -129,7 +140,8 @@ def replay(args: list[str]) -> tuple[int, str]:
     return status, said
 
 
-def check_mp4(run_dir: Path, out: Path, fps: float, size: tuple[int, int]) -> None:
+def check_mp4(run_dir: Path, out: Path, fps: float, size: tuple[int, int]) -> str:
+    """The mp4 of ``legdsl replay``: ffprobe's frame count and size; what it said it wrote."""
     from external_tools import ffmpeg
 
     ffmpeg()
@@ -141,6 +153,7 @@ def check_mp4(run_dir: Path, out: Path, fps: float, size: tuple[int, int]) -> No
     width, height, frames = ffprobe_frames(out)
     assert (width, height) == ((size[0] // 2) * 2, (size[1] // 2) * 2)
     assert frames == promised_frames(float(tr.t[-1] - tr.t[0]), fps)
+    return WROTE.get(str(out), "")
 
 
 def check_rig(seed: int, where: Path) -> None:
@@ -182,7 +195,8 @@ def test_a_one_sample_run_replays_as_one_frame(tmp_path: Path) -> None:
     assert len(read_run(tmp_path / "one").trajectory) == 1
     assert check_poses(tmp_path / "one", tmp_path / "generated", 24.0) == 1
     if shutil.which("ffprobe"):
-        check_mp4(tmp_path / "one", tmp_path / "one.mp4", 24.0, (96, 64))
+        wrote = check_mp4(tmp_path / "one", tmp_path / "one.mp4", 24.0, (96, 64))
+        assert "(1 frame, MuJoCo's renderer)" in wrote, wrote  # it said "1 frames"
 
 
 def test_a_planar_rig_recorded_at_every_step_replays(tmp_path: Path) -> None:
