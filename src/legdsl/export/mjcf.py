@@ -111,17 +111,20 @@ def contact_radius(model: Model) -> float:
     return min(CONTACT_RADIUS, RADIUS_PER_LINK * longest) if longest > 0 else CONTACT_RADIUS
 
 
-def model_to_mjcf(model: Model, pads: bool = True) -> str:
+def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str:
     """The MJCF text of ``model``; the same model gives the same bytes.
 
     ``pads``: hold each contact on an anchor pad (``mjpads.py``), which carries the ground's
     tangential spring; without them (for comparing dynamics) the tree is exactly the model's.
+    ``drawing``: for MuJoCo's kinematics and renderer only (``legdsl replay``), so inertias
+    below MuJoCo's floor are raised to it (the compiler's ``boundinertia``) and not refused.
     """
     _check_names(model)
     timestep, radius = mujoco_timestep(model), contact_radius(model)
     anchors = anchor_pads(model, timestep, radius) if pads else ()
     inertials = carrier_inertials(model, anchors)
-    _loadable_inertias(model, inertials)
+    if not drawing:
+        _loadable_inertias(model, inertials)
     root = ET.Element("mujoco", model=model.name)
     root.append(
         ET.Comment(
@@ -130,7 +133,11 @@ def model_to_mjcf(model: Model, pads: bool = True) -> str:
             "coordinates; the keyframe 'initial' holds the declared initial state. "
         )
     )
-    ET.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true")
+    compiler = ET.SubElement(
+        root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true"
+    )
+    if drawing:
+        compiler.set("boundinertia", num(MUJOCO_SMALLEST_INERTIA))
     # An elliptic friction cone: no slip (the paper's ground) is exported as a large friction
     # coefficient, and with MuJoCo's default pyramidal cone such a coefficient makes the contact
     # solve so soft that a creature sinks through the floor (seen in benchmarks/bench_runtime.py).

@@ -63,7 +63,10 @@ def replay_frames(
     from legdsl.export.mjcf import model_to_mjcf
 
     run = drawable(read_run(directory, source))
-    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model))
+    # the bare link tree: anchor pads are for MuJoCo's simulation, and one a light body cannot
+    # carry refused the replay, saying to export with --no-anchor-pads, which replay has not;
+    # a drawing: a mite's inertias under MuJoCo's floor are raised to it, not refused
+    mj = mujoco.MjModel.from_xml_string(model_to_mjcf(run.model, pads=False, drawing=True))
     try:
         data = mujoco.MjData(mj)
     except mujoco.FatalError as e:  # "Could not allocate memory": its arena, under ulimit -v
@@ -139,9 +142,13 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     mujoco.mj_forward(mj, data)
     camera = mujoco.MjvCamera()
     camera.type = mujoco.mjtCamera.mjCAMERA_FREE
-    extent = float(np.ptp(data.xpos[1:], axis=0).max())
+    # the bodies and the contacts (the feet: the bare tree's bodies end at the knees, and the
+    # biped's 0.83 m were 0.2 m without them)
+    extent = float(np.ptp(np.vstack([data.xpos[1:], data.site_xpos]), axis=0).max())
     # half a metre of margin; a creature under 25 cm gets 0.6 of its extent, as the shipped
     # ones (0.8 m) have about (a 5 cm hopper was a speck in a 2.5 m view)
+    # one body with its contacts at its origin has no extent: the camera stood inside it
+    extent = extent or float(mj.stat.extent)
     size = extent + (0.5 if extent >= 0.25 else 0.6 * extent)
     camera.distance = 4.5 * size
     camera.azimuth = 90.0 if model.planar else 120.0
