@@ -441,3 +441,19 @@ def test_a_sweep_whose_every_run_is_refused_leaves_no_plan(tmp_path: Path, gener
     assert code == 2 and "too stiff for the integration step" in err, err
     code, err = legdsl_in_process([*argv, "--grid", "leg_spring.k=1e6,2e6"])
     assert code == 0, err
+
+
+def test_a_tune_too_short_for_a_stride_is_not_told_its_runs_fell() -> None:
+    """Seed 5's tune (hopper, --time 0.2325s, twice that 0.465 s: no whole stride in either)
+    noted 'the tuned speed had not settled ... it runs fell, fell, against nan, nan': its
+    longer runs had lasted, and neither had a speed to compare."""
+    from legdsl.api.tune import unsettled
+    from legdsl.api.tune_cli import _ran
+
+    lasted = {"outcome": "ok", "running_speed": math.nan, "speed": 1.0}
+    assert unsettled([lasted], [lasted], [1.0]) == []
+    fell = {"outcome": "fell at 0.300 s", "running_speed": math.nan, "speed": 1.0}
+    assert [x[0] for x in unsettled([lasted], [fell], [1.0])] == [1.0]
+    assert (_ran(math.nan, fell), _ran(math.nan, lasted), _ran(0.5, lasted)) == (
+        "fell", "no whole stride", "0.5",
+    )  # fmt: skip
