@@ -324,10 +324,11 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
         start = params[axis.name].value
         if not low <= start <= high:
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
+            unit = f" {unit}" if unit else ""  # a plain number's: no space before nothing
             written = written_unit(source, controller, axis.name)  # the file's own ("cm")
             raise UsageError(
-                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them"
+                f"--param {text}: the file's value {start:g}{unit} is outside the bounds "
+                f"({low:g} to {high:g}{unit}); widen them"
                 + bare_in_si(text, axis.name, params[axis.name].dim, written)
             )
         bounds.append(Bound(axis.name, low, high, start))
