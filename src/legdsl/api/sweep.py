@@ -40,7 +40,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
-from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given
+from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given, unit_for
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
@@ -70,8 +70,6 @@ def bare_in_si(text: str, name: str, dim: Dim, written: str | None = None) -> st
     usual unit (or the unit the file ``written`` it in: ``stroke = 1.5 cm``) is not SI (an
     angle: ``stand=-50:-30`` meant in degrees is radians) say so, and how to write it in that
     unit; "" otherwise."""
-    from legdsl.pipeline.settings import unit_for
-
     spec = text.partition("=")[2]
     si, usual = units_of({name: dim})[name], written or unit_for(dim)
     if any(c.isalpha() for c in spec) or usual in ("", si):
@@ -112,8 +110,11 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     if len(parts) != 2:
         raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI")
     lo, hi = (_number(v, want, kind, name) for v in parts)
-    if not lo < hi:
-        raise UsageError(f"--{kind} {text!r}: the range needs LO < HI")
+    if not lo < hi:  # said with the range that is meant, or one value's own option
+        low, high = parts[0].strip(), parts[1].strip()
+        fix = (f"write {name}={high}:{low}" if lo > hi else "give HI above LO"
+               + (f", or --grid {name}={low} for one value" if kind != "param" else ""))  # fmt: skip
+        raise UsageError(f"--{kind} {text!r}: the range needs LO < HI; {fix}")
     return Axis(name, kind, (lo, hi))
 
 
@@ -124,9 +125,17 @@ def _number(text: str, want: Dim, kind: str, name: str) -> float:
     if given.dim is not None and given.dim != want:
         raise UsageError(
             f"--{kind} {name}: {name} is {a_kind(want)}, but {text.strip()!r} is "
-            f"{a_kind(given.dim)}"
+            f"{a_kind(given.dim)}; {_in_which_unit(want)}"
         )
     return given.value
+
+
+def _in_which_unit(want: Dim) -> str:
+    """How to write a value of ``want``: its SI unit, and the usual one where that differs."""
+    si, usual = named_si_unit(want), unit_for(want)
+    if not si:
+        return "write it without a unit"
+    return f"give it in {si}" + ("" if usual in ("", si) else f" or {usual}")
 
 
 MAX_RUNS = 1_000_000  # a sweep's plan is laid out whole, in memory and in sweep.json

@@ -145,7 +145,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             # API took 0.4 ms: its rows are not mixed with these)
             "simulation": asdict(model.simulation)}  # fmt: skip
     plan_file = out / "sweep.json"
-    before_plan = _plan_in(plan_file) if plan_file.is_file() else plan
+    planned_before = plan_file.is_file()
+    before_plan = _plan_in(plan_file) if planned_before else plan
     if before_plan != plan:
         digests = ("creature_digest", "controller_digest", "simulation")
         edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
@@ -172,6 +173,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     bar = progress_bar if sys.stderr.isatty() else None
     try:
         rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+    except UsageError:  # every run refused (a setting too stiff for the step): the plan it
+        # wrote would refuse the corrected command as another sweep
+        if not planned_before and not read_table(out / "sweep.csv"):
+            plan_file.unlink(missing_ok=True)
+        raise
     except (KeyboardInterrupt, Interrupted):
         done = len(read_table(out / "sweep.csv"))
         print(f"legdsl: sweep interrupted: {done} of {len(jobs)} runs are in "

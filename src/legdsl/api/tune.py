@@ -291,15 +291,18 @@ def unsettled(
 ) -> list[tuple[float, float, float]]:
     """(command, running speed the search scored, running speed over twice the time) at each
     tuned speed where the two differ by more than 1% of the command (of the slowest other
-    command for 0, as ``score`` takes it), or the longer run did not last (its speed NaN);
-    not where the scored run itself did not last."""
+    command for 0, as ``score`` takes it), or the longer run did not last (its speed NaN), or
+    measured no stride where the scored one did; not where the scored run itself did not
+    last."""
     moving = [abs(s) for s in speeds if s]
     found = []
     for short, long, speed in zip(scored, longer, speeds, strict=True):
         a, b = float(short["running_speed"]), float(long["running_speed"])
         if short["outcome"] != "ok":  # the report says so already: it did not settle at all
             continue
-        if long["outcome"] != "ok" or not math.isfinite(b):
+        # a longer run that lasted without a whole stride, after a scored one without any
+        # either, measured nothing to compare (it was said to have fallen)
+        if long["outcome"] != "ok" or (math.isfinite(a) and not math.isfinite(b)):
             found.append((speed, a, math.nan))
         elif math.isfinite(a) and abs(b - a) > 0.01 * (abs(speed) or min(moving, default=1.0)):
             found.append((speed, a, b))

@@ -257,12 +257,23 @@ def _say_longer(result: dict[str, Any], objective: Objective) -> None:
     moved = unsettled(result["best"]["runs"], rows, objective.speeds)
     if moved:  # one note for them all: the speeds, then what they ran each time
         at = ", ".join(f"{speed:g}" for speed, _, _ in moved)
-        longer = ", ".join("fell" if math.isnan(long) else f"{long:.4g}" for _, _, long in moved)
-        scored = ", ".join(f"{short:.4g}" for _, short, _ in moved)
+        longer_at = {row["speed"]: row for row in rows}
+        scored_at = dict(zip(objective.speeds, result["best"]["runs"], strict=True))
+        longer = ", ".join(_ran(long, longer_at[speed]) for speed, _, long in moved)
+        scored = ", ".join(_ran(short, scored_at[speed]) for speed, short, _ in moved)
         print(f"legdsl: note: the tuned speed had not settled by --time {objective.duration:g} "
               f"at {at} m/s: over {since:g} to {twice:g} s it runs {longer}, against {scored} "
               f"scored over {since:g} to {objective.duration:g} s; tune with a longer --time "
               f"({twice:g})", file=sys.stderr)  # fmt: skip
+
+
+def _ran(speed: float, row: dict[str, Any]) -> str:
+    """A run's speed, or why it has none: it fell or diverged, or lasted without a whole
+    stride in the window (it was said to have fallen, and a scored one's speed was 'nan')."""
+    if math.isfinite(speed):
+        return f"{speed:.4g}"
+    outcome = str(row["outcome"])
+    return "no whole stride" if outcome == "ok" else outcome.partition(" at ")[0]
 
 
 def _say_deaf(rows: list[dict[str, Any]]) -> None:
@@ -313,10 +324,11 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
         start = params[axis.name].value
         if not low <= start <= high:
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
+            unit = f" {unit}" if unit else ""  # a plain number's: no space before nothing
             written = written_unit(source, controller, axis.name)  # the file's own ("cm")
             raise UsageError(
-                f"--param {text}: the file's value {start:g} {unit} is outside the bounds "
-                f"({low:g} to {high:g} {unit}); widen them"
+                f"--param {text}: the file's value {start:g}{unit} is outside the bounds "
+                f"({low:g} to {high:g}{unit}); widen them"
                 + bare_in_si(text, axis.name, params[axis.name].dim, written)
             )
         bounds.append(Bound(axis.name, low, high, start))
