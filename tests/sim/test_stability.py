@@ -95,7 +95,10 @@ def test_a_run_too_stiff_for_its_step_is_refused(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert "actuator 'leg_spring' is too stiff for the integration step" in err
-    assert "use k below 7.27e+06 N/m, or --dt below 0.0341 ms" in err
+    assert (
+        "use k below 7.27e+06 N/m, or a step below 0.0341 ms (--dt, or dt in the simulation block)"
+        in err
+    )
     assert not out.exists()
 
 
@@ -173,9 +176,9 @@ def test_a_divergence_names_what_is_too_stiff_now() -> None:
     found = stiff_now([set_by_controller, saturating], [stop], [1.0, 1e3], 4e-4, "euler")
     assert found == [
         "actuator 'leg_spring' has k = 1e+09 now, too stiff for the step: use k below "
-        "2.5e+07, or --dt below 0.0632 ms",
+        "2.5e+07, or a step below 0.0632 ms (--dt, or dt in the simulation block)",
         "the stop of joint coordinate knee is too stiff for the step (k = 1e+05): use k below "
-        "2.5e+04, or --dt below 0.2 ms",
+        "2.5e+04, or a step below 0.2 ms (--dt, or dt in the simulation block)",
     ]
     said = likely_cause(shipped_model("hopper"), 4e-4, "euler", [0.0, 1.0, 0.0, 0.0, 0.0],
                         None, found)  # fmt: skip

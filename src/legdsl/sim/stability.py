@@ -56,13 +56,19 @@ class TooStiff:
         what = "stiff" if self.setting in ("k", "kp") else "damped"
         outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
                    if saturating else "diverges at once")  # fmt: skip
-        fix = "" if saturating else " (or give it a 'max')"
+        fix = "" if saturating else ", or give it a 'max'"
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step: "
             f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms {outcome}; "
-            f"use {self.setting} below {below(self.limit)} {unit}, or --dt below "
-            f"{below(self.dt_limit * 1e3)} ms{fix}"
+            f"use {self.setting} below {below(self.limit)} {unit}, or "
+            f"{smaller_step(self.dt_limit)}{fix}"
         )
+
+
+def smaller_step(dt_limit: float) -> str:
+    """The advice of a step under ``dt_limit`` seconds, as every command can take it (a sweep
+    or a tune has no --dt: its runs take the file's)."""
+    return f"a step below {below(dt_limit * 1e3)} ms (--dt, or dt in the simulation block)"
 
 
 def below(x: float) -> str:
@@ -138,7 +144,7 @@ def stiff_now(
         causes.append(
             f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} now, too "
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
-            f"{f.setting} below {below(f.limit)}, or --dt below {below(f.dt_limit * 1e3)} ms"
+            f"{f.setting} below {below(f.limit)}, or {smaller_step(f.dt_limit)}"
         )
     return causes + [
         stop_message(f) for f in stops_too_stiff(stops, inverse_inertia, dt, integrator)
@@ -159,8 +165,8 @@ def stop_message(f: TooStiff) -> str:
     return (
         f"the stop of joint coordinate {f.actuator} is too "
         f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
-        f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or --dt below "
-        f"{below(f.dt_limit * 1e3)} ms"
+        f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or "
+        f"{smaller_step(f.dt_limit)}"
     )
 
 
