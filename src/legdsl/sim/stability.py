@@ -217,7 +217,8 @@ def likely_cause(
                 causes.append(
                     f"the step {dt:g} s is too large for the contact stiffness "
                     f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
-                    f"dt < {critical:.2g} s); try --dt {critical / 4:.1g} or --integrator rk4"
+                    f"dt < {critical:.2g} s); try a step of {critical / 4:.1g} s (--dt, or dt in the "
+                    f"simulation block) or --integrator rk4"
                 )
     for d in model.dofs:
         if d.limits is None:
@@ -230,5 +231,8 @@ def likely_cause(
                 f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
             )
     if not causes:
-        causes.append("the state grew without bound; try a smaller --dt or --integrator rk4")
+        causes.append(
+            "the state grew without bound; try a smaller step (--dt, or dt in the simulation "
+            "block) or --integrator rk4"
+        )
     return "; ".join(causes)
