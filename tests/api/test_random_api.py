@@ -35,15 +35,13 @@ import numpy as np
 import pytest
 from runtime_helpers import legdsl_in_process
 from seeded import told_with_seed
+from set_values import in_unit, models, number
 
 import legdsl
 from legdsl.analysis.results import MetricsError
 from legdsl.api import LegdslWarning, Quantity
-from legdsl.check.source import check_file
-from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.lang.units import parse_unit
-from legdsl.pipeline.settings import unit_for
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "creatures").glob("*.leg"))
@@ -53,15 +51,6 @@ FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_API_SEED", "0"))
 ALLOWED = (UsageError, LegError, MetricsError)
 # what a message for a person never shows: Python's own words for its objects
 REPRS = ("Quantity(", " object at 0x", "internal error", "Traceback", "dim=(")
-
-
-@functools.cache
-def models(source: Path) -> tuple[Model, ...]:
-    return tuple(check_file(source))
-
-
-def _number(x: float) -> str:
-    return f"{x:.4g}"
 
 
 @dataclass
@@ -94,13 +83,13 @@ def _option_value(rng: np.random.Generator, key: str, may_be_wrong: bool) -> Val
     cli = f"{x!r}{unit}"
     form = int(rng.choice(range(10) if may_be_wrong else [0, 1, 2, 3, 4, 9]))
     if form <= 2:
-        return Value(f"{_number(x / scale)} {shown}", f"{_number(x / scale)}{shown}")
+        return Value(f"{number(x / scale)} {shown}", f"{number(x / scale)}{shown}")
     if form == 3:
         return Value(np.float64(x), cli)
     if form == 4:
         return Value(Quantity(x, parse_unit(unit)[1]), cli)
     if form == 5:  # a wrong unit
-        return Value(f"{_number(x)} kg", None, True)
+        return Value(f"{number(x)} kg", None, True)
     if form == 6:
         bad = WRONG_TYPES[int(rng.integers(len(WRONG_TYPES)))]
         return Value(bad, None, bad is not None)  # None is the file's (or the runner's)
@@ -113,14 +102,6 @@ def _option_value(rng: np.random.Generator, key: str, may_be_wrong: bool) -> Val
     return Value(x, cli)
 
 
-def _with_unit_text(value: float, model_dim: Any) -> str:
-    unit = unit_for(model_dim)
-    if not unit:
-        return _number(value)
-    scale, _ = parse_unit(unit)
-    return f"{_number(value / scale)} {unit}"
-
-
 def _setting(
     rng: np.random.Generator, name: str, default: Quantity, end: float, may_be_wrong: bool
 ) -> tuple:
@@ -130,18 +111,18 @@ def _setting(
     key = name
     at = ""
     if rng.random() < 0.15:
-        at = f"@{_number(float(rng.uniform(0, end)))}s"
+        at = f"@{number(float(rng.uniform(0, end)))}s"
         key = f"{name}@{at[1:-1]} s"
     form = int(rng.choice(range(9) if may_be_wrong else [0, 1, 2, 3, 4, 5]))
     if form <= 3:
-        text = _with_unit_text(x, default.dim)
+        text = in_unit(x, default.dim, " ")
         v = Value(text, text.replace(" ", ""))
     elif form == 4:
         v = Value(Quantity(x, default.dim), f"{x!r}{default.unit}")
     elif form == 5:  # a number: right only for a quantity without a unit
         v = Value(np.float64(x) if rng.random() < 0.5 else x, repr(x), bool(default.unit))
     elif form == 6:
-        v = Value(f"{_number(x)} kg*s" if default.unit else f"{_number(x)} m", None, True)
+        v = Value(f"{number(x)} kg*s" if default.unit else f"{number(x)} m", None, True)
     elif form == 7:
         bad = WRONG_TYPES[int(rng.integers(len(WRONG_TYPES)))]
         v = Value(bad, None, True)
@@ -184,7 +165,7 @@ def draw(seed: int) -> Case:
     form = int(rng.integers(6) if wrong() else rng.integers(4))
     time: Value = [
         Value(end, f"{end!r}s"),
-        Value(f"{_number(end * 1000)} ms", f"{_number(end * 1000)}ms"),
+        Value(f"{number(end * 1000)} ms", f"{number(end * 1000)}ms"),
         Value(np.float32(end), f"{float(np.float32(end))!r}s"),
         Value(Quantity(end, parse_unit("s")[1]), f"{end!r}s"),
         Value(float(rng.choice([math.nan, math.inf, -1.0, 0.0])), None, True),
@@ -228,7 +209,7 @@ def draw(seed: int) -> Case:
             case.kwargs["set"] = settings
         if rng.random() < 0.15 and len(names) > 1:
             other = str(rng.choice(names))
-            when = _number(float(rng.uniform(0.02, end)))
+            when = number(float(rng.uniform(0.02, end)))
             case.kwargs["switch"] = {f"{when} s": other}
             case.cli += ["--switch", f"{when}s={other}"]
     for key in rng.choice(sorted(OPTIONS), size=int(rng.integers(0, 4)), replace=False):
@@ -249,7 +230,7 @@ def draw(seed: int) -> Case:
     case.compare = rng.random() < 0.4
     start = float(rng.uniform(0, end))
     case.metrics = {
-        "start": [start, f"{_number(start * 1000)} ms", np.float64(start)][int(rng.integers(3))]
+        "start": [start, f"{number(start * 1000)} ms", np.float64(start)][int(rng.integers(3))]
     }
     if rng.random() < 0.5:
         case.metrics["end"] = float(rng.uniform(0, end * 1.2))

@@ -24,7 +24,6 @@ it. CI draws the shipped creatures; a set ``LEGDSL_RANDOM_SWEEPS`` every kind
 
 from __future__ import annotations
 
-import functools
 import json
 import math
 import os
@@ -38,12 +37,11 @@ import numpy as np
 import pytest
 from runtime_helpers import legdsl_in_process, needs_c_compiler
 from seeded import told_with_seed
+from set_values import in_unit, models, number
 
 from legdsl.api.sweep import METRICS, actuator_settings, units_of
-from legdsl.check.source import check_file
 from legdsl.ir.model import NON_NEGATIVE, Model
-from legdsl.lang.units import Dim, parse_unit
-from legdsl.pipeline.settings import unit_for
+from legdsl.lang.units import Dim
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "creatures").glob("*.leg"))
@@ -77,24 +75,6 @@ controller poke {
   }
 }
 """
-
-
-@functools.cache
-def models(source: Path) -> tuple[Model, ...]:
-    return tuple(check_file(source))
-
-
-def _number(x: float) -> str:
-    return f"{x:.4g}"
-
-
-def _in_unit(value: float, dim: Dim) -> str:
-    """``value`` (SI) in the unit ``--set`` suggests for its dimension."""
-    unit = unit_for(dim)
-    if not unit:
-        return _number(value)
-    scale, _ = parse_unit(unit)
-    return f"{_number(value / scale)}{unit}"
 
 
 @dataclass
@@ -176,9 +156,9 @@ def _axis(rng: np.random.Generator, name: str, value: float, dim: Dim) -> tuple[
     lo, hi = sorted((base * float(rng.uniform(0.5, 1.0)), base * float(rng.uniform(1.0, 1.5))))
     if "." in name and name.partition(".")[2] in NON_NEGATIVE:
         lo, hi = abs(lo), abs(hi)
-    write = (lambda x: _in_unit(x, dim)) if rng.random() < 0.6 else (lambda x: repr(x))
+    write = (lambda x: in_unit(x, dim)) if rng.random() < 0.6 else (lambda x: repr(x))
     if dim == ANGLE and rng.random() < 0.3:  # a bare number for an angle: radians, and a note
-        write = lambda x: _number(x)  # noqa: E731
+        write = lambda x: number(x)  # noqa: E731
     # mostly axes a sweep takes; now and then one it refuses (shapes 6 to 8)
     shape = int(rng.choice(9, p=[0.17, 0.17, 0.12, 0.12, 0.12, 0.2, 0.04, 0.03, 0.03]))
     if shape == 0:
@@ -197,8 +177,8 @@ def _axis(rng: np.random.Generator, name: str, value: float, dim: Dim) -> tuple[
         return str(rng.choice(["--random", "--lhs"])), f"{name}={write(hi)}:{write(lo)}", 0
     if shape == 7:  # a wrong unit
         wrong = "kg" if dim != (1, 0, 0, 0) else "m"
-        return "--grid", f"{name}={_number(lo)}{wrong}:{_number(hi)}{wrong}:2", 2
-    return "--grid", f"no_such_{name.replace('.', '_')}={_number(lo)}:{_number(hi)}:2", 2
+        return "--grid", f"{name}={number(lo)}{wrong}:{number(hi)}{wrong}:2", 2
+    return "--grid", f"no_such_{name.replace('.', '_')}={number(lo)}:{number(hi)}:2", 2
 
 
 RESUMES = ["same", "lost rows", "cut short", "written over", "edited", "another sweep", "none"]
@@ -226,12 +206,12 @@ def draw(seed: int, folder: Path, generated: Path) -> Case:
         value, dim = values[name]
         if "." in name and name.partition(".")[2] in NON_NEGATIVE:
             value = abs(value)
-        argv += ["--set", f"{name}={_in_unit(value * float(rng.uniform(0.8, 1.2)), dim)}"]
+        argv += ["--set", f"{name}={in_unit(value * float(rng.uniform(0.8, 1.2)), dim)}"]
     end = float(rng.uniform(0.1, 0.3))
-    argv += ["--time", str(rng.choice([f"{_number(end)}s", f"{_number(end * 1000)}ms",
-                                       _number(end)]))]  # fmt: skip
+    argv += ["--time", str(rng.choice([f"{number(end)}s", f"{number(end * 1000)}ms",
+                                       number(end)]))]  # fmt: skip
     start = float(rng.choice([0.0, end / 2, end * 0.9, end * 1.5], p=[0.3, 0.4, 0.25, 0.05]))
-    argv += ["--from", str(rng.choice([f"{_number(start * 1000)}ms", _number(start)]))]
+    argv += ["--from", str(rng.choice([f"{number(start * 1000)}ms", number(start)]))]
     argv += ["--jobs", str(int(rng.integers(1, 3)))]
     resume = str(rng.choice(RESUMES))
     tune: list[str] = []
@@ -247,10 +227,10 @@ def _tune(rng: np.random.Generator, model: Model, controller: str, end: float) -
     lo, hi = sorted((value * 0.5, value * 1.5)) if value else (-1.0, 1.0)
     if rng.random() < 0.2:  # bounds that leave out the file's value: refused
         lo, hi = sorted((value * 2 + 1, value * 3 + 2))
-    bounds = f"{param.name}={_in_unit(lo, param.dim)}:{_in_unit(hi, param.dim)}"
+    bounds = f"{param.name}={in_unit(lo, param.dim)}:{in_unit(hi, param.dim)}"
     return ["--controller", controller, "--param", bounds, "--speeds",
-            str(rng.choice(["1", "0.5,1", "1m/s"])), "--time", f"{_number(end)}s", "--from",
-            _number(end / 3), "--generations", "1", "--popsize", str(int(rng.integers(2, 4))),
+            str(rng.choice(["1", "0.5,1", "1m/s"])), "--time", f"{number(end)}s", "--from",
+            number(end / 3), "--generations", "1", "--popsize", str(int(rng.integers(2, 4))),
             "--jobs", "1"]  # fmt: skip
 
 

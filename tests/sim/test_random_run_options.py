@@ -22,7 +22,6 @@ CI draws the shipped creatures, a set ``LEGDSL_RANDOM_RUNS`` every creature
 
 from __future__ import annotations
 
-import functools
 import json
 import os
 import shlex
@@ -33,11 +32,10 @@ import numpy as np
 import pytest
 from runtime_helpers import legdsl_in_process, needs_c_compiler
 from seeded import told_with_seed
+from set_values import in_unit, models, number
 
-from legdsl.check.source import check_file
 from legdsl.ir.model import SETTABLE, Model, setting_kind
-from legdsl.lang.units import KINDS, Dim, parse_unit
-from legdsl.pipeline.settings import unit_for
+from legdsl.lang.units import KINDS, Dim
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "creatures").glob("*.leg"))
@@ -55,35 +53,17 @@ ALLOWED = {0, 2, 3, 4}
 pytestmark = needs_c_compiler
 
 
-@functools.cache
-def models(source: Path) -> tuple[Model, ...]:
-    return tuple(check_file(source))
-
-
-def _number(x: float) -> str:
-    return f"{x:.4g}"
-
-
-def _with_unit(value: float, dim: Dim) -> str:
-    """``value`` (SI) written in the unit ``--set`` suggests for its dimension."""
-    unit = unit_for(dim)
-    if not unit:
-        return _number(value)
-    scale, _ = parse_unit(unit)
-    return f"{_number(value / scale)}{unit}"
-
-
 def _scaled(rng: np.random.Generator, value: float, dim: Dim) -> str:
     """A value near ``value`` (in its sensible range), or somewhat outside it."""
     factor = float(rng.choice([0.0, 0.5, 0.9, 1.0, 1.2, 2.0, 4.0, 10.0, -1.0]))
     base = value if value != 0 else float(rng.uniform(0.1, 2.0))
-    return _with_unit(base * factor, dim)
+    return in_unit(base * factor, dim)
 
 
 def _at(rng: np.random.Generator, end: float) -> str:
     """A time in the run, now and then at its start or past its end."""
     at = float(rng.choice([0.0, end + 1] + [rng.uniform(0, end)] * 6))
-    return f"@{_number(at)}s"
+    return f"@{number(at)}s"
 
 
 def _controller_sets(rng: np.random.Generator, model: Model, name: str, own: bool, end: float):
@@ -114,22 +94,22 @@ def _path(rng: np.random.Generator, folder: Path) -> list[str]:
     shape = int(rng.integers(5))
     turn = str(rng.choice(["left", "right"]))
     if shape == 0:
-        text = f"circle(center = (0, {_number(rng.uniform(1, 8))}) m, radius = "
-        text += f"{_number(rng.uniform(0.5, 8))} m, turn = {turn})"
+        text = f"circle(center = (0, {number(rng.uniform(1, 8))}) m, radius = "
+        text += f"{number(rng.uniform(0.5, 8))} m, turn = {turn})"
     elif shape == 1:
         points = np.cumsum(rng.uniform(-3, 3, (int(rng.integers(2, 5)), 2)), axis=0)
-        text = "polyline(" + ", ".join(f"({_number(x)}, {_number(y)}) m" for x, y in points)
+        text = "polyline(" + ", ".join(f"({number(x)}, {number(y)}) m" for x, y in points)
         text += ")"
     elif shape == 2:
         points = [(0, 0), (4, 0), (float(rng.uniform(2, 6)), float(rng.uniform(2, 6)))]
-        text = "polygon(" + ", ".join(f"({_number(x)}, {_number(y)}) m" for x, y in points)
-        text += f", lookahead = {_number(rng.uniform(0.2, 3))} m)"
+        text = "polygon(" + ", ".join(f"({number(x)}, {number(y)}) m" for x, y in points)
+        text += f", lookahead = {number(rng.uniform(0.2, 3))} m)"
     elif shape == 3:
-        text = f"square(corner = (0, 0) m, side = {_number(rng.uniform(1, 10))} m, turn = {turn})"
+        text = f"square(corner = (0, 0) m, side = {number(rng.uniform(1, 10))} m, turn = {turn})"
     else:
         csv = folder / "waypoints.csv"
         points = np.cumsum(rng.uniform(0, 2, (int(rng.integers(2, 6)), 2)), axis=0)
-        csv.write_text("".join(f"{_number(x)},{_number(y)}\n" for x, y in points))
+        csv.write_text("".join(f"{number(x)},{number(y)}\n" for x, y in points))
         text = str(csv)
     return ["--path", text]
 
@@ -163,7 +143,7 @@ def draw(seed: int, folder: Path, outside: bool) -> Case:
     model = all_models[int(rng.integers(len(all_models)))]
     argv: list[str] = ["--creature", model.name] if len(all_models) > 1 else []
     end = float(rng.uniform(0.2, 0.6))
-    argv += ["--time", f"{_number(end)}s"]
+    argv += ["--time", f"{number(end)}s"]
     names = [c.name for c in model.controllers]
     running: str | None = None
     if model.scenes and rng.random() < 0.3:
