@@ -24,7 +24,7 @@ class _CtrlC:
     traceback. One so lost is raised again by the next Ctrl-C a second later."""
 
     def __init__(self) -> None:
-        self.raised_at = -1.0
+        self.raised_at = float("-inf")
 
     def __call__(self, signum: int, frame: object) -> None:
         if time.monotonic() - self.raised_at >= 1.0:
