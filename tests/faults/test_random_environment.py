@@ -234,9 +234,11 @@ class Draw:
     kind: str
     argv: list[str]
     names: list[str]
+    empty_gen: bool = False
 
     def __str__(self) -> str:
-        return f"seed {self.seed}: legdsl {' '.join(self.argv)}; {' + '.join(self.names)}"
+        gen = ", gen empty" if self.empty_gen and "gen" in self.argv else ""
+        return f"seed {self.seed}: legdsl {' '.join(self.argv)}{gen}; {' + '.join(self.names)}"
 
 
 def draw(seed: int) -> Draw:
@@ -244,7 +246,11 @@ def draw(seed: int) -> Draw:
     kind, argv = _commands(rng)
     table = _perturbations()
     picked = rng.choice(len(table), size=int(rng.integers(1, 4)), replace=False)
-    return Draw(seed, kind, argv, [table[int(i)][0] for i in sorted(picked)])
+    names = [table[int(i)][0] for i in sorted(picked)]
+    # drawn apart, so that the draws above stay those of their seeds: an empty ``gen`` (the
+    # command compiles its creature in the perturbed world), unless it is to be read-only
+    empty = "gen read-only" not in names and bool(np.random.default_rng([seed, 1]).random() < 0.3)
+    return Draw(seed, kind, argv, names, empty)
 
 
 def world_of(d: Draw) -> World:
@@ -410,6 +416,9 @@ def _check(d: Draw, w: World, base: Path) -> None:
     dirname = w.dirname.replace("{near_path_max}", _near_path_max(here))
     scratch = _scratch(here / dirname, base / "finished-run" / "cache")
     _prepare(d.argv, scratch, base)
+    if d.empty_gen and FIN not in d.argv:
+        for module in (scratch / "gen").iterdir():
+            shutil.rmtree(module)
     argv = list(d.argv)
     leg = next((a for a in argv if a.endswith(".leg")), "")
     given = (leg, leg)
@@ -431,6 +440,8 @@ def _check(d: Draw, w: World, base: Path) -> None:
         _same_outputs(d.kind, scratch, reference, argv)
         if d.kind in ("check", "show", "metrics") and not w.changes_text:
             _same_text(done, plain, scratch, reference, given)
+    if "gen a link elsewhere" in d.names:
+        assert (scratch / "gen").is_symlink(), "gen, a link, was replaced by a directory"
     for step in w.undo:
         step(scratch)
     again = _legdsl(argv, scratch, _plain_env(scratch))
@@ -438,6 +449,11 @@ def _check(d: Draw, w: World, base: Path) -> None:
     _same_outputs(d.kind, scratch, reference, argv)
     if d.kind in ("check", "show", "metrics"):
         _same_text(again, plain, scratch, reference, given)
+    if d.empty_gen and d.kind == "run":  # the modules compiled are the shipped ones, whole
+        name = Path(leg).stem
+        made = {k: v for k, v in _tree(scratch / "gen" / name).items() if "__pycache__" not in k}
+        shipped = _tree(ROOT / "generated" / name)
+        assert made and all(made[k] == shipped.get(k) for k in made), "modules differ"
     shutil.rmtree(here)
 
 
@@ -456,3 +472,21 @@ def test_a_c_library_builds_with_tmpdir_unwritable(tmp_path: Path) -> None:
         assert done.code == 0 and "Traceback" not in done.err, done.err
         runs[tmpdir] = scratch
     _same_outputs("run", runs[UNWRITABLE], runs[""], argv)
+
+
+def test_a_compile_into_a_linked_module_directory_keeps_the_link(tmp_path: Path) -> None:
+    """``gen/hopper`` a link to modules kept elsewhere (shared with another checkout):
+    ``legdsl compile hopper.leg --out gen`` replaced the link by a directory of its own, and
+    the modules it named stayed old. Now they are replaced, and the link stays."""
+    scratch = _scratch(tmp_path / "s", None)
+    kept = tmp_path / "kept" / "hopper"
+    shutil.move(scratch / "gen" / "hopper", kept)
+    (kept / "dynamics.c").write_text("/* old */\n")
+    (scratch / "gen" / "hopper").symlink_to(kept)
+    done = _legdsl(["compile", "creatures/hopper.leg", "--out", "gen"], scratch,
+                   _plain_env(scratch))  # fmt: skip
+    assert done.code == 0, done.err
+    assert (scratch / "gen" / "hopper").is_symlink()
+    made = {k: v for k, v in _tree(kept).items() if "__pycache__" not in k}
+    assert made == _tree(ROOT / "generated" / "hopper")
+    assert sorted(p.name for p in kept.parent.iterdir()) == ["hopper"]  # nothing left beside
