@@ -402,6 +402,7 @@ def replace_dir(fresh: Path, final: Path) -> None:
 def recover_dir(final: Path) -> None:
     """Repair ``final`` after a writer that was killed: if it is missing, the newest retired
     (``old``) copy is put back; every leftover of a dead writer is then removed."""
+    final = _replaced(final)  # a link: its directory is the one swapped (write_module_dir)
     found = leftovers(final.parent, final.name)
     if not final.exists():
         old = [p for p in found if _LEFTOVER.match(p.name).group("tag") == "old"]  # type: ignore[union-attr]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import os
 import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -211,7 +212,8 @@ def write_generated(compiled: Compiled, out_root: str | Path) -> Path:
 
 
 def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) -> Path:
-    """Write the files into a fresh hidden sibling ``.NAME.new-PID-RANDOM``, then swap it in.
+    """Write the files into a fresh hidden sibling ``.NAME.new-PID-RANDOM``, then swap it in
+    (``NAME`` a link to a directory: the directory it names, and the link stays).
 
     A writer killed at any instant leaves ``root/NAME`` old or new and whole, or (killed
     between the two renames of the swap) missing with its old copy beside it, which
@@ -225,7 +227,9 @@ def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) ->
             f"cannot write generated modules into {root}: {why}; "
             "give --generated a directory you can write"
         ) from e
-    final = root / name
+    shown = final = root / name
+    if final.is_symlink():  # a link to modules kept elsewhere: they are replaced, it stays
+        final = Path(os.path.realpath(final))
     recover_dir(final)
     fresh = temp_sibling(final, "new")
     try:
@@ -238,7 +242,7 @@ def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) ->
     except BaseException:
         remove(fresh)
         raise
-    return final
+    return shown
 
 
 def _why(e: OSError) -> str:

@@ -279,13 +279,13 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 *LANGUAGE,
                 source,
             ]
-            started.append((command, _start(command, compiler)))
+            started.append((command, _start(command, compiler, work)))
         errors = [process.communicate()[1] for _, process in started]  # all, failed or not
         for (command, process), err in zip(started, errors, strict=True):
             _check(process.returncode, command, err, name, compiler)
         objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
         command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-        done = _start(command, compiler)
+        done = _start(command, compiler, work)
         err = done.communicate()[1]
         _check(done.returncode, command, err, name, compiler)
         if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
@@ -309,7 +309,9 @@ def probe(compiler: Compiler, root: Path) -> str | None:
         source.write_text(PROBE)
         command = [compiler.path, "-std=c99", "-fPIC", "-shared", "-o", str(out), str(source)]
         try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+            done = subprocess.run(
+                command, capture_output=True, text=True, timeout=60, env=_temporaries_in(work)
+            )
         except (OSError, subprocess.SubprocessError) as e:
             said = str(e)
         else:
@@ -322,9 +324,18 @@ def probe(compiler: Compiler, root: Path) -> str | None:
     return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
 
 
-def _start(command: list[str], compiler: Compiler) -> subprocess.Popen[str]:
+def _temporaries_in(work: str) -> dict[str, str]:
+    """The environment of a compiler writing its temporary files (its assembly, the objects of
+    a link) in ``work``, the build's directory in the cache: a missing, unwritable or full
+    $TMPDIR does not stop a build that the cache has room for."""
+    return {**os.environ, "TMPDIR": work}
+
+
+def _start(command: list[str], compiler: Compiler, work: str) -> subprocess.Popen[str]:
     try:
-        return subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
+        return subprocess.Popen(
+            command, stderr=subprocess.PIPE, text=True, env=_temporaries_in(work)
+        )
     except OSError as e:  # removed or made unrunnable since it was found
         limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
         raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
