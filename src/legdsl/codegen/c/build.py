@@ -265,32 +265,39 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         # time), then linked: the same objects and the same library as one gcc command
         every = flags(compiler)
         compile_flags = [f for f in every if f != "-shared"]
-        started = []
-        for unit in UNITS:
-            source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
-            command = [
-                compiler.path,
-                *unit_flags(compile_flags, files.get(unit, "")),
-                "-I",
-                work,
-                "-c",
-                "-o",
-                obj,
-                *LANGUAGE,
-                source,
-            ]
-            started.append((command, _start(command, compiler)))
-        errors = [process.communicate()[1] for _, process in started]  # all, failed or not
-        for (command, process), err in zip(started, errors, strict=True):
-            _check(process.returncode, command, err, name, compiler)
-        objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
-        command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-        done = _start(command, compiler)
-        err = done.communicate()[1]
-        _check(done.returncode, command, err, name, compiler)
-        if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
-            _check(1, command, "it wrote no shared library", name, compiler)
-        seal(partial)
+        started: list[subprocess.Popen[str]] = []
+        commands: list[list[str]] = []
+        try:
+            for unit in UNITS:
+                source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
+                command = [
+                    compiler.path,
+                    *unit_flags(compile_flags, files.get(unit, "")),
+                    "-I",
+                    work,
+                    "-c",
+                    "-o",
+                    obj,
+                    *LANGUAGE,
+                    source,
+                ]
+                commands.append(command)
+                started.append(_start(command, compiler))
+            errors = [process.communicate()[1] for process in started]  # all, failed or not
+            for command, process, err in zip(commands, started, errors, strict=True):
+                _check(process.returncode, command, err, name, compiler)
+            objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
+            command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
+            done = _start(command, compiler)
+            started.append(done)
+            err = done.communicate()[1]
+            _check(done.returncode, command, err, name, compiler)
+            if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
+                _check(1, command, "it wrote no shared library", name, compiler)
+            seal(partial)
+        except BaseException:  # Ctrl-C in a notebook: the kernel goes on, its compilers must not
+            _stop(started)
+            raise
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
 
@@ -320,6 +327,21 @@ def probe(compiler: Compiler, root: Path) -> str | None:
             said = said.replace(f"{work}{os.sep}", "")  # probe.c:1:19: error: ...
     fix = "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
     return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
+
+
+def _stop(processes: list[subprocess.Popen[str]]) -> None:
+    """End the compiler processes of a build cut short and reap them: after a KeyboardInterrupt
+    caught in a notebook they compiled on into a directory being removed, and stayed zombies."""
+    for process in processes:
+        with contextlib.suppress(OSError):
+            process.kill()
+    for process in processes:
+        while True:
+            try:
+                process.wait()
+                break
+            except KeyboardInterrupt:  # another Ctrl-C: the first is already unwinding
+                continue
 
 
 def _start(command: list[str], compiler: Compiler) -> subprocess.Popen[str]:
