@@ -26,7 +26,9 @@ def import_whole(name: str) -> Any:
     before = set(sys.modules)
     try:
         return importlib.import_module(name)
-    except BaseException:
+    except BaseException:  # only the packages this import brought (numpy's stay: imported twice,
+        known = {n.partition(".")[0] for n in before}  # a module would have two states)
         for added in set(sys.modules) - before:
-            sys.modules.pop(added, None)
+            if added.partition(".")[0] not in known:
+                sys.modules.pop(added, None)
         raise
