@@ -48,6 +48,7 @@ from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_same_name, write_atomic
+from legdsl.pipeline.optional import import_whole
 from legdsl.sim.run_loop import Interrupted
 
 # how a tune ended early, by what stopped it (``tune.json``'s "ended"; else "finished")
@@ -142,7 +143,7 @@ def tune(
     """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows. With
     a ``journal``, each generation is written down as it ends, and the generations it already
     holds are taken from it instead of being run again."""
-    import cma
+    cma = import_whole("cma")  # a Ctrl-C there leaves it importable again
 
     def values_of(x: Sequence[float]) -> dict[str, float]:
         return {

@@ -125,8 +125,9 @@ def compile_checked(
         if done is not None:
             done(model.name, share)
 
-    others = _controller_processes(model, source)
-    try:
+    others = None
+    try:  # the processes closed also when Ctrl-C lands as they start
+        others = _controller_processes(model, source)
         say(f"{model.name}: lowering {model.nv} DOF through sympy (ABA, RNEA, CRBA, kinematics)")
         start = time.perf_counter()
         system = lower(model, done=lambda share: tick(LOWERING * share))

@@ -28,15 +28,31 @@ def ctrl_c_held() -> Iterator[None]:
     """Ctrl-C held back while a process starts: its KeyboardInterrupt raised in the fork's
     handlers (logging's lock, in this process or the new one) was printed and dropped, and one
     in the new process before it ignores Ctrl-C printed its traceback. It comes once this is
-    over; the new process starts with it blocked, ignores it, then unblocks it."""
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    before = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    over; the new process starts with it blocked, ignores it, then unblocks it. Blocking it
+    holds back only this thread's share: in a process of several threads (a Jupyter kernel)
+    another thread takes the signal and Python raised it here all the same, so the main
+    thread's handler notes it meanwhile too."""
+    noted: list[int] = []
+    in_python = (
+        threading.current_thread() is threading.main_thread()
+        and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    )
+    if in_python:
+        signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
+    before = (
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        if hasattr(signal, "pthread_sigmask")
+        else None
+    )
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, before)
+        if before is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
+        if in_python:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+            if noted:
+                raise KeyboardInterrupt
 
 
 class Forked:
@@ -70,11 +86,14 @@ class Forked:
                 )
                 with ctrl_c_held():
                     process.start()
+                    self._processes.append(process)  # before a Ctrl-C held back comes
+                    self._pipes.append(reading)
             except (OSError, MemoryError, RuntimeError):  # no memory or processes left
                 break
+            except BaseException:  # Ctrl-C: those started are stopped, not left lowering
+                self.close()
+                raise
             writing.close()  # here: so that a process that dies is an end of file
-            self._pipes.append(reading)
-            self._processes.append(process)
 
     def result(self, k: int) -> bytes:
         """Item k's result: from its process, or worked here if it has none (or lost it)."""
@@ -95,7 +114,13 @@ class Forked:
         for process in self._processes:
             if process.is_alive():  # SIGKILL: one forked with a handler that notes SIGTERM
                 process.kill()  # (a run writing its files) would not stop, nor say so
-            process.join()
+        for process in self._processes:
+            while True:  # every one reaped, also under a Ctrl-C held down
+                try:
+                    process.join()
+                    break
+                except KeyboardInterrupt:  # the first is already unwinding
+                    continue
         for pipe in self._pipes:
             if pipe is not None:
                 pipe.close()

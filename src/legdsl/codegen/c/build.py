@@ -265,32 +265,39 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         # time), then linked: the same objects and the same library as one gcc command
         every = flags(compiler)
         compile_flags = [f for f in every if f != "-shared"]
-        started = []
-        for unit in UNITS:
-            source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
-            command = [
-                compiler.path,
-                *unit_flags(compile_flags, files.get(unit, "")),
-                "-I",
-                work,
-                "-c",
-                "-o",
-                obj,
-                *LANGUAGE,
-                source,
-            ]
-            started.append((command, _start(command, compiler, work)))
-        errors = [process.communicate()[1] for _, process in started]  # all, failed or not
-        for (command, process), err in zip(started, errors, strict=True):
-            _check(process.returncode, command, err, name, compiler)
-        objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
-        command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-        done = _start(command, compiler, work)
-        err = done.communicate()[1]
-        _check(done.returncode, command, err, name, compiler)
-        if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
-            _check(1, command, "it wrote no shared library", name, compiler)
-        seal(partial)
+        started: list[subprocess.Popen[str]] = []
+        commands: list[list[str]] = []
+        try:
+            for unit in UNITS:
+                source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
+                command = [
+                    compiler.path,
+                    *unit_flags(compile_flags, files.get(unit, "")),
+                    "-I",
+                    work,
+                    "-c",
+                    "-o",
+                    obj,
+                    *LANGUAGE,
+                    source,
+                ]
+                commands.append(command)
+                started.append(_start(command, compiler, work))
+            errors = [process.communicate()[1] for process in started]  # all, failed or not
+            for command, process, err in zip(commands, started, errors, strict=True):
+                _check(process.returncode, command, err, name, compiler)
+            objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
+            command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
+            done = _start(command, compiler, work)
+            started.append(done)
+            err = done.communicate()[1]
+            _check(done.returncode, command, err, name, compiler)
+            if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
+                _check(1, command, "it wrote no shared library", name, compiler)
+            seal(partial)
+        except BaseException:  # Ctrl-C in a notebook: the kernel goes on, its compilers must not
+            _stop(started)
+            raise
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
 
@@ -329,6 +336,21 @@ def _temporaries_in(work: str) -> dict[str, str]:
     a link) in ``work``, the build's directory in the cache: a missing, unwritable or full
     $TMPDIR does not stop a build that the cache has room for."""
     return {**os.environ, "TMPDIR": work}
+
+
+def _stop(processes: list[subprocess.Popen[str]]) -> None:
+    """End the compiler processes of a build cut short and reap them: after a KeyboardInterrupt
+    caught in a notebook they compiled on into a directory being removed, and stayed zombies."""
+    for process in processes:
+        with contextlib.suppress(OSError):
+            process.kill()
+    for process in processes:
+        while True:
+            try:
+                process.wait()
+                break
+            except KeyboardInterrupt:  # another Ctrl-C: the first is already unwinding
+                continue
 
 
 def _start(command: list[str], compiler: Compiler, work: str) -> subprocess.Popen[str]:

@@ -1,0 +1,72 @@
+"""Ctrl-C in a process of several threads (a Jupyter kernel: its Ctrl-C is a SIGINT to the
+kernel, which any of its threads may take) while legdsl starts processes."""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import pytest
+
+from legdsl.pipeline import forked
+from legdsl.pipeline.forked import Forked, ctrl_c_held
+
+
+def children() -> set[int]:
+    found = set()
+    for pid in os.listdir("/proc"):
+        if pid.isdigit():
+            try:
+                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if fields[1] == str(os.getpid()):
+                found.add(int(pid))
+    return found
+
+
+def test_ctrl_c_taken_by_another_thread_is_held_back_too() -> None:
+    """The block covered only the thread that held it: another thread took the SIGINT and
+    Python raised KeyboardInterrupt inside the held block all the same."""
+    go = threading.Event()
+    other = threading.Thread(target=lambda: (go.wait(), os.kill(os.getpid(), signal.SIGINT)))
+    other.start()  # before the block: its mask lets SIGINT in
+    reached = False
+    with pytest.raises(KeyboardInterrupt), ctrl_c_held():
+        go.set()
+        other.join()
+        for _ in range(1000):  # many bytecodes: where the signal would land
+            time.sleep(0.0001)
+        reached = True
+    assert reached
+
+
+def sleepy(item: object) -> bytes:
+    time.sleep(30)
+    return b""
+
+
+def test_ctrl_c_as_processes_start_leaves_none_behind(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C landing as the second process starts (raised where the hold ends): the first
+    was left lowering, orphaned, in a notebook's kernel."""
+    held = forked.ctrl_c_held
+    starts = []
+
+    @contextmanager
+    def interrupted_at_the_second() -> Iterator[None]:
+        with held():
+            yield
+        starts.append(1)
+        if len(starts) == 2:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(forked, "ctrl_c_held", interrupted_at_the_second)
+    before = children()
+    with pytest.raises(KeyboardInterrupt):
+        Forked(sleepy, [1, 2], 2)
+    assert children() - before == set()
