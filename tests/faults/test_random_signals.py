@@ -433,3 +433,22 @@ def test_ctrl_c_held_down_at_a_terminal_as_a_sweep_starts_its_workers(tmp_path: 
     _, err = _finish(proc, " ".join(SWEEP))
     assert proc.returncode in (130, -signal.SIGINT), err
     assert "Traceback" not in err and "Exception ignored" not in err, err
+
+
+def test_sigterm_as_a_compile_starts_its_controller_processes_ends_it(tmp_path: Path) -> None:
+    """SIGTERM landing in the fork handlers of a controller process starting (logging's lock)
+    was printed as "Exception ignored ... Interrupted: SIGTERM" and dropped: the compile went on
+    and ended 0. The ending signals are held back while a process starts, as Ctrl-C is."""
+    scratch = _scratch(tmp_path / "s")
+    argv = ["compile", "creatures/biped.leg", "--out", "out"]
+    proc = _start(argv, scratch)
+    assert proc.stderr is not None
+    while "checked in" not in (line := proc.stderr.readline()):  # the processes start next
+        assert line, "ended before checking"
+    while proc.poll() is None:  # again and again, until it has ended
+        with contextlib.suppress(ProcessLookupError):
+            proc.send_signal(signal.SIGTERM)
+        time.sleep(0.0002)
+    _, err = _finish(proc, " ".join(argv))
+    assert proc.returncode in (143, -signal.SIGTERM), err
+    assert "Traceback" not in err and "Exception ignored" not in err, err

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from legdsl.pipeline import forked
-from legdsl.pipeline.forked import Forked, ctrl_c_held
+from legdsl.pipeline.forked import Forked, signals_held
 
 
 def children() -> set[int]:
@@ -37,7 +37,7 @@ def test_ctrl_c_taken_by_another_thread_is_held_back_too() -> None:
     other = threading.Thread(target=lambda: (go.wait(), os.kill(os.getpid(), signal.SIGINT)))
     other.start()  # before the block: its mask lets SIGINT in
     reached = False
-    with pytest.raises(KeyboardInterrupt), ctrl_c_held():
+    with pytest.raises(KeyboardInterrupt), signals_held():
         go.set()
         other.join()
         for _ in range(1000):  # many bytecodes: where the signal would land
@@ -54,7 +54,7 @@ def sleepy(item: object) -> bytes:
 def test_ctrl_c_as_processes_start_leaves_none_behind(monkeypatch: pytest.MonkeyPatch) -> None:
     """Ctrl-C landing as the second process starts (raised where the hold ends): the first
     was left lowering, orphaned, in a notebook's kernel."""
-    held = forked.ctrl_c_held
+    held = forked.signals_held
     starts = []
 
     @contextmanager
@@ -65,7 +65,7 @@ def test_ctrl_c_as_processes_start_leaves_none_behind(monkeypatch: pytest.Monkey
         if len(starts) == 2:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(forked, "ctrl_c_held", interrupted_at_the_second)
+    monkeypatch.setattr(forked, "signals_held", interrupted_at_the_second)
     before = children()
     with pytest.raises(KeyboardInterrupt):
         Forked(sleepy, [1, 2], 2)

@@ -24,7 +24,7 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
 from legdsl.lang.errors import UsageError, thread_refused
-from legdsl.pipeline.forked import ctrl_c_held
+from legdsl.pipeline.forked import signals_held, unblock_stopping
 from legdsl.pipeline.optional import not_installed
 
 T = TypeVar("T")
@@ -95,7 +95,7 @@ class Workers:
         if self.dask is None:
             if self._pool is None:
                 self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
-            with ctrl_c_held():  # the first submit forks the processes
+            with signals_held():  # the first submit forks the processes
                 pending = {self._pool.submit(fn, item) for item in items}
             # kept here: the executor forgets a process that died before its exit code is read
             self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
@@ -154,8 +154,7 @@ def _worker() -> None:
     ``Workers.__exit__``), and SIGTERM ends it at once, whatever handler it was forked with."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if hasattr(signal, "pthread_sigmask"):  # forked with Ctrl-C held back (ctrl_c_held)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    unblock_stopping()  # forked under signals_held
     _end_with_parent()
 
 

@@ -23,15 +23,25 @@ from typing import Any
 Work = Callable[[Any], bytes]  # an item's result, pickled (what crosses the pipe)
 
 
+# What a command takes as an order to stop: Ctrl-C and the signals that end it as SIGTERM does
+# (a closed terminal, Ctrl-\\, ulimit -t's soft limit); all held back while a process starts.
+STOPPING = tuple(
+    getattr(signal, name)
+    for name in ("SIGINT", "SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
+    if hasattr(signal, name)
+)
+
+
 @contextlib.contextmanager
-def ctrl_c_held() -> Iterator[None]:
-    """Ctrl-C held back while a process starts: its KeyboardInterrupt raised in the fork's
-    handlers (logging's lock, in this process or the new one) was printed and dropped, and one
-    in the new process before it ignores Ctrl-C printed its traceback. It comes once this is
-    over; the new process starts with it blocked, ignores it, then unblocks it. Blocking it
-    holds back only this thread's share: in a process of several threads (a Jupyter kernel)
-    another thread takes the signal and Python raised it here all the same, so the main
-    thread's handler notes it meanwhile too."""
+def signals_held() -> Iterator[None]:
+    """Ctrl-C and the ending signals held back while a process starts: an exception raised by
+    their handlers in the fork's handlers (logging's lock, in this process or the new one) was
+    printed as "Exception ignored" and dropped (a SIGTERM so lost let a compile finish, exit
+    0), and one in the new process before it set its own handlers printed its traceback. They
+    come once this is over; the new process starts with them blocked, sets its handlers, then
+    unblocks them (``unblock_stopping``). Blocking holds back only this thread's share: in a
+    process of several threads (a Jupyter kernel) another thread takes the signal and Python
+    raised it here all the same, so the main thread's Ctrl-C handler notes it meanwhile too."""
     noted: list[int] = []
     in_python = (
         threading.current_thread() is threading.main_thread()
@@ -40,7 +50,7 @@ def ctrl_c_held() -> Iterator[None]:
     if in_python:
         signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
     before = (
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
         if hasattr(signal, "pthread_sigmask")
         else None
     )
@@ -53,6 +63,12 @@ def ctrl_c_held() -> Iterator[None]:
             signal.signal(signal.SIGINT, signal.default_int_handler)
             if noted:
                 raise KeyboardInterrupt
+
+
+def unblock_stopping() -> None:
+    """In a process started under ``signals_held``, once its own handlers are set."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, set(STOPPING))
 
 
 class Forked:
@@ -84,7 +100,7 @@ class Forked:
                     args=(work, items[first::processes], writing, others),
                     daemon=True,
                 )
-                with ctrl_c_held():
+                with signals_held():
                     process.start()
                     self._processes.append(process)  # before a Ctrl-C held back comes
                     self._pipes.append(reading)
@@ -141,8 +157,7 @@ def _answer(
     for name in ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU"):
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
-    if hasattr(signal, "pthread_sigmask"):  # started with Ctrl-C held (ctrl_c_held)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    unblock_stopping()
     try:
         for item in items:
             try:
