@@ -45,7 +45,7 @@ from legdsl.lang.units import parse_unit
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "creatures").glob("*.leg"))
-CI_DRAWS = 3
+CI_DRAWS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_API", CI_DRAWS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_API_SEED", "0"))
 ALLOWED = (UsageError, LegError, MetricsError)

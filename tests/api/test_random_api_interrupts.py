@@ -38,7 +38,7 @@ from runtime_helpers import needs_c_compiler
 from seeded import told_with_seed
 
 ROOT = Path(__file__).resolve().parents[2]
-CI_DRAWS = 2
+CI_DRAWS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_API_INTERRUPTS", CI_DRAWS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_API_INTERRUPT_SEED", "0"))
 CREATURES = {"hopper": "hop", "kangaroo": "hop", "biped": "run"}

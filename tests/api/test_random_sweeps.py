@@ -46,7 +46,7 @@ from legdsl.lang.units import Dim
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "creatures").glob("*.leg"))
 OUTSIDE = sorted((ROOT / "tests" / "good" / "outside").glob("*.leg"))
-CI_SWEEPS = 2
+CI_SWEEPS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_SWEEPS", CI_SWEEPS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_SWEEP_SEED", "0"))
 # CI sweeps the shipped creatures (their generated code is checked in); an outside one, a

@@ -21,7 +21,7 @@ from legdsl.lang.errors import LegError
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions, RunResult
 
-CI_LAWS = 5
+CI_LAWS = 3
 # A law with a part that sympy proves has no value (``x / (active.rate - main.rate)`` with
 # active bound to main) is refused, soundly, by the lowering: another is drawn in its place.
 NO_VALUE = "gives no finite real number"

@@ -47,7 +47,7 @@ from random_rigs import recorded_rig, rig_shown  # noqa: E402  (needs mujoco)
 
 from legdsl.export.mjreplay import replay_frames  # noqa: E402
 
-CI_RIGS = 2
+CI_RIGS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_REPLAYS", CI_RIGS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_REPLAY_SEED", "0"))
 DURATION = 0.3

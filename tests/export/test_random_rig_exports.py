@@ -43,7 +43,7 @@ pytest.importorskip("pxr", reason="needs usd-core: pip install 'legdsl[export]'"
 from pxr import Usd, UsdGeom  # noqa: E402
 from random_rigs import recorded_rig, rig_shown  # noqa: E402
 
-CI_RIGS = 2
+CI_RIGS = 1
 COUNT = int(os.environ.get("LEGDSL_RANDOM_RIG_EXPORTS", CI_RIGS))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_RIG_EXPORT_SEED", "0"))
 DURATION, RECORD_RATE = 0.3, 100.0

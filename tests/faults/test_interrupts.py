@@ -90,7 +90,7 @@ def test_an_interrupted_long_run_keeps_what_it_recorded(
 ) -> None:
     out = tmp_path / "run"
     proc = _start(generated, out)
-    err = _wait_and_send(proc, signals, after=4.0, gap=gap)
+    err = _wait_and_send(proc, signals, after=2.0, gap=gap)
     assert proc.returncode == code, err
     assert "Traceback" not in err and "internal error" not in err, err
     info = _readable(out)

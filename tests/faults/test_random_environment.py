@@ -35,7 +35,7 @@ import pytest
 from seeded import told_with_seed
 
 ROOT = Path(__file__).resolve().parents[2]
-COUNT = int(os.environ.get("LEGDSL_RANDOM_ENVIRONMENTS", "3"))
+COUNT = int(os.environ.get("LEGDSL_RANDOM_ENVIRONMENTS", "1"))
 FIRST = int(os.environ.get("LEGDSL_RANDOM_ENVIRONMENT_SEED", "0"))
 RERUN = "LEGDSL_RANDOM_ENVIRONMENTS=1 LEGDSL_RANDOM_ENVIRONMENT_SEED={}"
 UNWRITABLE = "/sys"  # a directory no one may write in, root included (sysfs)

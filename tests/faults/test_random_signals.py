@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-COUNT = int(os.environ.get("LEGDSL_RANDOM_SIGNALS", "3"))
+COUNT = int(os.environ.get("LEGDSL_RANDOM_SIGNALS", "1"))
 FIRST = int(os.environ.get("LEGDSL_RANDOM_SIGNAL_SEED", "0"))
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT)
 # hidden files a command keeps on purpose: the locks (held by flock, not by their presence)

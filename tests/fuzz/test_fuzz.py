@@ -29,7 +29,7 @@ from legdsl.sim.trajectory import Trajectory, load_run_info
 
 ROOT = Path(__file__).resolve().parents[2]
 CREATURES = ("hopper", "kangaroo", "biped", "quadruped")
-CI_CASES = 150
+CI_CASES = 60
 TOTAL = int(os.environ.get("LEGDSL_FUZZ", CI_CASES))
 SEED = int(os.environ.get("LEGDSL_FUZZ_SEED", "18"))
 # the share of each fuzzer: .leg text, command-line options, run directories, generated code

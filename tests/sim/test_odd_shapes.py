@@ -68,7 +68,9 @@ def test_a_long_unit_compiles_at_o1_and_runs_bit_for_bit(
     monkeypatch.setattr(build, "LARGE_UNIT", 20_000)
     commands: list[list[str]] = []
     start = build._start
-    monkeypatch.setattr(build, "_start", lambda c, cc: commands.append(c) or start(c, cc))
+    monkeypatch.setattr(
+        build, "_start", lambda c, cc, work: commands.append(c) or start(c, cc, work)
+    )
     sess = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
     opts = RunOptions(duration=0.3)
     c = sess.run("hop", ["speed=1m/s"], options=opts, backend="c").result

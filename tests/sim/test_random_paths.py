@@ -37,7 +37,7 @@ from legdsl.sim.run_loop import RunOptions
 
 pytestmark = needs_c_compiler
 
-COUNT = int(os.environ.get("LEGDSL_RANDOM_PATHS", "4"))
+COUNT = int(os.environ.get("LEGDSL_RANDOM_PATHS", "2"))
 FIRST = int(os.environ.get("LEGDSL_RANDOM_PATH_SEED", "0"))
 SEEDS = range(FIRST, FIRST + COUNT)
 DURATION = 1.0
