@@ -37,7 +37,7 @@ from random_rigs import recorded_rig, rig_shown  # noqa: E402
 from legdsl.pipeline.session import RunSession  # noqa: E402
 from legdsl.sim.trajectory import Trajectory  # noqa: E402
 
-CI_RIGS, CI_GAITS = 2, 2
+CI_RIGS, CI_GAITS = 1, 1
 GAITS = int(os.environ.get("LEGDSL_RANDOM_METRICS_GAITS", CI_GAITS))
 TABLE2_ROWS = ("kangaroo hop", "biped run", "quadruped trot", "quadruped bound")
 COUNT = int(os.environ.get("LEGDSL_RANDOM_METRICS", CI_RIGS))

@@ -36,7 +36,7 @@ pytestmark = [
     pytest.mark.filterwarnings("ignore:.*too damped for the step:legdsl.api.notes.LegdslWarning"),
 ]
 
-CI_BATCHES = 2  # laws 1 and 2 (2: one copy ok, five diverging) and rigs 1 and 2: about 10 s
+CI_BATCHES = 1  # law 1 and rig 1 (more: LEGDSL_RANDOM_BATCHES=N)
 COUNT = int(os.environ.get("LEGDSL_RANDOM_BATCHES", CI_BATCHES))
 FIRST_SEED = int(os.environ.get("LEGDSL_RANDOM_BATCH_SEED", "1"))
 SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
