@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,18 @@ needs_c_compiler = pytest.mark.skipif(
 )
 
 _CACHE: dict[str, RunSession] = {}
+
+
+def child_pids(parent: int | None = None) -> set[int]:
+    """The processes whose parent is ``parent`` (this process by default), zombies too: read
+    from Linux's /proc."""
+    parent = os.getpid() if parent is None else parent
+    found = set()
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with contextlib.suppress(OSError, IndexError, ValueError):
+            if int(stat.read_text().rsplit(")", 1)[1].split()[1]) == parent:
+                found.add(int(stat.parent.name))
+    return found
 
 
 def legdsl_in_process(argv: list[str]) -> tuple[int, str]:

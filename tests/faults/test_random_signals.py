@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from runtime_helpers import child_pids
 
 ROOT = Path(__file__).resolve().parents[2]
 COUNT = int(os.environ.get("LEGDSL_RANDOM_SIGNALS", "1"))
@@ -152,6 +153,15 @@ def _finish(proc: subprocess.Popen[str], what: str) -> tuple[str, str]:
             pytest.fail(f"{what}: processes left running after it ended\n{err}")
         time.sleep(0.05)
     return out, err
+
+
+def _hold_down(proc: subprocess.Popen[str], sig: int, whole_group: bool = False) -> None:
+    """``sig`` every 0.2 ms until the command has ended (a key held down), to it or its whole
+    process group (as a terminal sends Ctrl-C)."""
+    while proc.poll() is None:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            (os.killpg if whole_group else os.kill)(proc.pid, sig)
+        time.sleep(0.0002)
 
 
 def _run(argv: list[str], scratch: Path, what: str) -> float:
@@ -311,10 +321,8 @@ def test_a_signal_at_a_random_moment(seed: int, tmp_path_factory: pytest.TempPat
                 (os.killpg if d.whole_group else os.kill)(proc.pid, sig)
             except ProcessLookupError:  # it had finished
                 break
-        while d.held and proc.poll() is None:
-            with contextlib.suppress(ProcessLookupError, PermissionError):
-                (os.killpg if d.whole_group else os.kill)(proc.pid, signal.SIGINT)
-            time.sleep(0.0002)
+        if d.held:
+            _hold_down(proc, signal.SIGINT, d.whole_group)
         _, err = _finish(proc, str(d))
         code = proc.returncode
         sig = d.signals[0]
@@ -395,23 +403,10 @@ def test_ctrl_c_pressed_again_and_again_as_an_interrupted_command_ends(tmp_path:
     assert proc.stderr is not None
     while "compiling" not in (line := proc.stderr.readline()):
         assert line, "ended before compiling"
-    while proc.poll() is None:  # Ctrl-C held down: every 0.2 ms until it has ended
-        with contextlib.suppress(ProcessLookupError):
-            proc.send_signal(signal.SIGINT)
-        time.sleep(0.0002)
+    _hold_down(proc, signal.SIGINT)
     _, err = _finish(proc, " ".join(argv))
     assert proc.returncode in (130, -signal.SIGINT), err
     assert "Traceback" not in err and "Exception ignored" not in err, err
-
-
-def _children(pid: int) -> list[int]:
-    """The processes whose parent is ``pid`` (Linux's /proc)."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        with contextlib.suppress(OSError, IndexError):
-            if int(stat.read_text().rsplit(")", 1)[1].split()[1]) == pid:
-                found.append(int(stat.parent.name))
-    return found
 
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
@@ -424,12 +419,9 @@ def test_ctrl_c_held_down_at_a_terminal_as_a_sweep_starts_its_workers(tmp_path: 
     shutil.copytree(ROOT / "generated" / "hopper", scratch / "gen" / "hopper")
     _run(["run", *HOP, "--time", "0.1", "--generated", "gen"], scratch, "the C library built")
     proc = _start(SWEEP, scratch)
-    while proc.poll() is None and not _children(proc.pid):
+    while proc.poll() is None and not child_pids(proc.pid):
         time.sleep(0.0005)
-    while proc.poll() is None:  # Ctrl-C held down at the terminal: the whole group
-        with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.killpg(proc.pid, signal.SIGINT)
-        time.sleep(0.0002)
+    _hold_down(proc, signal.SIGINT, whole_group=True)  # at the terminal
     _, err = _finish(proc, " ".join(SWEEP))
     assert proc.returncode in (130, -signal.SIGINT), err
     assert "Traceback" not in err and "Exception ignored" not in err, err
@@ -445,10 +437,7 @@ def test_sigterm_as_a_compile_starts_its_controller_processes_ends_it(tmp_path: 
     assert proc.stderr is not None
     while "checked in" not in (line := proc.stderr.readline()):  # the processes start next
         assert line, "ended before checking"
-    while proc.poll() is None:  # again and again, until it has ended
-        with contextlib.suppress(ProcessLookupError):
-            proc.send_signal(signal.SIGTERM)
-        time.sleep(0.0002)
+    _hold_down(proc, signal.SIGTERM)
     _, err = _finish(proc, " ".join(argv))
     assert proc.returncode in (143, -signal.SIGTERM), err
     assert "Traceback" not in err and "Exception ignored" not in err, err

@@ -9,25 +9,12 @@ import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from pathlib import Path
 
 import pytest
+from runtime_helpers import child_pids
 
 from legdsl.pipeline import forked
 from legdsl.pipeline.forked import Forked, signals_held
-
-
-def children() -> set[int]:
-    found = set()
-    for pid in os.listdir("/proc"):
-        if pid.isdigit():
-            try:
-                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if fields[1] == str(os.getpid()):
-                found.add(int(pid))
-    return found
 
 
 def test_ctrl_c_taken_by_another_thread_is_held_back_too() -> None:
@@ -66,7 +53,7 @@ def test_ctrl_c_as_processes_start_leaves_none_behind(monkeypatch: pytest.Monkey
             raise KeyboardInterrupt
 
     monkeypatch.setattr(forked, "signals_held", interrupted_at_the_second)
-    before = children()
+    before = child_pids()
     with pytest.raises(KeyboardInterrupt):
         Forked(sleepy, [1, 2], 2)
-    assert children() - before == set()
+    assert child_pids() - before == set()
