@@ -4,6 +4,7 @@ as a Ctrl-C later is (it was a traceback of the import, exit status -2)."""
 from __future__ import annotations
 
 import builtins
+import signal
 import sys
 
 import pytest
@@ -23,7 +24,11 @@ def test_ctrl_c_while_importing_the_command_line(
 
     monkeypatch.delitem(sys.modules, "legdsl.cli", raising=False)
     monkeypatch.setattr(builtins, "__import__", interrupted)
-    assert entry.main() == 130
+    handler = signal.getsignal(signal.SIGINT)
+    try:
+        assert entry.main() == 130
+    finally:  # main left its Ctrl-C handler, as the console script's process ends after it
+        signal.signal(signal.SIGINT, handler)
     assert capsys.readouterr().err == "legdsl: interrupted\n"
 
 

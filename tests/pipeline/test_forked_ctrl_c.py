@@ -33,6 +33,27 @@ def test_ctrl_c_taken_by_another_thread_is_held_back_too() -> None:
     assert reached
 
 
+def test_ctrl_c_held_back_under_a_handler_of_its_own_is_given_to_it_after() -> None:
+    """Under the console script's handler (or a kernel's) the hold noted nothing: the handler
+    was left in place and raised inside the held block."""
+    taken: list[int] = []
+
+    def own(signum: int, frame: object) -> None:
+        taken.append(signum)
+
+    handler = signal.signal(signal.SIGINT, own)
+    try:
+        with signals_held():
+            threading.Thread(target=os.kill, args=(os.getpid(), signal.SIGINT)).start()
+            for _ in range(1000):
+                time.sleep(0.0001)
+            assert taken == []
+        assert taken == [signal.SIGINT]
+        assert signal.getsignal(signal.SIGINT) is own
+    finally:
+        signal.signal(signal.SIGINT, handler)
+
+
 def sleepy(item: object) -> bytes:
     time.sleep(30)
     return b""

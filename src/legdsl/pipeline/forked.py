@@ -41,12 +41,11 @@ def signals_held() -> Iterator[None]:
     come once this is over; the new process starts with them blocked, sets its handlers, then
     unblocks them (``unblock_stopping``). Blocking holds back only this thread's share: in a
     process of several threads (a Jupyter kernel) another thread takes the signal and Python
-    raised it here all the same, so the main thread's Ctrl-C handler notes it meanwhile too."""
+    raised it here all the same, so the main thread's Ctrl-C handler (Python's, the console
+    script's or a kernel's) is swapped for one that notes it, and called once this is over."""
     noted: list[int] = []
-    in_python = (
-        threading.current_thread() is threading.main_thread()
-        and signal.getsignal(signal.SIGINT) is signal.default_int_handler
-    )
+    handler = signal.getsignal(signal.SIGINT)  # Python's, the console script's or a kernel's
+    in_python = threading.current_thread() is threading.main_thread() and callable(handler)
     if in_python:
         signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
     before = (
@@ -60,9 +59,9 @@ def signals_held() -> Iterator[None]:
         if before is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, before)
         if in_python:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+            signal.signal(signal.SIGINT, handler)
             if noted:
-                raise KeyboardInterrupt
+                handler(signal.SIGINT, None)  # type: ignore[operator]
 
 
 def unblock_stopping() -> None:
