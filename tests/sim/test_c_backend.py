@@ -22,6 +22,7 @@ import pytest
 from conftest import CREATURES, GENERATED, ROOT
 from runtime_helpers import assert_same, needs_c_compiler
 
+from legdsl.codegen.c.build import UNITS
 from legdsl.ir.model import Terrain
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions, RunResult
@@ -387,7 +388,10 @@ def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
     outs = [p.communicate(timeout=120)[0].strip() for p in procs]
     assert [p.returncode for p in procs] == [0, 0]
     assert outs[0] == outs[1]
-    assert [p.name for p in (tmp_path / "cache").iterdir()] == [Path(outs[0]).name]
+    cache = tmp_path / "cache"
+    assert sorted(p.name for p in cache.iterdir()) == sorted([Path(outs[0]).name, "objects"])
+    kept = sorted(p.name.split("-")[0] for p in (cache / "objects").iterdir())
+    assert kept == sorted(f"{unit}" for unit in UNITS)  # whole objects, no temporary left
 
 
 def test_a_state_gone_infinite_between_checks_stops_the_same() -> None:

@@ -4,6 +4,7 @@ started are ended and reaped, not left compiling into a removed directory, then 
 from __future__ import annotations
 
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
@@ -14,22 +15,41 @@ from legdsl.codegen.c import build
 ROOT = Path(__file__).resolve().parents[2]
 
 
+def compiling_in(folder: Path) -> list[str]:
+    """The command lines of the processes (of any parent) that name a file in ``folder``."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            words = (proc / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if any(str(folder).encode() in word for word in words):
+            found.append(b" ".join(words).decode(errors="replace"))
+    return found
+
+
 @needs_c_compiler
 def test_ctrl_c_during_a_build_leaves_no_compiler_behind(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     compiler = build.find_compiler()
     assert compiler is not None
-    files = build.sources(ROOT / "generated" / "hopper", "hop")
+    files = build.sources(ROOT / "generated" / "quadruped", "trot")  # seconds of cc1
     build.flags(compiler)  # its probe of the machine, before communicate is cut short
     before = child_pids()
 
     def interrupted(self: subprocess.Popen[str], *args: object, **kwargs: object) -> None:
+        time.sleep(0.3)  # gcc has started its passes (cc1) by then
         raise KeyboardInterrupt  # as the first wait for a compiler is cut short
 
     monkeypatch.setattr(subprocess.Popen, "communicate", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        build._compile("hopper", files, compiler, tmp_path, tmp_path / "hopper.so")
+        build._compile("quadruped", files, compiler, tmp_path, tmp_path / "quadruped.so")
     monkeypatch.undo()
     assert child_pids() - before == set()  # none running, none a zombie
+    for _ in range(6):  # killed, not yet gone: a moment (unkilled, cc1 goes on for a second)
+        if not compiling_in(tmp_path):
+            break
+        time.sleep(0.05)
+    assert compiling_in(tmp_path) == []  # nor gcc's passes (cc1), which wrote on into it
     assert list(tmp_path.iterdir()) == []  # and nothing half-built kept

@@ -34,6 +34,11 @@ SHA-256 after its last ELF byte (``seal``; the loader reads no further than the 
 one whose digest does not match, cut short or damaged on the disk, is built again: loading it
 could crash the process (a truncated library is a SIGBUS, not an error). Each use touches the
 file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``.
+
+Each translation unit's object is kept too (``objects/``, sealed alike), by the hash of its
+source, the headers, its flags and the compiler: a creature's other controllers, or a library
+it lost to the trim, compile only what changed (its ``control.c``, a second out of nine for
+the quadruped's gallop) and link.
 """
 
 from __future__ import annotations
@@ -80,6 +85,7 @@ LARGE_UNIT = 1_000_000
 LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
+OBJECTS = "objects"  # the cache's folder of compiled translation units
 LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
 UNITS = (
@@ -220,6 +226,18 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
     return digest.hexdigest()[:20]
 
 
+def unit_key(unit: str, files: dict[str, str], compiler: Compiler) -> str:
+    """The hash an object of ``unit`` is kept under: its text, every header it could include,
+    its flags, the compiler and the processor's features."""
+    digest = hashlib.sha256()
+    for name in sorted(n for n in files if n == unit or n.endswith(".h")):
+        digest.update(f"{name}\0{len(files[name])}\0".encode())
+        digest.update(files[name].encode())
+    given = " ".join(unit_flags(list(flags(compiler)), files.get(unit, "")) + list(LANGUAGE))
+    digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
+    return digest.hexdigest()[:20]
+
+
 def build(
     name: str,
     files: dict[str, str],
@@ -257,7 +275,11 @@ def build(
 
 def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, final: Path) -> None:
     """Compile ``files`` into the library ``final``, through a temporary directory in ``root``."""
-    with tempfile.TemporaryDirectory(dir=root, prefix=f".{name}-src-") as work:
+    # a compiler pass that outlived its kill may still write: what it leaves goes with the
+    # leftovers (``trim``), not as an error in place of the KeyboardInterrupt
+    with tempfile.TemporaryDirectory(
+        dir=root, prefix=f".{name}-src-", ignore_cleanup_errors=True
+    ) as work:
         for file, text in files.items():
             (Path(work) / file).write_text(text)
         partial = Path(work) / "lib.so"
@@ -267,8 +289,12 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         compile_flags = [f for f in every if f != "-shared"]
         started: list[subprocess.Popen[str]] = []
         commands: list[list[str]] = []
+        kept = {
+            unit: root / OBJECTS / f"{unit}-{unit_key(unit, files, compiler)}.o" for unit in UNITS
+        }
+        compiled = [unit for unit in UNITS if not _reuse(kept[unit], Path(work) / f"{unit}.o")]
         try:
-            for unit in UNITS:
+            for unit in compiled:
                 source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
                 command = [
                     compiler.path,
@@ -286,6 +312,8 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             errors = [process.communicate()[1] for process in started]  # all, failed or not
             for command, process, err in zip(commands, started, errors, strict=True):
                 _check(process.returncode, command, err, name, compiler)
+            for unit in compiled:
+                _keep(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
             done = _start(command, compiler, work)
@@ -299,6 +327,31 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             _stop(started)
             raise
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
+
+
+def _reuse(kept: Path, obj: Path) -> bool:
+    """Copy the kept object to ``obj`` (unsealed) if it is whole, and mark it used."""
+    body = unsealed(kept)
+    if body is None:
+        return False
+    try:
+        obj.write_bytes(body)
+    except OSError:  # a full disk: the compiler, run instead, says so as for any build
+        return False
+    with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
+        os.utime(kept)
+    return True
+
+
+def _keep(obj: Path, kept: Path) -> None:
+    """Keep a copy of a unit's new object, sealed, renamed into place whole (if there is room:
+    the library is what the build is for)."""
+    sealed_copy = obj.with_suffix(".sealed")
+    with contextlib.suppress(OSError):
+        shutil.copyfile(obj, sealed_copy)
+        seal(sealed_copy)
+        kept.parent.mkdir(exist_ok=True)
+        os.replace(sealed_copy, kept)  # the build's directory is in the cache: one file system
 
 
 PROBE = (
@@ -342,8 +395,8 @@ def _stop(processes: list[subprocess.Popen[str]]) -> None:
     """End the compiler processes of a build cut short and reap them: after a KeyboardInterrupt
     caught in a notebook they compiled on into a directory being removed, and stayed zombies."""
     for process in processes:
-        with contextlib.suppress(OSError):
-            process.kill()
+        with contextlib.suppress(OSError):  # its group: gcc's cc1 and as wrote on after gcc died
+            os.killpg(process.pid, signal.SIGKILL)
     for process in processes:
         while True:
             try:
@@ -356,8 +409,8 @@ def _stop(processes: list[subprocess.Popen[str]]) -> None:
 def _start(command: list[str], compiler: Compiler, work: str) -> subprocess.Popen[str]:
     try:
         return subprocess.Popen(
-            command, stderr=subprocess.PIPE, text=True, env=_temporaries_in(work)
-        )
+            command, stderr=subprocess.PIPE, text=True, env=_temporaries_in(work), process_group=0
+        )  # a group of its own, its compiler passes with it: _stop ends them all
     except OSError as e:  # removed or made unrunnable since it was found
         limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
         raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
@@ -380,17 +433,23 @@ def seal(path: Path) -> None:
 
 def sealed(path: Path) -> bool:
     """Whether the library is whole: its last bytes are the digest of the ones before."""
+    return unsealed(path) is not None
+
+
+def unsealed(path: Path) -> bytes | None:
+    """The file's bytes before its seal, or None if it is missing, cut short or damaged."""
     try:
         data = path.read_bytes()
     except OSError:
-        return False
+        return None
     body, mark, digest = data.rpartition(SEAL)
-    return bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
+    whole = bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
+    return body if whole else None
 
 
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
-    """Remove the least recently used libraries while the cache holds more than ``most`` bytes.
-    A process that has a removed library loaded keeps it (the file lives on until closed); one
+    """Remove the least recently used libraries and objects while the cache holds more than
+    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on until closed); one
     about to load it builds it again (``legdsl.sim.c_library.load_library``). The sources of
     a build killed outright (SIGKILL, a power cut) are removed after ``LEFTOVER_SECONDS``."""
     for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
@@ -398,7 +457,7 @@ def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
             if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
                 shutil.rmtree(work, ignore_errors=True)
     found = []
-    for path in root.glob("*.so"):
+    for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o")]:
         try:
             info = path.stat()
         except OSError:  # removed by another process meanwhile

@@ -1,0 +1,79 @@
+"""The cache keeps each translation unit's object: a creature's other controller compiles its
+``control.c`` alone and links; a damaged object is compiled again; the trim takes objects too."""
+
+from __future__ import annotations
+
+import ctypes
+from pathlib import Path
+
+import pytest
+from runtime_helpers import needs_c_compiler
+
+from legdsl.codegen.c import build
+
+GENERATED = Path(__file__).resolve().parents[2] / "generated"
+
+
+def compiled_units(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The units the compiler is started on, as builds go."""
+    units: list[str] = []
+    start = build._start
+
+    def noted(command: list[str], compiler: build.Compiler, work: str) -> object:
+        if "-c" in command:
+            units.append(Path(command[-1]).name)
+        return start(command, compiler, work)
+
+    monkeypatch.setattr(build, "_start", noted)
+    return units
+
+
+@needs_c_compiler
+def test_another_controller_of_a_creature_compiles_its_control_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
+    units = compiled_units(monkeypatch)
+    hop = build.build("hopper", build.sources(GENERATED / "hopper", "hop"))
+    assert sorted(units) == sorted(build.UNITS)
+    units.clear()
+    none = build.build("hopper", build.sources(GENERATED / "hopper"))
+    assert units == ["control.c"]
+    assert hop.path != none.path and not none.cached
+    for library in (hop, none):
+        ctypes.CDLL(str(library.path))
+    units.clear()  # a library trimmed away: linked again from the objects kept
+    hop.path.unlink()
+    again = build.build("hopper", build.sources(GENERATED / "hopper", "hop"))
+    assert units == [] and again.path == hop.path
+    ctypes.CDLL(str(again.path))
+
+
+@needs_c_compiler
+def test_a_damaged_object_is_compiled_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
+    files = build.sources(GENERATED / "hopper", "hop")
+    first = build.build("hopper", files)
+    whole = first.path.read_bytes()
+    (kept,) = (tmp_path / build.OBJECTS).glob("dynamics.c-*.o")
+    data = bytearray(kept.read_bytes())
+    data[200] ^= 1
+    kept.write_bytes(bytes(data))
+    first.path.unlink()
+    units = compiled_units(monkeypatch)
+    again = build.build("hopper", files)
+    assert units == ["dynamics.c"]
+    assert again.path.read_bytes() == whole  # the same library as the first build
+    assert build.unsealed(kept) is not None  # and the object kept whole again
+
+
+@needs_c_compiler
+def test_the_trim_takes_the_least_recently_used_objects_too(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
+    library = build.build("hopper", build.sources(GENERATED / "hopper", "hop")).path
+    build.trim(tmp_path, keep=library, most=library.stat().st_size)
+    assert list((tmp_path / build.OBJECTS).iterdir()) == [] and library.is_file()
