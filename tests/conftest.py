@@ -12,11 +12,14 @@ import pytest
 if TYPE_CHECKING:
     from legdsl.ir.model import Model
     from legdsl.pipeline.compile import Compiled
+    from legdsl.pipeline.session import RunSession
 
 ROOT = Path(__file__).resolve().parents[1]
 CREATURES = ROOT / "creatures"
 GENERATED = ROOT / "generated"
+OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the team
 SHIPPED = ("kangaroo", "biped", "quadruped", "hopper")
+_SHARED: list[Path] = []  # this test process's folder of generated modules kept for the session
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -35,6 +38,21 @@ def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         del os.environ["LEGDSL_CACHE"]
     else:
         os.environ["LEGDSL_CACHE"] = before
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _shared_generated(tmp_path_factory: pytest.TempPathFactory) -> None:
+    _SHARED.append(tmp_path_factory.mktemp("shared-generated"))
+
+
+@functools.cache
+def outside_session(file: str) -> RunSession:
+    """The session of ``tests/good/outside/FILE``, compiled once in this test process for all
+    the tests that run it as written (its sympy lowering takes seconds). A run leaves its
+    session as it was; a test that edits the file compiles its own copy."""
+    from legdsl.pipeline.session import RunSession
+
+    return RunSession.from_file(OUTSIDE / file, generated=_SHARED[0])
 
 
 @pytest.fixture(scope="module")

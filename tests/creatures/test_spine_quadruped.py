@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.analysis.pairs import hip_positions, pair_groups
@@ -23,8 +23,8 @@ pytestmark = needs_c_compiler
 
 
 @pytest.fixture(scope="module")
-def session(tmp_path_factory: pytest.TempPathFactory) -> RunSession:
-    return RunSession.from_file(LEG, generated=tmp_path_factory.mktemp("spine_generated"))
+def session() -> RunSession:
+    return outside_session(LEG.name)
 
 
 def test_the_pairs_are_found_from_hips_on_either_half() -> None:

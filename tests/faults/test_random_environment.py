@@ -480,9 +480,11 @@ def test_a_c_library_builds_with_tmpdir_unwritable(tmp_path: Path) -> None:
             "gen", "--out", "out"]  # fmt: skip
     done = _legdsl(argv, scratch, _plain_env(scratch) | {"TMPDIR": UNWRITABLE})
     assert done.code == 0 and "Traceback" not in done.err, done.err
-    assert "built" in done.err and [p.name for p in (scratch / "cache").iterdir()] == [
-        p.name for p in (scratch / "cache").glob("hopper-*.so")
-    ]  # the library, and no temporary file left
+    cache = scratch / "cache"
+    assert "built" in done.err and sorted(p.name for p in cache.iterdir()) == sorted(
+        [*(p.name for p in cache.glob("hopper-*.so")), "objects"]
+    )  # the library and its units' objects, and no temporary file left
+    assert all(p.suffix == ".o" for p in (cache / "objects").iterdir())
 
 
 def test_a_compile_into_a_linked_module_directory_keeps_the_link(tmp_path: Path) -> None:

@@ -4,13 +4,10 @@ the controllers of dachs.leg (its trot a copy of that table, with dachs's values
 
 from __future__ import annotations
 
-from pathlib import Path
+from conftest import OUTSIDE, outside_session
 
 from legdsl.pipeline.compile import compile_model
-from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
-
-OUTSIDE = Path(__file__).resolve().parents[2] / "tests" / "good" / "outside"
 
 
 def _code(text: str) -> str:
@@ -31,8 +28,8 @@ def test_a_trot_extending_the_used_quadrupeds_is_dachss_copied_trot() -> None:
     assert params["leg_k"] == 5946.19 and params["k_path"] == 1.0
 
 
-def test_dachs_extends_runs(tmp_path: Path) -> None:
-    session = RunSession.from_file(OUTSIDE / "dachs_extends.leg", generated=tmp_path)
+def test_dachs_extends_runs() -> None:
+    session = outside_session("dachs_extends.leg")
     result = session.run("trot", [], options=RunOptions(duration=0.4)).result
     assert result.status == "ok", result.message
     assert result.sim_time >= 0.39

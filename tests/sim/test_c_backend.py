@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import CREATURES, GENERATED, ROOT
+from conftest import CREATURES, GENERATED, ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.codegen.c.build import UNITS
@@ -196,7 +196,6 @@ OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the t
     ],
 )
 def test_creatures_written_outside_the_team_run_the_same(
-    tmp_path_factory: pytest.TempPathFactory,
     name: str,
     controller: str,
     switches: list[str],
@@ -212,8 +211,7 @@ def test_creatures_written_outside_the_team_run_the_same(
     with a tail that swings against its leg, starting rolled and drifting sideways; a long,
     short-legged quadruped whose trot and bound take the shipped quadruped's shared parts
     through 'use', switching from the trot to the bound."""
-    generated = tmp_path_factory.mktemp("outside")
-    sess = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
+    sess = outside_session(f"{name}.leg")
     opts = RunOptions(duration=seconds)
     python = sess.run(controller, [], options=opts, switches=switches, backend="python").result
     c = sess.run(controller, [], options=opts, switches=switches, backend="c").result

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.check.source import check_model
@@ -21,9 +21,8 @@ pytestmark = needs_c_compiler
 
 
 @pytest.fixture(scope="module")
-def session(tmp_path_factory: pytest.TempPathFactory) -> RunSession:
-    """One generated tree for the module: the creature is compiled once."""
-    return RunSession.from_file(LEG, generated=tmp_path_factory.mktemp("kangaroo_3d_generated"))
+def session() -> RunSession:
+    return outside_session(LEG.name)
 
 
 def _from_3_s(session: RunSession, speed: float) -> tuple[np.ndarray, float, float]:

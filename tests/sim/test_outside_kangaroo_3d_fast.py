@@ -9,24 +9,19 @@ heading drifted 140 deg by 15 s) and was tuned with them."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
-from conftest import ROOT
+from conftest import outside_session
 from runtime_helpers import needs_c_compiler
 
-from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 from legdsl.sim.trajectory import Trajectory
-
-OUTSIDE = ROOT / "tests" / "good" / "outside"
 
 pytestmark = needs_c_compiler
 
 
-def run_at_4(name: str, generated: Path) -> Trajectory:
+def run_at_4(name: str) -> Trajectory:
     """Eight seconds at 4 m/s from standing, in C."""
-    session = RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
+    session = outside_session(f"{name}.leg")
     result = session.run(
         "hop", ["speed=4m/s"], options=RunOptions(duration=8.0), backend="c"
     ).result
@@ -38,8 +33,8 @@ def tail_angle(tr: Trajectory) -> np.ndarray:
     return np.degrees(tr.q[:, tr.q_names.index("tail_base")])
 
 
-def test_it_starts_from_standing_at_4_m_s_and_holds_the_speed(tmp_path: Path) -> None:
-    tr = run_at_4("kangaroo_3d_fast", tmp_path)
+def test_it_starts_from_standing_at_4_m_s_and_holds_the_speed() -> None:
+    tr = run_at_4("kangaroo_3d_fast")
     start = int(np.searchsorted(tr.t, 5.0))  # the command is reached by about 4 s
     vx, vy = (tr.com[-1, :2] - tr.com[start, :2]) / (tr.t[-1] - tr.t[start])
     assert abs(vx - 4.0) < 0.05 * 4.0 and abs(vy) < 0.1, (vx, vy)
@@ -48,8 +43,8 @@ def test_it_starts_from_standing_at_4_m_s_and_holds_the_speed(tmp_path: Path) ->
     assert np.abs(np.degrees(tr.root_rpy[start:, 1])).max() < 20
 
 
-def test_the_original_tail_reaches_its_stop_at_4_m_s(tmp_path: Path) -> None:
+def test_the_original_tail_reaches_its_stop_at_4_m_s() -> None:
     """The cause, on kangaroo_3d.leg: the tail past its 60 deg stop, the trunk pitched 25 deg."""
-    tr = run_at_4("kangaroo_3d", tmp_path)
+    tr = run_at_4("kangaroo_3d")
     assert np.abs(tail_angle(tr)).max() > 60
     assert np.abs(np.degrees(tr.root_rpy[:, 1])).max() > 22

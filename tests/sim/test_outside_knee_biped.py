@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from conftest import ROOT
+from conftest import ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
@@ -19,10 +19,8 @@ LEG = ROOT / "tests" / "good" / "outside" / "knee_biped.leg"
 pytestmark = needs_c_compiler
 
 
-def test_the_knee_biped_runs_the_same_on_both_backends_and_keeps_its_trunk_up(
-    tmp_path: Path,
-) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+def test_the_knee_biped_runs_the_same_on_both_backends_and_keeps_its_trunk_up() -> None:
+    sess = outside_session(LEG.name)
     opts = RunOptions(duration=1.5)
     python = sess.run("run", ["speed=1m/s"], options=opts, backend="python").result
     c = sess.run("run", ["speed=1m/s"], options=opts, backend="c").result
@@ -74,7 +72,7 @@ def test_the_library_knee_posture_and_rotary_hop_are_the_knee_bipeds_own_laws(
     own_leg = tmp_path / "own" / "knee_biped.leg"
     own_leg.write_text(own, encoding="utf-8")
     opts = RunOptions(duration=1.0)
-    library = RunSession.from_file(LEG, generated=tmp_path / "lib")
+    library = outside_session(LEG.name)
     written = RunSession.from_file(own_leg, generated=tmp_path / "own_gen")
     a = library.run("run", ["speed=1m/s"], options=opts, backend="python").result
     b = written.run("run", ["speed=1m/s"], options=opts, backend="python").result

@@ -7,14 +7,12 @@ quadruped with knees"). It runs the same on both backends and trots at 1 and 1.5
 from __future__ import annotations
 
 import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
-from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
 LEG = ROOT / "tests" / "good" / "outside" / "knee_quadruped.leg"
@@ -22,14 +20,8 @@ LEG = ROOT / "tests" / "good" / "outside" / "knee_quadruped.leg"
 pytestmark = needs_c_compiler
 
 
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """One compile for the runs of the tests below (each compile of the C step takes seconds)."""
-    return tmp_path_factory.mktemp("generated")
-
-
-def test_the_knee_quadruped_trots_the_same_on_both_backends(generated: Path) -> None:
-    sess = RunSession.from_file(LEG, generated=generated)
+def test_the_knee_quadruped_trots_the_same_on_both_backends() -> None:
+    sess = outside_session(LEG.name)
     opts = RunOptions(duration=2.0)
     python = sess.run("trot", ["speed=1m/s"], options=opts, backend="python").result
     c = sess.run("trot", ["speed=1m/s"], options=opts, backend="c").result
@@ -47,10 +39,10 @@ def test_the_knee_quadruped_trots_the_same_on_both_backends(generated: Path) -> 
 
 
 @pytest.mark.parametrize("speed", [1.0, 1.5])
-def test_the_knee_quadruped_holds_its_speed_for_10_s(generated: Path, speed: float) -> None:
+def test_the_knee_quadruped_holds_its_speed_for_10_s(speed: float) -> None:
     """Within 5% over 3 to 10 s (docs/quadruped.md); it fell at 1.5 m/s before its gains
     were tuned at 0 to 2 m/s."""
-    sess = RunSession.from_file(LEG, generated=generated)
+    sess = outside_session(LEG.name)
     opts = RunOptions(duration=10.0)
     run = sess.run("trot", [f"speed={speed}m/s"], options=opts, backend="c").result
     assert run.status == "ok", run.message
@@ -60,14 +52,14 @@ def test_the_knee_quadruped_holds_its_speed_for_10_s(generated: Path, speed: flo
     assert mean == pytest.approx(speed, rel=0.05)
 
 
-def test_level_feet_rotary_reads_the_rest_angle_not_the_knees(tmp_path: Path) -> None:
+def test_level_feet_rotary_reads_the_rest_angle_not_the_knees() -> None:
     """The lever of level_feet_rotary is taken at the rest angle: read at the knee's own
     angle it shortens as the knee straightens, and the rest straightened the knee further
     (the in-place trot drove its knees to their stop). The flight's rests are then
     rest - dz L / (l1 l2 sin rest), and the knees' angles are no sensor of the controller."""
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+    sess = outside_session(LEG.name)
     sess.run("trot", ["speed=0m/s"], options=RunOptions(duration=0.01), backend="python")
-    path = next(tmp_path.rglob("control_trot.py"))
+    path = next(sess.generated.rglob("control_trot.py"))
     spec = importlib.util.spec_from_file_location("knee_quadruped_trot", path)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)

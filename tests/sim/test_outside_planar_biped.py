@@ -10,7 +10,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from conftest import ROOT
+from conftest import ROOT, outside_session
 
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
@@ -18,8 +18,8 @@ from legdsl.sim.run_loop import RunOptions
 LEG = ROOT / "tests" / "good" / "outside" / "planar_biped.leg"
 
 
-def test_the_planar_biped_holds_2_m_s_without_falling(tmp_path: Path) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+def test_the_planar_biped_holds_2_m_s_without_falling() -> None:
+    sess = outside_session(LEG.name)
     result = sess.run("run", ["speed=2m/s"], options=RunOptions(duration=7.0)).result
     assert result.status == "ok", result.message
     tr = result.trajectory
@@ -43,11 +43,11 @@ def _trunk_lowest(z: np.ndarray, pitch: np.ndarray) -> np.ndarray:
     return z - (0.25 * np.abs(np.sin(pitch)) + 0.1 * np.abs(np.cos(pitch)))
 
 
-def test_the_planar_biped_flips_once_and_runs_on(tmp_path: Path) -> None:
+def test_the_planar_biped_flips_once_and_runs_on() -> None:
     """`flip` at 2 m/s: the first stance after flip_at (6 s) spins the trunk up, one flight
     carries it round, it lands on a foot at a full turn (pitch.value + 2 pi +- 30 deg from
     that stance's touchdown) and runs on at 2 m/s for the 4 s left, the trunk never down."""
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+    sess = outside_session(LEG.name)
     options = RunOptions(duration=11.0, fall_tilt=math.pi)
     result = sess.run("flip", ["speed=2m/s"], options=options).result
     assert result.status == "ok", result.message

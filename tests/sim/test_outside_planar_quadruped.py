@@ -10,9 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, outside_session
 
-from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
 LEG = ROOT / "tests" / "good" / "outside" / "planar_quadruped.leg"
@@ -28,9 +27,9 @@ def _mean_speed(t: np.ndarray, com: np.ndarray, start: float) -> float:
     [("bound", 0.5, 0.06), ("bound", 2.0, 0.06), ("pronk", 0.5, 0.04), ("pronk", 2.0, 0.04)],
 )
 def test_the_planar_quadruped_holds_its_speed_for_10_s(
-    tmp_path: Path, controller: str, speed: float, tolerance: float
+    controller: str, speed: float, tolerance: float
 ) -> None:
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+    sess = outside_session(LEG.name)
     result = sess.run(controller, [f"speed={speed}m/s"], options=RunOptions(duration=10.0)).result
     assert result.status == "ok", result.message
     tr = result.trajectory
@@ -50,10 +49,10 @@ def test_the_planar_quadruped_holds_its_speed_for_10_s(
         assert gap < 0.015 and both > 0.45, (gap, both)
 
 
-def test_the_pronk_takes_over_from_the_bound_and_back(tmp_path: Path) -> None:
+def test_the_pronk_takes_over_from_the_bound_and_back() -> None:
     """`--switch 5s=pronk --switch 10s=bound` at 1.5 m/s: the pronk starts its stroke and speed
     trims afresh (`own`); with the bound's it fell 0.9 s after the switch."""
-    sess = RunSession.from_file(LEG, generated=tmp_path)
+    sess = outside_session(LEG.name)
     options = RunOptions(duration=15.0)
     run = sess.run("bound", ["speed=1.5m/s"], switches=["5s=pronk", "10s=bound"], options=options)
     assert run.result.status == "ok", run.result.message

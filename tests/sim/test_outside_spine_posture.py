@@ -7,27 +7,16 @@ mass-weighted mean pitch rate) and its gains tuned, it bounds at 3 m/s."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
-from conftest import ROOT
+from conftest import outside_session
 from runtime_helpers import needs_c_compiler
 
-from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
-
-OUTSIDE = ROOT / "tests" / "good" / "outside"
 
 pytestmark = needs_c_compiler
 
 
-def _session(tmp_path_factory: pytest.TempPathFactory, name: str) -> RunSession:
-    generated = tmp_path_factory.mktemp(f"{name}_generated")
-    return RunSession.from_file(OUTSIDE / f"{name}.leg", generated=generated)
-
-
-def test_the_bound_on_the_trunks_mean_pitch_holds_3_m_s(
-    tmp_path_factory: pytest.TempPathFactory,
-) -> None:
-    session = _session(tmp_path_factory, "spine_quadruped_posture")
+def test_the_bound_on_the_trunks_mean_pitch_holds_3_m_s() -> None:
+    session = outside_session("spine_quadruped_posture.leg")
     opts = RunOptions(duration=6.0)
     run = session.run("bound", ["speed=3m/s"], options=opts, backend="c").result
     assert run.status == "ok", run.message
@@ -37,12 +26,10 @@ def test_the_bound_on_the_trunks_mean_pitch_holds_3_m_s(
     assert abs(vx - 3.0) < 0.1 * 3.0, vx
 
 
-def test_the_bound_on_the_front_halfs_pitch_falls_at_3_m_s(
-    tmp_path_factory: pytest.TempPathFactory,
-) -> None:
+def test_the_bound_on_the_front_halfs_pitch_falls_at_3_m_s() -> None:
     """What the trunk's servo mends: the shipped bound, servoing the root's (the front
     half's) pitch rate through the spine, falls nose down before 10 s."""
-    session = _session(tmp_path_factory, "spine_quadruped")
+    session = outside_session("spine_quadruped.leg")
     opts = RunOptions(duration=10.0)
     run = session.run("bound", ["speed=3m/s"], options=opts, backend="c").result
     assert run.status != "ok"

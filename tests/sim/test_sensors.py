@@ -10,7 +10,7 @@ from types import SimpleNamespace
 from typing import Any
 
 import pytest
-from conftest import shipped_dynamics, shipped_model
+from conftest import outside_session, shipped_dynamics, shipped_model
 
 from legdsl.sim.sensors import Sensors, euler_rates
 
@@ -236,9 +236,7 @@ def test_a_leg_that_only_slides_is_measured_from_where_the_slide_sits(tmp_path: 
     """The pogo's leg is one prismatic joint: its hip point is the joint's place on the body,
     not the rod's origin (which slides with the leg: a length that never changed). The rate
     is the derivative of the length, the body turning and moving too."""
-    from legdsl.pipeline.session import RunSession
-
-    session = RunSession.from_file(ROOT / "tests/good/outside/pogo.leg", generated=tmp_path)
+    session = outside_session("pogo.leg")
     model, dyn = session.model, session.dynamics
     hip = model.leg_hip(model.legs[0])
     assert hip.at is not None and model.bodies[hip.body].name == "body"
