@@ -149,7 +149,7 @@ def compile_checked(
                 with evaluate(False):  # rebuilt as printed: evaluating them again is seconds
                     lowered_controller, text, c_text = pickle.loads(others.result(k))
             else:
-                lowered_controller, text, c_text = _controller_files(model, controller, source)
+                lowered_controller, text, c_text = controller_files(model, controller, source)
             controllers += (lowered_controller,)
             files += (
                 (f"control_{controller.name}.py", text),
@@ -205,7 +205,7 @@ def _controller_processes(model: Model, source: str) -> Forked | None:
     return Forked(work, model.controllers, processes)
 
 
-def _controller_files(
+def controller_files(
     model: Model, controller: Controller, source: str
 ) -> tuple[LoweredController, str, str]:
     """One controller lowered, and its Python and C modules."""
@@ -221,5 +221,5 @@ def _controller_files(
 
 
 def _pickled_controller_files(model: Model, controller: Controller, source: str) -> bytes:
-    """``_controller_files`` in another process, pickled there (see ``compile_checked``)."""
-    return pickle.dumps(_controller_files(model, controller, source))
+    """``controller_files`` in another process, pickled there (see ``compile_checked``)."""
+    return pickle.dumps(controller_files(model, controller, source))
