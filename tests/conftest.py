@@ -106,17 +106,3 @@ def compile_text(tmp_path: Path, text: str) -> tuple[Model, types.ModuleType]:
     path.write_text(text, encoding="utf-8")
     compiled = compile_model(path)
     return compiled.model, load_module(compiled.text("dynamics.py"), compiled.name)
-
-
-# The folders whose files take longest (compiles, C builds, runs of seconds) first: a parallel
-# run hands out whole files in this order, so its end is many short files that fill both
-# workers, not one long file while the other worker waits (sim/, the longest, came last).
-LONGEST_FIRST = ("sim", "export", "faults", "pipeline", "creatures", "api", "lower", "codegen")
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    def rank(item: pytest.Item) -> int:
-        folder = Path(str(item.path)).parent.name
-        return LONGEST_FIRST.index(folder) if folder in LONGEST_FIRST else len(LONGEST_FIRST)
-
-    items.sort(key=rank)  # stable: each file's tests keep their order
