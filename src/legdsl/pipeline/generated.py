@@ -247,12 +247,14 @@ def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str]
     if not printed:  # stale for another reason (__init__.py, SHA256SUMS): compiled whole
         return None
     text, c_text = printed[0]
-    head = lambda text, n: text.split("\n", n)[:n]  # noqa: E731
-    if head(text, 2) != head(kept["dynamics.py"], 2) or head(c_text, 1) != head(
-        kept["dynamics.c"], 1
-    ):
-        return None  # another file's, or another version's: compiled whole
+    python_head, c_head = _head(text, 2), _head(c_text, 1)  # the file, legdsl's, sympy's version
+    if python_head != _head(kept["dynamics.py"], 2) or c_head != _head(kept["dynamics.c"], 1):
+        return None  # printed from another file, or by another version: compiled whole
     return (*files, (SUMS, sha256_sums(tuple(files))))
+
+
+def _head(text: str, lines: int) -> list[str]:
+    return text.split("\n", lines)[:lines]
 
 
 def _changed(folder: Path, names: Sequence[str]) -> Iterator[tuple[str, str]]:
