@@ -449,9 +449,10 @@ def unsealed(path: Path) -> bytes | None:
 
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
     """Remove the least recently used libraries and objects while the cache holds more than
-    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on until closed); one
-    about to load it builds it again (``legdsl.sim.c_library.load_library``). The sources of
-    a build killed outright (SIGKILL, a power cut) are removed after ``LEFTOVER_SECONDS``."""
+    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
+    until closed); one about to load it builds it again (``legdsl.sim.c_library.load_library``).
+    The sources of a build killed outright (SIGKILL, a power cut) are removed after
+    ``LEFTOVER_SECONDS``."""
     for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
         with contextlib.suppress(OSError):  # another process's, just removed
             if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
