@@ -37,7 +37,7 @@ def test_a_stale_tree_that_cannot_be_written_says_to_give_another(
     def read_only(*args: object) -> Path:
         raise OSError(30, "Read-only file system", str(tree / ".hopper.new-1-2"))
 
-    monkeypatch.setattr(generated_module, "write_generated", read_only)
+    monkeypatch.setattr(generated_module, "write_module_dir", read_only)
     argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.05",
             "--generated", str(tree), "--out", str(tmp_path / "run"),
             "--backend", backend]  # fmt: skip
