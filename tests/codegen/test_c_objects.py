@@ -77,3 +77,23 @@ def test_the_trim_takes_the_least_recently_used_objects_too(
     library = build.build("hopper", build.sources(GENERATED / "hopper", "hop")).path
     build.trim(tmp_path, keep=library, most=library.stat().st_size)
     assert list((tmp_path / build.OBJECTS).iterdir()) == [] and library.is_file()
+
+
+@needs_c_compiler
+def test_the_same_creature_printed_from_another_file_reuses_its_objects(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A copy of the file (or the tuned file ``legdsl tune`` writes): its generated C differs in
+    the comments that name the file, not in code, so only the controller, whose comments name
+    the file throughout, compiles again."""
+    from legdsl.pipeline.session import RunSession
+
+    copy = tmp_path / "copy.leg"
+    copy.write_text((GENERATED.parent / "creatures" / "hopper.leg").read_text())
+    RunSession.from_file(copy, generated=tmp_path / "gen").control("hop")
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    build.build("hopper", build.sources(GENERATED / "hopper", "hop"))
+    units = compiled_units(monkeypatch)
+    other = build.build("hopper", build.sources(tmp_path / "gen" / "hopper", "hop"))
+    assert units == ["control.c"]
+    ctypes.CDLL(str(other.path))

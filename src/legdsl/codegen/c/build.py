@@ -231,11 +231,21 @@ def unit_key(unit: str, files: dict[str, str], compiler: Compiler) -> str:
     its flags, the compiler and the processor's features."""
     digest = hashlib.sha256()
     for name in sorted(n for n in files if n == unit or n.endswith(".h")):
-        digest.update(f"{name}\0{len(files[name])}\0".encode())
-        digest.update(files[name].encode())
+        code = _after_leading_comment(files[name])
+        digest.update(f"{name}\0{len(code)}\0".encode())
+        digest.update(code.encode())
     given = " ".join(unit_flags(list(flags(compiler)), files.get(unit, "")) + list(LANGUAGE))
     digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
     return digest.hexdigest()[:20]
+
+
+def _after_leading_comment(text: str) -> str:
+    """The text after its leading comment, which names the .leg file it was printed from: the
+    same creature printed from two files (a copy, a tuned file) compiles to the same objects
+    (nothing is compiled with -g, so no comment reaches an object)."""
+    if text.startswith("/*") and "*/" in text:
+        return text[text.index("*/") + 2 :]
+    return text
 
 
 def build(
