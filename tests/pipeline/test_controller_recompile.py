@@ -37,16 +37,27 @@ def lowered(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     return names
 
 
+def compiled_hopper(folder: Path) -> tuple[Path, Path]:
+    """A copy of hopper.leg in ``folder`` and its generated tree, compiled."""
+    source = folder / "hopper.leg"
+    shutil.copy(CREATURES / "hopper.leg", source)
+    generated = folder / "generated"
+    RunSession.from_file(source, generated=generated).control("hop")
+    return source, generated
+
+
+def edited(source: Path, old: str, new: str, into: Path | None = None) -> Path:
+    text = source.read_text()
+    assert old in text
+    (into or source).write_text(text.replace(old, new))
+    return into or source
+
+
 def test_an_edited_gain_lowers_its_controller_alone(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    source = tmp_path / "hopper.leg"
-    shutil.copy(CREATURES / "hopper.leg", source)
-    generated = tmp_path / "generated"
-    RunSession.from_file(source, generated=generated).control("hop")
-    source.write_text(
-        source.read_text().replace("param kp = 150 N*m/rad", "param kp = 140 N*m/rad")
-    )
+    source, generated = compiled_hopper(tmp_path)
+    edited(source, "param kp = 150 N*m/rad", "param kp = 140 N*m/rad")
     calls = lowered(monkeypatch)
     session = RunSession.from_file(source, generated=generated)
     assert session.control("hop").PARAMS["kp"] == 140.0
@@ -57,16 +68,19 @@ def test_an_edited_gain_lowers_its_controller_alone(
     assert result.status == "ok", result.message
 
 
+@pytest.mark.parametrize(
+    ("old", "new", "into"),
+    [
+        ("mass 10 kg", "mass 11 kg", None),  # the body: its dynamics are stale
+        ("param kp = 150", "param kp = 140", "copy.leg"),  # the kept dynamics name hopper.leg
+    ],
+)
 def test_an_edited_body_or_another_file_compiles_the_dynamics_too(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, old: str, new: str, into: str | None
 ) -> None:
-    source = tmp_path / "hopper.leg"
-    shutil.copy(CREATURES / "hopper.leg", source)
-    generated = tmp_path / "generated"
-    RunSession.from_file(source, generated=generated).control("hop")
+    source, generated = compiled_hopper(tmp_path)
     calls = lowered(monkeypatch)
-    other = tmp_path / "copy.leg"  # the same creature, its gain edited: printed from copy.leg
-    other.write_text(source.read_text().replace("param kp = 150", "param kp = 140"))
-    RunSession.from_file(other, generated=generated).control("hop")
+    changed = edited(source, old, new, None if into is None else tmp_path / into)
+    RunSession.from_file(changed, generated=generated).control("hop")
     assert calls == ["hopper"]
-    assert written(generated / "hopper") == whole_compile(other)
+    assert written(generated / "hopper") == whole_compile(changed)
