@@ -84,3 +84,14 @@ def ffmpeg() -> str:
         loud_skip("ffmpeg is needed to write and check .mp4 videos: apt-get install -y ffmpeg")
     assert path is not None
     return path
+
+
+def ffprobe_frames(path: Path) -> tuple[int, int, int]:
+    """A video's width, height and number of frames, as ffprobe reads them."""
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+         "stream=width,height,nb_read_frames", "-of", "csv=p=0", str(path)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    width, height, frames = (int(x) for x in probe.stdout.strip().split(","))
+    return width, height, frames

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.analysis.pairs import hip_positions, pair_groups
@@ -17,7 +17,7 @@ from legdsl.check.source import check_file
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "spine_quadruped.leg"
+LEG = OUTSIDE / "spine_quadruped.leg"
 
 pytestmark = needs_c_compiler
 

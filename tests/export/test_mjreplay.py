@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from anim_runs import creature_motion, creature_run
-from external_tools import ffmpeg, loud_skip
+from external_tools import ffmpeg, ffprobe_frames, loud_skip
 from pixels import hue_mask
 
 from legdsl.export.mjreplay import replay_frames
@@ -49,12 +49,7 @@ def test_replay_renders_an_mp4(tmp_path: Path) -> None:
         loud_skip(done.stderr.strip())  # only where no OpenGL context can be had
     assert done.returncode == 0, done.stderr
     assert "wrote" in done.stdout
-    probe = subprocess.run(
-        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
-         "stream=width,height,nb_read_frames", "-of", "csv=p=0", str(out)],
-        capture_output=True, text=True, check=True,
-    )  # fmt: skip
-    width, height, frames = (int(x) for x in probe.stdout.strip().split(","))
+    width, height, frames = ffprobe_frames(out)
     # 1 s recorded every 5.2 ms: samples to 0.9984 s, so frames at 0, 0.1, ..., 0.9 s
     assert (width, height) == (160, 96) and frames == 10
     raw = subprocess.run(

@@ -98,16 +98,6 @@ def check_poses(run_dir: Path, generated: Path, fps: float) -> int:
     return compared
 
 
-def ffprobe_frames(path: Path) -> tuple[int, int, int]:
-    probe = subprocess.run(
-        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
-         "stream=width,height,nb_read_frames", "-of", "csv=p=0", str(path)],
-        capture_output=True, text=True, check=True,
-    )  # fmt: skip
-    width, height, frames = (int(x) for x in probe.stdout.strip().split(","))
-    return width, height, frames
-
-
 WROTE: dict[str, str] = {}  # each mp4's "legdsl: wrote ..." line
 
 
@@ -142,7 +132,7 @@ def replay(args: list[str]) -> tuple[int, str]:
 
 def check_mp4(run_dir: Path, out: Path, fps: float, size: tuple[int, int]) -> str:
     """The mp4 of ``legdsl replay``: ffprobe's frame count and size; what it said it wrote."""
-    from external_tools import ffmpeg
+    from external_tools import ffmpeg, ffprobe_frames
 
     ffmpeg()
     tr = read_run(run_dir).trajectory

@@ -180,9 +180,6 @@ def test_a_fall_between_long_control_ticks_is_seen() -> None:
     assert_same(python, c)
 
 
-OUTSIDE = ROOT / "tests" / "good" / "outside"  # creatures written outside the team
-
-
 @pytest.mark.parametrize(
     ("name", "controller", "switches", "seconds"),
     [

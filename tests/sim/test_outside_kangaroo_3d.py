@@ -8,14 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.check.source import check_model
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "kangaroo_3d.leg"
+LEG = OUTSIDE / "kangaroo_3d.leg"
 
 pytestmark = needs_c_compiler
 

@@ -8,13 +8,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, ROOT, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "knee_biped.leg"
+LEG = OUTSIDE / "knee_biped.leg"
 
 pytestmark = needs_c_compiler
 

@@ -10,12 +10,12 @@ import importlib.util
 
 import numpy as np
 import pytest
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, outside_session
 from runtime_helpers import assert_same, needs_c_compiler
 
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "knee_quadruped.leg"
+LEG = OUTSIDE / "knee_quadruped.leg"
 
 pytestmark = needs_c_compiler
 

@@ -10,12 +10,12 @@ import math
 from pathlib import Path
 
 import numpy as np
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, outside_session
 
 from legdsl.pipeline.session import RunSession
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "planar_biped.leg"
+LEG = OUTSIDE / "planar_biped.leg"
 
 
 def test_the_planar_biped_holds_2_m_s_without_falling() -> None:

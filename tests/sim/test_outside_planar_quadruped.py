@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT, outside_session
+from conftest import OUTSIDE, outside_session
 
 from legdsl.sim.run_loop import RunOptions
 
-LEG = ROOT / "tests" / "good" / "outside" / "planar_quadruped.leg"
+LEG = OUTSIDE / "planar_quadruped.leg"
 
 
 def _mean_speed(t: np.ndarray, com: np.ndarray, start: float) -> float:

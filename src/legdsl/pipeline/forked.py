@@ -45,8 +45,9 @@ def signals_held() -> Iterator[None]:
     script's or a kernel's) is swapped for one that notes it, and called once this is over."""
     noted: list[int] = []
     handler = signal.getsignal(signal.SIGINT)  # Python's, the console script's or a kernel's
-    in_python = threading.current_thread() is threading.main_thread() and callable(handler)
-    if in_python:
+    main = threading.current_thread() is threading.main_thread()  # signal.signal's only thread
+    swapped = handler if main and callable(handler) else None  # not SIG_IGN, SIG_DFL
+    if swapped is not None:
         signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
     before = (
         signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
@@ -58,10 +59,10 @@ def signals_held() -> Iterator[None]:
     finally:
         if before is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, before)
-        if in_python:
-            signal.signal(signal.SIGINT, handler)
-            if noted and callable(handler):  # (callable already: told to mypy)
-                handler(signal.SIGINT, None)
+        if swapped is not None:
+            signal.signal(signal.SIGINT, swapped)
+            if noted:
+                swapped(signal.SIGINT, None)
 
 
 def unblock_stopping() -> None:

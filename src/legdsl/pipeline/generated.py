@@ -129,10 +129,10 @@ def c_sources(
     (and the controller's ``control_CONTROLLER.c``) fresh, compiled first if missing or stale
     like the Python modules: the directory the C backend builds from."""
     folder = generated / model.name
-    wanted = {name: line for name, line in _dynamics_stamps(model).items() if name.endswith(".c")}
+    stamps = _dynamics_stamps(model)
     if controller is not None:
-        wanted |= _controller_stamps(model, controller)
-        del wanted[f"control_{controller}.py"]
+        stamps |= _controller_stamps(model, controller)
+    wanted = {name: line for name, line in stamps.items() if name.endswith(".c")}
     if generated.is_dir():
         recover_dir(folder)
     names = [*wanted, "dynamics.h"]

@@ -222,7 +222,7 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
     given = " ".join(flags(compiler) + LIBS + LANGUAGE)
     if any(len(text) > LARGE_UNIT for text in files.values()):  # others keep their keys
         given += f" -O1 past {LARGE_UNIT}"
-    digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
+    digest.update(_built_by(compiler, given))
     return digest.hexdigest()[:20]
 
 
@@ -235,8 +235,14 @@ def unit_key(unit: str, files: dict[str, str], compiler: Compiler) -> str:
         digest.update(f"{name}\0{len(code)}\0".encode())
         digest.update(code.encode())
     given = " ".join(unit_flags(list(flags(compiler)), files.get(unit, "")) + list(LANGUAGE))
-    digest.update(f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode())
+    digest.update(_built_by(compiler, given))
     return digest.hexdigest()[:20]
+
+
+def _built_by(compiler: Compiler, given: str) -> bytes:
+    """What a cache key takes from the build besides the sources: the compiler, its flags
+    (``given``) and the processor features ``-march=native`` turns on."""
+    return f"{compiler.path}\0{compiler.version}\0{given}\0{native(compiler)[1]}".encode()
 
 
 def _after_leading_comment(text: str) -> str:
