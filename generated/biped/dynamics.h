@@ -9,6 +9,8 @@
 #ifndef LEGDSL_DYNAMICS_H
 #define LEGDSL_DYNAMICS_H
 
+#include "legdsl_model.h"  /* the runtime's view of these: the compiler checks both agree */
+
 #define LEG_NQ 15
 #define LEG_NV 14
 #define LEG_NB 5  /* bodies */

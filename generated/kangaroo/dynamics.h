@@ -9,6 +9,8 @@
 #ifndef LEGDSL_DYNAMICS_H
 #define LEGDSL_DYNAMICS_H
 
+#include "legdsl_model.h"  /* the runtime's view of these: the compiler checks both agree */
+
 #define LEG_NQ 10
 #define LEG_NV 10
 #define LEG_NB 8  /* bodies */

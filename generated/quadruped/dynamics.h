@@ -9,6 +9,8 @@
 #ifndef LEGDSL_DYNAMICS_H
 #define LEGDSL_DYNAMICS_H
 
+#include "legdsl_model.h"  /* the runtime's view of these: the compiler checks both agree */
+
 #define LEG_NQ 19
 #define LEG_NV 18
 #define LEG_NB 9  /* bodies */

@@ -1,5 +1,6 @@
 """The cache keeps each translation unit's object: a creature's other controller compiles its
-``control.c`` alone and links; a damaged object is compiled again; the trim takes objects too."""
+``control.c`` alone and links; a creature of sizes built before compiles its own C alone; a
+damaged object is compiled again; the trim takes objects too."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from pathlib import Path
 import pytest
 from runtime_helpers import needs_c_compiler
 
-from legdsl.codegen.c import build
+from legdsl.codegen.c import build, cache
 
 GENERATED = Path(__file__).resolve().parents[2] / "generated"
 
@@ -50,6 +51,29 @@ def test_another_controller_of_a_creature_compiles_its_control_alone(
 
 
 @needs_c_compiler
+def test_a_creature_of_sizes_built_before_compiles_its_own_units_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The runtime's units include the creature's sizes alone (legdsl_sizes.h): a heavier
+    hopper links the hopper's step.c, machine.c and batch.c; the quadruped compiles its own."""
+    from legdsl.pipeline.session import RunSession
+
+    heavy = tmp_path / "heavy.leg"
+    text = (GENERATED.parent / "creatures" / "hopper.leg").read_text()
+    heavy.write_text(text.replace("mass 10 kg", "mass 12 kg", 1))
+    RunSession.from_file(heavy, generated=tmp_path / "gen").control("hop")
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    build.build("hopper", build.sources(GENERATED / "hopper", "hop"))
+    units = compiled_units(monkeypatch)
+    library = build.build("hopper", build.sources(tmp_path / "gen" / "hopper", "hop"))
+    assert sorted(units) == ["control.c", "dynamics.c", "dynamics_some.c"]
+    ctypes.CDLL(str(library.path))
+    units.clear()
+    build.build("quadruped", build.sources(GENERATED / "quadruped"))
+    assert sorted(units) == sorted(build.UNITS)
+
+
+@needs_c_compiler
 def test_a_damaged_object_is_compiled_again(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -57,7 +81,7 @@ def test_a_damaged_object_is_compiled_again(
     files = build.sources(GENERATED / "hopper", "hop")
     first = build.build("hopper", files)
     whole = first.path.read_bytes()
-    (kept,) = (tmp_path / build.OBJECTS).glob("dynamics.c-*.o")
+    (kept,) = (tmp_path / cache.OBJECTS).glob("dynamics.c-*.o")
     data = bytearray(kept.read_bytes())
     data[200] ^= 1
     kept.write_bytes(bytes(data))
@@ -66,7 +90,7 @@ def test_a_damaged_object_is_compiled_again(
     again = build.build("hopper", files)
     assert units == ["dynamics.c"]
     assert again.path.read_bytes() == whole  # the same library as the first build
-    assert build.unsealed(kept) is not None  # and the object kept whole again
+    assert cache.unsealed(kept) is not None  # and the object kept whole again
 
 
 @needs_c_compiler
@@ -75,8 +99,8 @@ def test_the_trim_takes_the_least_recently_used_objects_too(
 ) -> None:
     monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
     library = build.build("hopper", build.sources(GENERATED / "hopper", "hop")).path
-    build.trim(tmp_path, keep=library, most=library.stat().st_size)
-    assert list((tmp_path / build.OBJECTS).iterdir()) == [] and library.is_file()
+    cache.trim(tmp_path, keep=library, most=library.stat().st_size)
+    assert list((tmp_path / cache.OBJECTS).iterdir()) == [] and library.is_file()
 
 
 @needs_c_compiler

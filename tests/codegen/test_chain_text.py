@@ -26,7 +26,7 @@ DIGESTS = {
     "dynamics.py": "40be2547a9362a5763ab1b3ca591d92f0d64999e6fe792294478578710af0bff",
     "dynamics.c": "5b4946a60a9ca3a439642efc475396e70e401f4b7f34a66496cd92df15f0b2c9",
     "dynamics_some.c": "a8506e4ea24174eaae9d56491de524f18a8b23114579de7ea5378bfd830d3fec",
-    "dynamics.h": "1b3b7d8d5803da4265e026f8da1f86a16df2ff4a634a350a8f95bb1757aa1b69",
+    "dynamics.h": "8394d2337e37fd777cc2299a53558b7d92fe9e337d42218d1c75d0f55f31318c",
 }
 
 

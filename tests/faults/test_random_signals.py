@@ -208,7 +208,7 @@ def _reference(argv: list[str], base: Path) -> tuple[Path, float]:
 def _hidden_leftovers(scratch: Path, workers: bool = False) -> list[str]:
     """Hidden files left in the outputs and caches. A sweep's or tune's worker is ended at once
     by its command's SIGTERM (``api.workers``): a C build it had begun leaves its sources in
-    the cache, which a later build removes after an hour (``build.LEFTOVER_SECONDS``; seeds
+    the cache, which a later build removes after an hour (``cache.LEFTOVER_SECONDS``; seeds
     45 and 71)."""
     found = []
     for path in (scratch / "out", scratch / "gen", scratch / "cache"):

@@ -304,7 +304,8 @@ def test_a_damaged_library_in_the_cache_is_built_again(
     """A library cut short on the disk would crash the process that loads it (SIGBUS): its seal
     (its own digest at its end) no longer matches, so it is built again, in a process of its
     own here as a user's run would be."""
-    from legdsl.codegen.c.build import build, sealed, sources
+    from legdsl.codegen.c.build import build, sources
+    from legdsl.codegen.c.cache import sealed
 
     monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
     files = sources(GENERATED / "hopper")
@@ -356,7 +357,7 @@ def test_a_cache_that_cannot_take_the_library_falls_back_to_python(
 
 
 def test_the_cache_keeps_the_most_recently_used_libraries(tmp_path: Path) -> None:
-    from legdsl.codegen.c.build import trim
+    from legdsl.codegen.c.cache import trim
 
     sizes = {f"old-{k}.so": 1000 for k in range(5)} | {"new.so": 1000, "keep.so": 1000}
     for k, (name, size) in enumerate(sizes.items()):

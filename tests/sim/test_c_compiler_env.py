@@ -146,7 +146,7 @@ def test_trimming_skips_what_it_cannot_remove(tmp_path: Path) -> None:
     the build that trims does not fail for it (else its run fell back to Python)."""
     import os
 
-    from legdsl.codegen.c.build import trim
+    from legdsl.codegen.c.cache import trim
 
     (tmp_path / "stuck.so").mkdir()  # unlink() refuses it, as it refuses another's file
     (tmp_path / "stuck.so" / "x").write_bytes(b"x" * 3000)
@@ -179,7 +179,7 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """LEGDSL_CACHE=~/x from a settings file no shell expanded: not a folder '~' here."""
-    from legdsl.codegen.c.build import cache_dir
+    from legdsl.codegen.c.cache import cache_dir
 
     monkeypatch.setenv("HOME", str(tmp_path))
     monkeypatch.setenv("LEGDSL_CACHE", "~/legdsl-cache")
@@ -192,7 +192,7 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
 def test_the_sources_of_a_killed_build_are_removed_in_time(tmp_path: Path) -> None:
     import os
 
-    from legdsl.codegen.c.build import LEFTOVER_SECONDS, trim
+    from legdsl.codegen.c.cache import LEFTOVER_SECONDS, trim
 
     for name in (".hopper-src-abc", ".probe-xyz", ".kangaroo-src-new"):
         (tmp_path / name).mkdir()

@@ -16,7 +16,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from legdsl.codegen.c.build import DYNAMICS_FILES, cache_dir
+from legdsl.codegen.c.build import DYNAMICS_FILES
+from legdsl.codegen.c.cache import cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import InternalError, UsageError

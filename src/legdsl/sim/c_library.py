@@ -27,11 +27,11 @@ from legdsl.codegen.c.build import (
     Built,
     CompilerUnusable,
     build,
-    cache_dir,
     find_compiler,
     no_compiler,
     sources,
 )
+from legdsl.codegen.c.cache import cache_dir
 from legdsl.files import free_bytes, refused_in
 from legdsl.ir.model import Model
 

@@ -23,22 +23,8 @@ on another, so the key of the cache names the processor features ``-march=native
 The compiler found must build a tiny library when a build fails (``probe``): one that cannot
 (not a compiler, no headers) is the user's to fix (``CompilerUnusable``), else the C is legdsl's.
 
-The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
-A library is named by the hash of its sources, the compiler's path and version, the flags and
-the processor's features,
-so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
-reused. The compiler writes into a temporary file in the cache directory, which is then
-renamed to the final name: two runs that build the same library at once each rename a
-complete file, and a reader never sees a half-written one. A library ends with its own
-SHA-256 after its last ELF byte (``seal``; the loader reads no further than the ELF says), and
-one whose digest does not match, cut short or damaged on the disk, is built again: loading it
-could crash the process (a truncated library is a SIGBUS, not an error). Each use touches the
-file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``.
-
-Each translation unit's object is kept too (``objects/``, sealed alike), by the hash of its
-source, the headers, its flags and the compiler: a creature's other controllers, or a library
-it lost to the trim, compile only what changed (its ``control.c``, a second out of nine for
-the quadruped's gallop) and link.
+The cache that keeps the libraries and objects (where it is, the seal, the trim): ``cache.py``;
+the hashes it keeps them under: ``library_key`` and ``unit_key`` here.
 """
 
 from __future__ import annotations
@@ -47,6 +33,7 @@ import contextlib
 import errno
 import hashlib
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -57,11 +44,22 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from legdsl.codegen.c.cache import (
+    OBJECTS,
+    cache_dir,
+    keep_object,
+    reuse_object,
+    seal,
+    sealed,
+    trim,
+)
+
 RUNTIME = Path(__file__).parent / "runtime"
 RUNTIME_FILES = (
     "legdsl_math.h",
     "legdsl_sim.h",
     "legdsl_control.h",
+    "legdsl_model.h",
     "step.c",
     "machine.c",
     "batch.c",
@@ -83,10 +81,10 @@ LIBS = ("-lm",)
 # (nothing is fused or reordered without fast-math), the step a little slower.
 LARGE_UNIT = 1_000_000
 LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
-SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
-CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
-OBJECTS = "objects"  # the cache's folder of compiled translation units
-LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
+SIZES_FILE = "legdsl_sizes.h"  # written at each build from dynamics.h: sizes_header
+SIZES = ("LEG_NQ", "LEG_NV", "LEG_NB", "LEG_NC", "LEG_FREE3D", "LEG_PLANAR")
+SIZE_LINE = re.compile(r"^#define (LEG_[A-Z0-9]+) \d+\b.*$", re.MULTILINE)
+INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.MULTILINE)  # a local header
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
 UNITS = (
     "dynamics.c",
@@ -122,14 +120,6 @@ class Built:
     path: Path  # the shared library
     cached: bool  # reused from the cache (no compiler run)
     seconds: float  # time spent in the compiler (0 when cached)
-
-
-def cache_dir() -> Path:
-    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
-    if os.environ.get("LEGDSL_CACHE"):
-        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base).expanduser() / "legdsl"
 
 
 @lru_cache(maxsize=8)
@@ -178,11 +168,25 @@ def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str
     files = {name: (RUNTIME / name).read_text() for name in RUNTIME_FILES}
     for name in DYNAMICS_FILES:
         files[name] = (generated_dir / name).read_text()
+    files[SIZES_FILE] = sizes_header(files["dynamics.h"], generated_dir / "dynamics.h")
     if controller is not None:
         files["control.c"] = (generated_dir / f"control_{controller}.c").read_text()
     else:
         files["control.c"] = files["control_none.c"]
     return files
+
+
+def sizes_header(dynamics_h: str, path: Path) -> str:
+    """``legdsl_sizes.h``: the size lines of a creature's ``dynamics.h`` alone, all the runtime's
+    units take from the creature. Their objects are kept by the hash of what they include, so
+    every creature of the same sizes shares them, and the sizes stay constants in the loops."""
+    found = {m.group(1): m.group(0) for m in SIZE_LINE.finditer(dynamics_h)}
+    missing = [name for name in SIZES if name not in found]
+    if missing:
+        raise BuildFailed(f"{path} defines no {missing[0]}: compile the creature again")
+    lines = [f"/* {SIZES_FILE}: the creature's sizes, from its dynamics.h (codegen/c/build.py) */"]
+    lines += [found[name] for name in SIZES]
+    return "\n".join(lines) + "\n"
 
 
 @lru_cache(maxsize=8)
@@ -227,16 +231,29 @@ def library_key(files: dict[str, str], compiler: Compiler) -> str:
 
 
 def unit_key(unit: str, files: dict[str, str], compiler: Compiler) -> str:
-    """The hash an object of ``unit`` is kept under: its text, every header it could include,
-    its flags, the compiler and the processor's features."""
+    """The hash an object of ``unit`` is kept under: its text, the headers it includes, its
+    flags, the compiler and the processor's features. The runtime's units include only the
+    creature's sizes, so one object of each serves every creature of those sizes."""
     digest = hashlib.sha256()
-    for name in sorted(n for n in files if n == unit or n.endswith(".h")):
+    for name in sorted({unit} | _included(unit, files)):
         code = _after_leading_comment(files[name])
         digest.update(f"{name}\0{len(code)}\0".encode())
         digest.update(code.encode())
     given = " ".join(unit_flags(list(flags(compiler)), files.get(unit, "")) + list(LANGUAGE))
     digest.update(_built_by(compiler, given))
     return digest.hexdigest()[:20]
+
+
+def _included(unit: str, files: dict[str, str]) -> set[str]:
+    """The files of ``files`` that ``unit`` includes, itself or through another of them."""
+    found: set[str] = set()
+    todo = [unit]
+    while todo:
+        for name in INCLUDE.findall(files.get(todo.pop(), "")):
+            if name in files and name not in found:
+                found.add(name)
+                todo.append(name)
+    return found
 
 
 def _built_by(compiler: Compiler, given: str) -> bytes:
@@ -308,7 +325,9 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         kept = {
             unit: root / OBJECTS / f"{unit}-{unit_key(unit, files, compiler)}.o" for unit in UNITS
         }
-        compiled = [unit for unit in UNITS if not _reuse(kept[unit], Path(work) / f"{unit}.o")]
+        compiled = [
+            unit for unit in UNITS if not reuse_object(kept[unit], Path(work) / f"{unit}.o")
+        ]
         try:
             for unit in compiled:
                 source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
@@ -329,7 +348,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             for command, process, err in zip(commands, started, errors, strict=True):
                 _check(process.returncode, command, err, name, compiler)
             for unit in compiled:
-                _keep(Path(work) / f"{unit}.o", kept[unit])
+                keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
             done = _start(command, compiler, work)
@@ -343,31 +362,6 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             _stop(started)
             raise
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
-
-
-def _reuse(kept: Path, obj: Path) -> bool:
-    """Copy the kept object to ``obj`` (unsealed) if it is whole, and mark it used."""
-    body = unsealed(kept)
-    if body is None:
-        return False
-    try:
-        obj.write_bytes(body)
-    except OSError:  # a full disk: the compiler, run instead, says so as for any build
-        return False
-    with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
-        os.utime(kept)
-    return True
-
-
-def _keep(obj: Path, kept: Path) -> None:
-    """Keep a copy of a unit's new object, sealed, renamed into place whole (if there is room:
-    the library is what the build is for)."""
-    sealed_copy = obj.with_suffix(".sealed")
-    with contextlib.suppress(OSError):
-        shutil.copyfile(obj, sealed_copy)
-        seal(sealed_copy)
-        kept.parent.mkdir(exist_ok=True)
-        os.replace(sealed_copy, kept)  # the build's directory is in the cache: one file system
 
 
 PROBE = (
@@ -438,58 +432,6 @@ def _is_elf(path: Path) -> bool:
             return f.read(4) == b"\x7fELF"
     except OSError:
         return False
-
-
-def seal(path: Path) -> None:
-    """Append the library's SHA-256 to it (``sealed`` checks it before a load)."""
-    digest = hashlib.sha256(path.read_bytes()).hexdigest()
-    with open(path, "ab") as out:
-        out.write(SEAL + digest.encode())
-
-
-def sealed(path: Path) -> bool:
-    """Whether the library is whole: its last bytes are the digest of the ones before."""
-    return unsealed(path) is not None
-
-
-def unsealed(path: Path) -> bytes | None:
-    """The file's bytes before its seal, or None if it is missing, cut short or damaged."""
-    try:
-        data = path.read_bytes()
-    except OSError:
-        return None
-    body, mark, digest = data.rpartition(SEAL)
-    whole = bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
-    return body if whole else None
-
-
-def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
-    """Remove the least recently used libraries and objects while the cache holds more than
-    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
-    until closed); one about to load it builds it again (``legdsl.sim.c_library.load_library``).
-    The sources of a build killed outright (SIGKILL, a power cut) are removed after
-    ``LEFTOVER_SECONDS``."""
-    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
-        with contextlib.suppress(OSError):  # another process's, just removed
-            if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
-                shutil.rmtree(work, ignore_errors=True)
-    found = []
-    for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o")]:
-        try:
-            info = path.stat()
-        except OSError:  # removed by another process meanwhile
-            continue
-        found.append((info.st_mtime, info.st_size, path))
-    total = sum(size for _, size, _ in found)
-    for _, size, path in sorted(found, key=lambda f: (f[0], str(f[2]))):
-        if total <= most:
-            break
-        if path != keep:
-            try:
-                path.unlink(missing_ok=True)
-            except OSError:  # another user's, in a shared cache: theirs to remove
-                continue
-            total -= size
 
 
 def _check(code: int, command: list[str], stderr: str, name: str, compiler: Compiler) -> None:

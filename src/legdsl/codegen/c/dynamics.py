@@ -102,6 +102,8 @@ def render_header(system: SymbolicSystem, source: str) -> str:
         "#ifndef LEGDSL_DYNAMICS_H",
         "#define LEGDSL_DYNAMICS_H",
         "",
+        '#include "legdsl_model.h"  /* the runtime\'s view of these: the compiler checks both agree */',
+        "",
         f"#define LEG_NQ {model.nq}",
         f"#define LEG_NV {model.nv}",
         f"#define LEG_NB {len(model.bodies)}  /* bodies */",

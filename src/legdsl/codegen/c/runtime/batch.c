@@ -17,7 +17,8 @@
 #include <string.h>
 
 #include "legdsl_sim.h"
-#include "dynamics.h"
+#include "legdsl_sizes.h"
+#include "legdsl_model.h"
 
 int64_t leg_begin(leg_sim *s);
 int64_t leg_run(leg_sim *s);

@@ -13,7 +13,8 @@
 
 #include "legdsl_math.h"
 #include "legdsl_sim.h"
-#include "dynamics.h"
+#include "legdsl_sizes.h"
+#include "legdsl_model.h"
 #include "legdsl_control.h"
 
 #define NB LEG_NB

@@ -17,8 +17,9 @@
  * root's pose), it calls the function's _some twin (dynamics_some.c, codegen/c/slices.py), which
  * writes those outputs as the whole function does and fails where the whole function fails.
  *
- * The creature comes from dynamics.h (generated); everything that varies per run is in the
- * leg_sim struct (legdsl_sim.h).
+ * The creature comes in its sizes (legdsl_sizes.h, from the generated dynamics.h) and the
+ * functions of legdsl_model.h, so one object of this file serves every creature of its sizes;
+ * everything that varies per run is in the leg_sim struct (legdsl_sim.h).
  */
 #include <stdint.h>
 #include <float.h>
@@ -26,7 +27,8 @@
 
 #include "legdsl_math.h"
 #include "legdsl_sim.h"
-#include "dynamics.h"
+#include "legdsl_sizes.h"
+#include "legdsl_model.h"
 
 #define LEG_DESCRIBE(type, name) #type " " #name ";"
 const char leg_sim_fields[] = LEG_SIM_FIELDS(LEG_DESCRIBE);

@@ -1,0 +1,120 @@
+"""The cache of compiled C: libraries and the objects of their translation units.
+
+The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
+A library is named by the hash of its sources, the compiler's path and version, the flags and
+the processor's features,
+so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
+reused. The compiler writes into a temporary file in the cache directory, which is then
+renamed to the final name: two runs that build the same library at once each rename a
+complete file, and a reader never sees a half-written one. A library ends with its own
+SHA-256 after its last ELF byte (``seal``; the loader reads no further than the ELF says), and
+one whose digest does not match, cut short or damaged on the disk, is built again: loading it
+could crash the process (a truncated library is a SIGBUS, not an error). Each use touches the
+file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``.
+
+Each translation unit's object is kept too (``objects/``, sealed alike), by the hash of its
+source, the headers it includes, its flags and the compiler: a creature's other controllers,
+or a library it lost to the trim, compile only what changed (its ``control.c``, a second out
+of nine for the quadruped's gallop) and link. The runtime's units (``step.c``, ``machine.c``,
+``batch.c``) include the creature's sizes alone (``legdsl_sizes.h``: ``build.sizes_header``),
+so a creature of sizes built before compiles only its own C.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import shutil
+import time
+from pathlib import Path
+
+SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
+CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
+OBJECTS = "objects"  # the cache's folder of compiled translation units
+LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
+
+
+def cache_dir() -> Path:
+    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
+    if os.environ.get("LEGDSL_CACHE"):
+        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base).expanduser() / "legdsl"
+
+
+def reuse_object(kept: Path, obj: Path) -> bool:
+    """Copy the kept object to ``obj`` (unsealed) if it is whole, and mark it used."""
+    body = unsealed(kept)
+    if body is None:
+        return False
+    try:
+        obj.write_bytes(body)
+    except OSError:  # a full disk: the compiler, run instead, says so as for any build
+        return False
+    with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
+        os.utime(kept)
+    return True
+
+
+def keep_object(obj: Path, kept: Path) -> None:
+    """Keep a copy of a unit's new object, sealed, renamed into place whole (if there is room:
+    the library is what the build is for)."""
+    sealed_copy = obj.with_suffix(".sealed")
+    with contextlib.suppress(OSError):
+        shutil.copyfile(obj, sealed_copy)
+        seal(sealed_copy)
+        kept.parent.mkdir(exist_ok=True)
+        os.replace(sealed_copy, kept)  # the build's directory is in the cache: one file system
+
+
+def seal(path: Path) -> None:
+    """Append the library's SHA-256 to it (``sealed`` checks it before a load)."""
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    with open(path, "ab") as out:
+        out.write(SEAL + digest.encode())
+
+
+def sealed(path: Path) -> bool:
+    """Whether the library is whole: its last bytes are the digest of the ones before."""
+    return unsealed(path) is not None
+
+
+def unsealed(path: Path) -> bytes | None:
+    """The file's bytes before its seal, or None if it is missing, cut short or damaged."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    body, mark, digest = data.rpartition(SEAL)
+    whole = bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
+    return body if whole else None
+
+
+def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
+    """Remove the least recently used libraries and objects while the cache holds more than
+    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
+    until closed); one about to load it builds it again (``legdsl.sim.c_library.load_library``).
+    The sources of a build killed outright (SIGKILL, a power cut) are removed after
+    ``LEFTOVER_SECONDS``."""
+    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
+        with contextlib.suppress(OSError):  # another process's, just removed
+            if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
+                shutil.rmtree(work, ignore_errors=True)
+    found = []
+    for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o")]:
+        try:
+            info = path.stat()
+        except OSError:  # removed by another process meanwhile
+            continue
+        found.append((info.st_mtime, info.st_size, path))
+    total = sum(size for _, size, _ in found)
+    for _, size, path in sorted(found, key=lambda f: (f[0], str(f[2]))):
+        if total <= most:
+            break
+        if path != keep:
+            try:
+                path.unlink(missing_ok=True)
+            except OSError:  # another user's, in a shared cache: theirs to remove
+                continue
+            total -= size
