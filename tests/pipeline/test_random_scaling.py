@@ -176,6 +176,11 @@ def check_scalings(
         what = f"L = {scale:g}"
         # the --scale run is held to the scaled file's fall and divergence rules: one ending
         _same_ending(file_run, scaled_run, f"{what}, the scaled file and --scale")
+        if not (file_run.trajectory.t.size or scaled_run.trajectory.t.size):
+            # both stopped at their first tick, alike (a law reading a stance time not yet
+            # measured: law 9800), before a sample: nothing more to compare, but the rig's run
+            _same_ending(file_run, plain, f"{what}, the scaled file and the rig")
+            continue
         both = _common(file_run, scaled_run)
         diff = relative_difference(_first(file_run, both), _first(scaled_run, both))
         assert diff < tolerance, f"{what}: the scaled file and --scale differ by {diff:.3g}"
