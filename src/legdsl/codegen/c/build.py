@@ -24,7 +24,9 @@ The compiler found must build a tiny library when a build fails (``probe``): one
 (not a compiler, no headers) is the user's to fix (``CompilerUnusable``), else the C is legdsl's.
 
 The cache that keeps the libraries and objects (where it is, the seal, the trim): ``cache.py``;
-the hashes it keeps them under: ``library_key`` and ``unit_key`` here.
+the hashes it keeps them under: ``library_key`` and ``unit_key`` here. The runtime's units
+(``step.c``, ``machine.c``, ``batch.c``) include the creature's sizes alone (``legdsl_sizes.h``,
+``sizes_header``), so a creature of sizes built before compiles only its own C.
 """
 
 from __future__ import annotations

@@ -15,9 +15,7 @@ file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``
 Each translation unit's object is kept too (``objects/``, sealed alike), by the hash of its
 source, the headers it includes, its flags and the compiler: a creature's other controllers,
 or a library it lost to the trim, compile only what changed (its ``control.c``, a second out
-of nine for the quadruped's gallop) and link. The runtime's units (``step.c``, ``machine.c``,
-``batch.c``) include the creature's sizes alone (``legdsl_sizes.h``: ``build.sizes_header``),
-so a creature of sizes built before compiles only its own C.
+of nine for the quadruped's gallop) and link (the keys: ``build.unit_key``).
 """
 
 from __future__ import annotations
