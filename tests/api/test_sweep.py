@@ -254,6 +254,22 @@ def test_workers_left_by_an_exception_drop_the_work_not_started() -> None:
     assert time.monotonic() - start < 4.0  # not the 8 s of all forty
 
 
+def test_workers_left_by_an_exception_leave_no_pool_thread_for_the_exit_to_wake() -> None:
+    """Ctrl-C held down as a sweep started: Python's exit hook woke the pool's thread through a
+    pipe the thread was closing at that moment and printed a traceback (OSError: Bad file
+    descriptor) under "legdsl: interrupted". The thread has ended when the pool is left."""
+    import time
+    from concurrent.futures import process
+
+    from legdsl.api.workers import Workers
+
+    with pytest.raises(KeyboardInterrupt), Workers(2) as pool:
+        for _ in pool.as_completed(time.sleep, [0.2] * 4):
+            raise KeyboardInterrupt
+    threads = list(process._threads_wakeups)  # what the exit hook would wake
+    assert not any(thread.is_alive() for thread in threads)
+
+
 def test_time_and_from_take_a_unit_as_for_legdsl_run(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -82,11 +82,17 @@ class Workers:
         # the executor's own processes (Python 3.14 names this terminate_workers); left
         # running, a worker of a parent killed by SIGTERM would wait for work forever
         processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        manager = getattr(self._pool, "_executor_manager_thread", None)
         self._pool.shutdown(wait=False, cancel_futures=True)
         for process in processes:
             process.terminate()  # SIGTERM, which a worker leaves at the system's default
         for process in processes:
             process.join()
+        if manager is not None:
+            # its pipe closes as it ends; Python's exit hook (3.11) wakes every pool's thread
+            # without a lock, and wrote to the pipe as the thread closed it: a traceback under
+            # "legdsl: interrupted" (OSError: Bad file descriptor), once in about 20 Ctrl-Cs
+            manager.join(timeout=10.0)
 
     def as_completed(self, fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
         """``fn`` of each item, in the order they finish."""
