@@ -127,6 +127,13 @@ def test_a_gif_plays_in_real_time(
             ["animate", "{run}", "-o", "{out}.html", "--fps", "1e-3"],
             "give --fps 60 or more (two frames need 6)",
         ),
+        # a still picture, each written without a word
+        (["animate", "{run}", "--video", "{out}.mp4", "--fps", "1"], "--fps 1 gives one frame"),
+        (
+            ["animate", "{run}", "--video", "{out}.mp4", "--fps", "4", "--slow-motion", "0.5"],
+            "--fps 4 at --slow-motion 0.5 gives one frame",
+        ),
+        (["replay", "{run}", "--mujoco", "-o", "{out}.mp4", "--fps", "1"], "give --fps 30 or"),
     ],
 )
 def test_frame_rates_no_video_can_show_are_refused(

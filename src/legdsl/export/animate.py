@@ -142,7 +142,8 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         )
         slowed = f", {slow:g} times slower" if slow != 1.0 else ""
         print(
-            f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} frames at "
+            f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "
+            f"frame{'s' if result.frames != 1 else ''} at "
             f"{fps:g} fps, {motion.duration:.2f} s of motion{slowed}) in {result.seconds:.1f} s",
             file=messages_for(args.output, args.video),
         )

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import drawable, every_frame, interpolate_q, read_run
+from legdsl.export.motion import drawable, enough_frames, every_frame, interpolate_q, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model
@@ -74,7 +74,9 @@ def replay_frames(
     tr = run.trajectory
     # every frame 1/fps after the one before, as the mp4 plays them (the player's frame_times,
     # never denser than the samples, played a run recorded at 10 Hz three times too fast)
-    at = tr.t[0] + every_frame(float(tr.t[-1] - tr.t[0]), fps)
+    span = float(tr.t[-1] - tr.t[0])
+    enough_frames(span, fps, usual=30.0)
+    at = tr.t[0] + every_frame(span, fps)
     q = interpolate_q(run.model, tr.t, tr.q, at)
     qpos = np.tile(mj.qpos0, (len(at), 1))
     qpos[:, qpos_map(run.model, mj)] = q

@@ -216,7 +216,8 @@ def load_motion(
     """Read a run directory and resample it for drawing (see the module docstring); ``video``
     is (frames per second, slow motion) when it is drawn for a video (its note then says so)."""
     run = drawable(read_run(directory, source))
-    _enough_frames(run.trajectory.t, fps)
+    t = run.trajectory.t
+    enough_frames(float(t[-1] - t[0]) if len(t) > 1 else 0.0, fps)
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 
@@ -276,13 +277,17 @@ def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> 
 # ---------------------------------------------------------------- resampling
 
 
-def _enough_frames(t: np.ndarray, fps: float) -> None:
-    """A frame rate keeping one frame of a run that moves is refused (--fps 1e-3 wrote one)."""
-    span = float(t[-1] - t[0]) if len(t) > 1 else 0.0
-    if span > 0 and len(frame_times(t, fps)) < 2:
-        least = math.ceil(1 / span * (1 + 1e-9))  # rounded up: 1/span itself may give one
-        raise UsageError(f"{fps:g} frames per second gives one frame of this {span:.3g} s run; "
-                         f"give --fps {max(least, 60)} or more (two frames need {least})")  # fmt: skip
+def enough_frames(span: float, fps: float, usual: float = 60.0, slow: float = 1.0) -> None:
+    """A frame rate keeping one frame of a run that moves is refused: --fps 1e-3 wrote one
+    keyframe, and a video or replay of a 0.5 s run at --fps 1 was one still picture. The
+    count is ``every_frame``'s and ``frame_times``'s (``span`` is what the frames cover;
+    a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second)."""
+    if span > 0 and math.floor(span * fps * slow + 1e-9) < 1:
+        least = math.ceil(1 / (span * slow) * (1 + 1e-9))  # rounded up: 1/span may give one
+        slowed = f" at --slow-motion {slow:g}" if slow != 1.0 else ""
+        raise UsageError(f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} "
+                         f"s run; give --fps {max(least, usual):g} or more (two frames need "
+                         f"{least})")  # fmt: skip
 
 
 def frame_times(t: np.ndarray, fps: float) -> np.ndarray:

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot, every_frame
+from legdsl.export.motion import Motion, Snapshot, enough_frames, every_frame
 from legdsl.export.player import OVERLAYS
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.files import atomic_path, refused_in
@@ -72,6 +72,7 @@ def render_video(
         raise UsageError(FFMPEG_HINT)
     if suffix == ".gif" and importlib.util.find_spec("PIL") is None:
         raise UsageError("writing a .gif needs Pillow: pip install 'legdsl[export]'")
+    enough_frames(motion.duration, fps, usual=30.0, slow=slow)
     width, height = (size[0] // 2) * 2, (size[1] // 2) * 2
     plt = _import_pyplot()
     start = time.perf_counter()
