@@ -45,6 +45,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 mujoco = pytest.importorskip("mujoco")
 from random_rigs import recorded_rig, rig_shown  # noqa: E402  (needs mujoco)
 
+from legdsl.export.mjcf import mjcf_names  # noqa: E402
 from legdsl.export.mjreplay import replay_frames  # noqa: E402
 
 CI_RIGS = 1
@@ -72,6 +73,7 @@ def check_poses(run_dir: Path, generated: Path, fps: float) -> int:
     assert np.allclose(times, np.arange(len(times)) / fps, rtol=0, atol=1e-12)
     assert qpos.shape == (len(times), mj.nq)
     kinematics = load_dynamics(run.model, run.source, generated)
+    named = mjcf_names(model)[0]  # a body 'world' is not MuJoCo's world
     t = tr.t - tr.t[0]
     compared = 0
     for f, time in enumerate(times):
@@ -84,8 +86,8 @@ def check_poses(run_dir: Path, generated: Path, fps: float) -> int:
         data.qpos[:] = qpos[f]
         mujoco.mj_kinematics(mj, data)
         for body, (p, r) in zip(model.bodies, poses, strict=True):
-            got_p = data.body(body.name).xpos
-            got_r = data.body(body.name).xmat.reshape(3, 3)
+            got_p = data.body(named[body.name]).xpos
+            got_r = data.body(named[body.name]).xmat.reshape(3, 3)
             want_r = np.asarray(r, dtype=float).reshape(3, 3)
             error = max(
                 float(np.max(np.abs(got_p - np.asarray(p)))) / reach,
@@ -259,3 +261,39 @@ def test_a_creature_lighter_than_mujocos_inertia_floor_replays(tmp_path: Path) -
     status, said = legdsl_in_process(argv)
     assert status in (0, 4), said  # a fall through its ground, 16 ms in, is a run too
     assert check_poses(tmp_path / "run", tmp_path / "generated", 100.0) >= 1
+
+
+NAMES_MUJOCO_KEEPS = """creature names {
+  spatial
+  body world free {
+    mass 2 kg
+    inertia (0.02 kg*m^2, 0.03 kg*m^2, 0.04 kg*m^2)
+    initial x = 0.1 m, z = 0.5 m
+    velocity vx = 0.4 m/s, wx = 1 rad/s, wz = 2 rad/s
+  }
+  body arm on world via revolute root at (0.1 m, 0 m, 0 m) {
+    axis (0, 1, 0)
+    initial 30 deg
+    length 0.3 m  com 0.15 m  mass 0.5 kg  inertia (0.004, 0.004, 0.0001) kg*m^2
+  }
+  contact toe on arm at tip
+}
+"""
+
+
+def test_a_body_named_world_and_a_coordinate_named_root_replay(tmp_path: Path) -> None:
+    """MuJoCo names its world body 'world' and legdsl's MJCF the free root's joint 'root':
+    ``legdsl export`` refuses such a creature at the clashing line (a file a person reads keeps
+    the .leg's names), and replay refused it the same way; it draws it under fresh names."""
+    source = tmp_path / "names.leg"
+    source.write_text(NAMES_MUJOCO_KEEPS)
+    status, said = legdsl_in_process(
+        ["export", str(source), "--format", "mjcf", "-o", str(tmp_path / "n.xml")]
+    )
+    assert status == 2 and f"{source}:3:3:" in said and "rename this body" in said, said
+    argv = ["run", str(source), "--time", "0.2", "--backend", "python", "--fall-height", "0"]
+    argv += ["--fall-tilt", "180", "--record-rate", "100", "--out", str(tmp_path / "run")]
+    status, said = legdsl_in_process([*argv, "--generated", str(tmp_path / "generated")])
+    assert status == 0, said
+    # the free root's seven coordinates in MuJoCo's free joint, the hinge's in its own
+    assert check_poses(tmp_path / "run", tmp_path / "generated", 50.0) >= 10

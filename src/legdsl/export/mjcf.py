@@ -119,7 +119,9 @@ def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str
     ``drawing``: for MuJoCo's kinematics and renderer only (``legdsl replay``), so inertias
     below MuJoCo's floor are raised to it (the compiler's ``boundinertia``) and not refused.
     """
-    _check_names(model)
+    if not drawing:
+        _check_names(model)
+    bodies, free_joint = mjcf_names(model)
     timestep, radius = mujoco_timestep(model), contact_radius(model)
     anchors = anchor_pads(model, timestep, radius) if pads else ()
     inertials = carrier_inertials(model, anchors)
@@ -170,8 +172,8 @@ def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str
         joint = joints[body.name]
         qpos.extend(model.q0[joint.q_start : joint.q_start + joint.nq])
         qvel.extend(model.v0[joint.v_start : joint.v_start + joint.nv])
-        el = ET.SubElement(parent, "body", name=body.name, pos=nums(joint.origin))
-        _joint(el, joint, stops)
+        el = ET.SubElement(parent, "body", name=bodies[body.name], pos=nums(joint.origin))
+        _joint(el, joint, stops, free_joint)
         mass, com, i = inertials[body.name]
         ET.SubElement(
             el,
@@ -223,6 +225,17 @@ def _loadable_inertias(model: Model, inertials: dict[str, Any]) -> None:
                 "export writes); export the creature scaled up (legdsl scale FILE --by 100: "
                 "it moves the same, scaled by docs/scaling.md's rule)",
             )
+
+
+def mjcf_names(model: Model) -> tuple[dict[str, str], str]:
+    """The MJCF name of each body, and of the 3D free root's joint: the .leg's and 'root',
+    except where MuJoCo reserves a body's ('world') or a coordinate is named 'root': then a
+    fresh one (``world_``, ``root_``). ``legdsl export`` refuses those names (``_check_names``),
+    so a file a person reads keeps the .leg's names; ``legdsl replay`` only draws, and played
+    such a creature no more than it exported it."""
+    taken = {b.name for b in model.bodies} | {"world"}
+    bodies = {b.name: fresh(b.name, taken) if b.name == "world" else b.name for b in model.bodies}
+    return bodies, fresh("root", {d.name for d in model.dofs})
 
 
 def _check_names(model: Model) -> None:
@@ -416,9 +429,9 @@ def _ground(world: ET.Element, model: Model, taken: set[str], r: float) -> list[
     return names
 
 
-def _joint(body: ET.Element, joint: Joint, stops: dict[str, dict[str, str]]) -> None:
+def _joint(body: ET.Element, joint: Joint, stops: dict[str, dict[str, str]], free: str) -> None:
     if joint.is_free_3d:
-        ET.SubElement(body, "freejoint", name="root")
+        ET.SubElement(body, "freejoint", name=free)
         return
     for d in joint.dofs:  # in order: MuJoCo composes a body's joints as a chain
         el = ET.SubElement(body, "joint", name=d.name, type=d.motion, axis=nums(d.axis))

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.export.mjcf import mjcf_names, model_to_mjcf
 from legdsl.export.motion import drawable, enough_frames, every_frame, interpolate_q, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
@@ -44,11 +45,13 @@ def _mujoco() -> Any:
 
 
 def qpos_map(model: Model, mj: Any) -> np.ndarray:
-    """MuJoCo qpos[map[i]] is legdsl q[i], by coordinate name (the free root's joint is 'root')."""
+    """MuJoCo qpos[map[i]] is legdsl q[i], by coordinate name (the free root's joint is
+    ``mjcf_names``': 'root')."""
     out = np.full(model.nq, -1)
+    free = mjcf_names(model)[1]
     for j in model.joints:
         if j.is_free_3d:
-            out[j.q_start : j.q_start + 7] = mj.joint("root").qposadr[0] + np.arange(7)
+            out[j.q_start : j.q_start + 7] = mj.joint(free).qposadr[0] + np.arange(7)
             continue
         for d in j.dofs:
             out[d.q_index] = mj.joint(d.name).qposadr[0]
@@ -60,7 +63,6 @@ def replay_frames(
 ) -> tuple[Any, Any, Model, np.ndarray, np.ndarray]:
     """The MuJoCo model and data, the legdsl model, frame times and MuJoCo qpos per frame."""
     mujoco = _mujoco()
-    from legdsl.export.mjcf import model_to_mjcf
 
     run = drawable(read_run(directory, source))
     # the bare link tree: anchor pads are for MuJoCo's simulation, and one a light body cannot
@@ -112,7 +114,7 @@ def render_mp4(
             + ("; or raise the memory limit (ulimit -v), which OpenGL shares" if limited else "")
         ) from None
     camera = _camera(mujoco, model, mj, data, qpos[0])
-    root = model.bodies[0].name
+    root = mjcf_names(model)[0][model.bodies[0].name]
 
     def frames() -> Any:
         for f in range(len(times)):
@@ -155,7 +157,7 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     camera.distance = 4.5 * size
     camera.azimuth = 90.0 if model.planar else 120.0
     camera.elevation = -8.0 if model.planar else -20.0
-    camera.lookat[:] = data.body(model.bodies[0].name).xpos
+    camera.lookat[:] = data.body(mjcf_names(model)[0][model.bodies[0].name]).xpos
     camera.lookat[2] = 0.7 * camera.lookat[2]
     return camera
 
