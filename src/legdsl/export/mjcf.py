@@ -231,8 +231,8 @@ def mjcf_names(model: Model) -> tuple[dict[str, str], str]:
     """The MJCF name of each body, and of the 3D free root's joint: the .leg's and 'root',
     except where MuJoCo reserves a body's ('world') or a coordinate is named 'root': then a
     fresh one (``world_``, ``root_``). ``legdsl export`` refuses those names (``_check_names``),
-    so a file a person reads keeps the .leg's names; ``legdsl replay`` only draws, and played
-    such a creature no more than it exported it."""
+    so a file a person reads keeps the .leg's names; ``legdsl replay`` only draws, so it
+    renames them rather than refuse the creature."""
     taken = {b.name for b in model.bodies} | {"world"}
     bodies = {b.name: fresh(b.name, taken) if b.name == "world" else b.name for b in model.bodies}
     return bodies, fresh("root", {d.name for d in model.dofs})
