@@ -16,7 +16,8 @@ from anim_runs import creature_run, generated_dir
 
 from legdsl.cli import main
 from legdsl.export.bvh import Z_UP_TO_Y_UP, bvh_text
-from legdsl.export.motion import Motion, interpolate_q, load_motion, quaternion_to_matrix, read_run
+from legdsl.export.frames import interpolate_q
+from legdsl.export.motion import Motion, load_motion, quaternion_to_matrix, read_run
 
 bvh = pytest.importorskip(
     "bvh", reason="the bvh parser is in the test extra: pip install '.[test]'"

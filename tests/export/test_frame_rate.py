@@ -6,7 +6,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from legdsl.export.motion import frame_rate, frame_times
+from legdsl.export.frames import frame_times
+from legdsl.export.motion import frame_rate
 
 
 def test_a_run_recorded_at_100_hz_exports_at_exactly_100_frames_a_second() -> None:

@@ -248,7 +248,7 @@ def test_a_lifted_contacts_stale_force_is_not_drawn(tmp_path) -> None:
 def test_a_videos_frames_reach_the_end_of_the_run() -> None:
     """Frames 1/fps apart from the start to the end, the last kept when the recorded end lies a
     rounding error before it (as steps of dt add up); `animate --video` and `replay` both."""
-    from legdsl.export.motion import every_frame
+    from legdsl.export.frames import every_frame
 
     assert len(every_frame(2.0, 30.0)) == 61
     end = sum([0.001] * 2000)  # 1.9999999999998905: 2000 steps of 1 ms
@@ -259,11 +259,11 @@ def test_a_videos_frames_reach_the_end_of_the_run() -> None:
 @pytest.mark.parametrize("span", [0.0052, 0.198, 1 / 192.0, 0.5])
 def test_the_frame_rate_a_one_frame_refusal_advises_gives_two_frames(span: float) -> None:
     # a 0.0052 s run was told "give at least 192 (two frames), e.g. --fps 60": both one frame
-    from legdsl.export.motion import _enough_frames, frame_times
+    from legdsl.export.frames import enough_frames, frame_times
 
     t = np.array([0.0, span])
     with pytest.raises(UsageError) as refused:
-        _enough_frames(t, 1.0)
+        enough_frames(span, 1.0)
     advice = re.search(r"give --fps (\d+) or more", str(refused.value))
     assert advice, refused.value
     assert len(frame_times(t, float(advice.group(1)))) >= 2

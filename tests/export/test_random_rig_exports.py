@@ -221,7 +221,7 @@ def test_a_frame_a_rounding_off_a_sample_is_that_sample() -> None:
     """Seed 125's diverged run: its last step turned a hinge by 2e7 rad, and its last frame,
     1e-17 s off the last sample, weighed that step 1e-15 short of whole: 3e-8 rad off, a
     contact 0.2 m from the sample's (in USD's doubles too)."""
-    from legdsl.export.motion import interpolate
+    from legdsl.export.frames import interpolate
 
     t = np.array([0.0, 0.11, 0.12])
     values = np.array([0.0, 1.0, 2.3e7])

@@ -22,8 +22,9 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.export.frames import enough_frames, every_frame, interpolate_q
 from legdsl.export.mjcf import mjcf_names, model_to_mjcf
-from legdsl.export.motion import drawable, enough_frames, every_frame, interpolate_q, read_run
+from legdsl.export.motion import drawable, read_run
 from legdsl.export.video import FFMPEG_HINT, _write_mp4, ffmpeg_exe
 from legdsl.files import atomic_path
 from legdsl.ir.model import Model

@@ -25,6 +25,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from legdsl.export.frames import enough_frames, frame_times, interpolate, interpolate_q
 from legdsl.export.stances import stance_note
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
@@ -274,65 +275,7 @@ def path_points(spec: Any, terrain: tuple[Terrain, ...], step: float = 0.05) -> 
     return np.column_stack([xy, z])
 
 
-# ---------------------------------------------------------------- resampling
-
-
-def enough_frames(span: float, fps: float, usual: float = 60.0, slow: float = 1.0) -> None:
-    """A frame rate keeping one frame of a run that moves is refused: --fps 1e-3 wrote one
-    keyframe, and a video or replay of a 0.5 s run at --fps 1 was one still picture. The
-    count is ``every_frame``'s and ``frame_times``'s (``span`` is what the frames cover;
-    a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second)."""
-    if span > 0 and math.floor(span * fps * slow + 1e-9) < 1:
-        least = math.ceil(1 / (span * slow) * (1 + 1e-9))  # rounded up: 1/span may give one
-        slowed = f" at --slow-motion {slow:g}" if slow != 1.0 else ""
-        raise UsageError(f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} "
-                         f"s run; give --fps {max(least, usual):g} or more (two frames need "
-                         f"{least})")  # fmt: skip
-
-
-def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
-    """Frame times from the first to the last sample at ``fps`` (never denser than the samples)."""
-    span = float(t[-1] - t[0])
-    if len(t) < 2 or span <= 0:
-        return t[:1].copy()
-    recorded_fps = (len(t) - 1) / span
-    # asked for as many frames as were recorded or more: the samples' own times (a step of
-    # 1/(recorded rate (1 + 1e-9)) left the frames 1e-9 off them and the rate 100.0000001)
-    step = 1.0 / fps if fps < recorded_fps * (1 - 1e-9) else span / (len(t) - 1)
-    n = int(math.floor(span / step + 1e-9)) + 1
-    return t[0] + step * np.arange(n)
-
-
-def every_frame(span: float, fps: float) -> np.ndarray:
-    """0, 1/fps, 2/fps, ... up to ``span`` (and one due within 1e-9 frame after it): a
-    video's frame times, each shown for 1/fps, from a run's start."""
-    return np.arange(int(math.floor(span * fps + 1e-9)) + 1) / fps
-
-
-def interpolate(t: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Linear interpolation of ``values`` (N, ...) sampled at ``t`` (N,) to the times ``at``."""
-    if len(t) == 1:
-        return np.repeat(values[:1], len(at), axis=0)
-    i = np.clip(np.searchsorted(t, at, side="right") - 1, 0, len(t) - 2)
-    a = np.clip((at - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0)
-    # a frame a rounding off a sample is that sample (a weight 1e-15 off, times a diverged step)
-    a = np.where(a < 1e-9, 0.0, np.where(a > 1 - 1e-9, 1.0, a))
-    a = a.reshape((-1,) + (1,) * (values.ndim - 1))
-    return (1 - a) * values[i] + a * values[i + 1]
-
-
-def interpolate_q(model: Model, t: np.ndarray, q: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Generalized positions at the times ``at``; a 3D root's quaternion stays a unit quaternion."""
-    if not model.joints[0].is_free_3d or len(t) == 1:
-        return interpolate(t, q, at)
-    q = q.copy()
-    dots = np.sum(
-        q[1:, 3:7] * q[:-1, 3:7], axis=1
-    )  # keep each sample in its predecessor's hemisphere
-    q[:, 3:7] *= np.concatenate([[1.0], np.cumprod(np.where(dots < 0, -1.0, 1.0))])[:, None]
-    out = interpolate(t, q, at)
-    out[:, 3:7] /= np.linalg.norm(out[:, 3:7], axis=1, keepdims=True)
-    return out
+# ---------------------------------------------------------------- poses
 
 
 def matrix_to_quaternion(m: np.ndarray) -> np.ndarray:

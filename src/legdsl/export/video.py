@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.export.motion import Motion, Snapshot, enough_frames, every_frame
+from legdsl.export.frames import enough_frames, every_frame
+from legdsl.export.motion import Motion, Snapshot
 from legdsl.export.player import OVERLAYS
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.files import atomic_path, refused_in
