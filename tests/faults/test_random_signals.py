@@ -427,6 +427,33 @@ def test_ctrl_c_held_down_at_a_terminal_as_a_sweep_starts_its_workers(tmp_path: 
     assert "Traceback" not in err and "Exception ignored" not in err, err
 
 
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads Linux's /proc")
+@pytest.mark.parametrize("held", [False, True])
+def test_ctrl_c_at_a_terminal_as_a_dask_cluster_starts(held: bool, tmp_path: Path) -> None:
+    """``--dask local``: a Ctrl-C as the cluster's processes started printed each one's
+    KeyboardInterrupt from its imports, and the cluster it left half made failed distributed's
+    exit hook (AssertionError: Status.init); later, a worker that took it printed its own. A
+    Ctrl-C as they start is lost (they start ignoring it, and keep it); one after stops."""
+    pytest.importorskip("distributed")
+    scratch = _scratch(tmp_path / "s")
+    shutil.copytree(ROOT / "generated" / "hopper", scratch / "gen" / "hopper")
+    _run(["run", *HOP, "--time", "0.1", "--generated", "gen"], scratch, "the C library built")
+    argv = [*SWEEP[:-2], "--dask", "local", "--out", "out"]
+    proc = _start(argv, scratch)
+    while proc.poll() is None and not child_pids(proc.pid):  # the cluster's processes start
+        time.sleep(0.0005)
+    if held:
+        _hold_down(proc, signal.SIGINT, whole_group=True)
+    else:  # at once, and again a second later should the first come as they start
+        for _ in range(2):
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(proc.pid, signal.SIGINT)
+            time.sleep(1.0)
+    _, err = _finish(proc, " ".join(argv))
+    assert proc.returncode in (0, 130, -signal.SIGINT), err  # 0: it ended before the second
+    assert "Traceback" not in err and "Exception ignored" not in err, err
+
+
 def test_sigterm_as_a_compile_starts_its_controller_processes_ends_it(tmp_path: Path) -> None:
     """SIGTERM landing in the fork handlers of a controller process starting (logging's lock)
     was printed as "Exception ignored ... Interrupted: SIGTERM" and dropped: the compile went on

@@ -12,7 +12,9 @@ purpose. Every result is the same wherever it was computed: a run depends only o
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import logging
 import multiprocessing
 import os
 import signal
@@ -48,15 +50,24 @@ class Workers:
             return self  # the processes start with the first as_completed
         try:
             from distributed import Client, LocalCluster
+            from distributed.gc import disable_gc_diagnosis
         except ImportError as e:
             if not not_installed(e, "distributed"):
                 raise
             raise UsageError("--dask needs Dask: pip install 'dask[distributed]'") from None
         if self.dask == "local":
-            self._cluster = LocalCluster(
-                n_workers=self.workers, threads_per_worker=1, processes=True, dashboard_address=None
-            )
-            self._client = Client(self._cluster)
+            with _ctrl_c_ignored():
+                self._cluster = LocalCluster(
+                    n_workers=self.workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.CRITICAL,  # its workers' lost scheduler, as it closes
+                )
+                self._client = Client(self._cluster)
+            # the scheduler, here, times the garbage collector from a gc callback: a Ctrl-C
+            # landing there was printed ("Exception ignored in: ...GCDiagnosis...") and lost
+            disable_gc_diagnosis(force=True)
         else:
             try:
                 self._client = Client(self.dask, timeout="10s")
@@ -72,10 +83,11 @@ class Workers:
                 self._pool.shutdown()
             else:  # Ctrl-C, SIGTERM or an error: stop the runs under way, never wait for them
                 self._stop_processes()
-        if self._client is not None:
-            self._client.close()
-        if self._cluster is not None:
-            self._cluster.close()
+        with _ctrl_c_ignored():  # a Ctrl-C held down: closed, not half closed
+            if self._client is not None:
+                self._client.close()
+            if self._cluster is not None:
+                self._cluster.close()
 
     def _stop_processes(self) -> None:
         assert self._pool is not None
@@ -146,6 +158,25 @@ class Workers:
                 f"and the same command again goes on from there: give fewer --jobs than "
                 f"{self.workers}, or free memory"
             ) from None
+
+
+@contextlib.contextmanager
+def _ctrl_c_ignored() -> Iterator[None]:
+    """Ctrl-C ignored while a local Dask cluster starts or closes. A Ctrl-C in that second
+    printed the traceback of each new process, importing, and left the cluster half made,
+    which distributed's exit hook failed to close with another (AssertionError: Status.init).
+    The processes are spawned, not forked (a signal blocked here is not blocked there), but
+    start ignoring what this one ignores, and keep it: a worker that took Ctrl-C printed its
+    KeyboardInterrupt's traceback; at a terminal's Ctrl-C, which they get too, this process
+    stops them (``__exit__``). A Ctrl-C in that second is lost; the next one stops."""
+    if threading.current_thread() is not threading.main_thread():  # signal.signal's only one
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _quiet_when_refused(args: threading.ExceptHookArgs) -> None:
