@@ -83,11 +83,11 @@ class Workers:
                 self._pool.shutdown()
             else:  # Ctrl-C, SIGTERM or an error: stop the runs under way, never wait for them
                 self._stop_processes()
-        with _ctrl_c_ignored():  # a Ctrl-C held down: closed, not half closed
-            if self._client is not None:
-                self._client.close()
-            if self._cluster is not None:
-                self._cluster.close()
+        dask = [part for part in (self._client, self._cluster) if part is not None]
+        if dask:
+            with _ctrl_c_ignored():  # a Ctrl-C held down: closed, not half closed
+                for part in dask:
+                    part.close()
 
     def _stop_processes(self) -> None:
         assert self._pool is not None
