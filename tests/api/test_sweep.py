@@ -174,6 +174,11 @@ def test_the_jobs_go_to_the_workers_in_batches_of_one_creature(tmp_path: Path) -
             ["--grid", "k_trim=0:1:2000", "--lhs", "k_apex=0:1", "--samples", "1000"],
             "the sweep: 8,000,000 runs",  # times the 2 x 2 grid beside it
         ),
+        # each an internal error (distributed's ValueError) as the runs were about to start
+        (["--dask", "bogus"], "--dask bogus: not the address of a Dask scheduler .missing port"),
+        (["--dask", "http://h:8786"], "unknown address scheme 'http'.*give tcp://HOST:PORT"),
+        (["--dask", "tcp://h:port"], "--dask tcp://h:port: not the address of a Dask scheduler"),
+        (["--dask", "Local"], "--dask Local: did you mean --dask local"),
     ],
 )
 def test_options_that_would_give_nothing_are_refused(

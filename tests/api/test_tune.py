@@ -158,6 +158,7 @@ controller hold {
         (["--seed", str(2**32)], r"--seed 4294967296: give a whole number from 1"),
         (["--param", "stroke=1cm:2cm"],
          r"the file's value 0.03 m is outside the bounds \(0.01 to 0.02 m\); widen them"),
+        (["--dask", "bogus"], r"--dask bogus: not the address of a Dask scheduler"),
     ],
 )  # fmt: skip
 def test_a_tune_that_cannot_search_is_refused(

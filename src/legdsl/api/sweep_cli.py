@@ -28,6 +28,7 @@ from legdsl.api.sweep import (
     seconds,
     units_of,
 )
+from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
 from legdsl.files import atomic_same_name, write_atomic
@@ -114,6 +115,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         args.t_from = seconds("--from", args.t_from, "nonnegative")
     if args.samples < 1 or args.jobs < 1 or args.time <= 0:
         raise UsageError("sweep: --samples, --jobs and --time must be positive")
+    dask_address(args.dask)
     if args.seed < 0:  # numpy's generator takes none
         raise UsageError(f"sweep: --seed {args.seed}: give a whole number, 0 or more")
     default = " (the default)" if args.t_from is None else ""

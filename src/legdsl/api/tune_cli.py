@@ -30,6 +30,7 @@ from legdsl.api.tune import (
 )
 from legdsl.api.tune_journal import Journal
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write_tuned, written_unit
+from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
 from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
@@ -361,6 +362,7 @@ def _check_search(args: argparse.Namespace) -> None:
     ``args.t_from`` become seconds)."""
     from legdsl.analysis.table2 import TABLE2
 
+    dask_address(args.dask)
     if args.table2 is not None and args.table2 not in TABLE2:
         raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
     for flag, weight in (("--energy-weight", args.energy_weight),

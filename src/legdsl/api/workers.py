@@ -33,10 +33,33 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 
+def dask_address(text: str | None) -> str | None:
+    """``--dask``: None (local processes), ``local`` or a scheduler's address, checked before
+    any work (a mistyped one was an internal error once the runs were about to start)."""
+    if text is None or text == "local":
+        return text
+    if text.strip().lower() == "local":
+        raise UsageError(f"--dask {text}: did you mean --dask local?")
+    try:
+        from distributed.comm import get_address_host_port
+    except ImportError as e:
+        if not not_installed(e, "distributed"):
+            raise
+        raise UsageError("--dask needs Dask: pip install 'dask[distributed]'") from None
+    try:
+        get_address_host_port(text)
+    except ValueError as e:
+        raise UsageError(
+            f"--dask {text}: not the address of a Dask scheduler ({e}); give tcp://HOST:PORT, "
+            "or local for a cluster of --jobs processes on this machine"
+        ) from None
+    return text
+
+
 class Workers:
     def __init__(self, workers: int, dask: str | None = None):
         self.workers = workers
-        self.dask = dask
+        self.dask = dask_address(dask)
         self._pool: ProcessPoolExecutor | None = None
         self._client: Any = None
         self._cluster: Any = None
