@@ -275,6 +275,25 @@ def test_workers_left_by_an_exception_leave_no_pool_thread_for_the_exit_to_wake(
     assert not any(thread.is_alive() for thread in threads)
 
 
+def test_a_sweep_starts_no_more_processes_than_it_has_runs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--jobs 100000 forked 100000 processes for a sweep of two runs (a process pool under
+    fork starts all of its processes at its first task), until the machine ran out of them."""
+    from legdsl.api import sweep as sweep_module
+
+    asked: list[int] = []
+
+    class Counted(sweep_module.Workers):
+        def __init__(self, workers: int, dask: str | None = None) -> None:
+            asked.append(workers)
+            super().__init__(workers, dask)
+
+    monkeypatch.setattr(sweep_module, "Workers", Counted)
+    assert sweep(tmp_path / "out", tmp_path / "generated", "--jobs", "64") == 0
+    assert asked == [4] and len(rows(tmp_path / "out")) == 4
+
+
 def test_time_and_from_take_a_unit_as_for_legdsl_run(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

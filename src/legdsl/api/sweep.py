@@ -301,7 +301,8 @@ def run_sweep(
             for row in done:
                 _append(fresh, columns, row)
     started = time.monotonic()
-    with Workers(workers, dask) as pool:
+    # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
+    with Workers(min(workers, len(todo)), dask) as pool:
         for count, row in enumerate(run_jobs(todo, pool), 1):
             if str(row["outcome"]).startswith("interrupted"):
                 # not a result: the run is left out of the table, for the resume to run it

@@ -210,7 +210,8 @@ def tune(
     unscored = ""  # which of those two is under way: an interruption there is in no generation
     tune_began = time.perf_counter()  # the elapsed time told counts the start's runs too
     try:
-        with Workers(workers, dask) as pool:
+        # never more processes than a generation's runs (--jobs 100000 forked them all)
+        with Workers(min(workers, es.popsize * len(objective.speeds)), dask) as pool:
             if journal is not None and journal.start is not None:
                 start_rows = journal.start
             else:
