@@ -35,10 +35,11 @@ R = TypeVar("R")
 
 def dask_address(text: str | None) -> str | None:
     """``--dask``: None (local processes), ``local`` or a scheduler's address, checked before
-    any work (a mistyped one was an internal error once the runs were about to start)."""
-    if text is None or text == "local":
-        return text
-    if text.strip().lower() == "local":
+    any work with Dask at hand (a mistyped one was an internal error once the runs were about
+    to start)."""
+    if text is None:
+        return None
+    if text != "local" and text.strip().lower() == "local":
         raise UsageError(f"--dask {text}: did you mean --dask local?")
     try:
         from distributed.comm import get_address_host_port
@@ -46,6 +47,8 @@ def dask_address(text: str | None) -> str | None:
         if not not_installed(e, "distributed"):
             raise
         raise UsageError("--dask needs Dask: pip install 'dask[distributed]'") from None
+    if text == "local":
+        return text
     try:
         get_address_host_port(text)
     except ValueError as e:
@@ -71,13 +74,9 @@ class Workers:
             self._hook = threading.excepthook  # restored at __exit__
             threading.excepthook = _quiet_when_refused
             return self  # the processes start with the first as_completed
-        try:
-            from distributed import Client, LocalCluster
-            from distributed.gc import disable_gc_diagnosis
-        except ImportError as e:
-            if not not_installed(e, "distributed"):
-                raise
-            raise UsageError("--dask needs Dask: pip install 'dask[distributed]'") from None
+        from distributed import Client, LocalCluster  # there: dask_address looked
+        from distributed.gc import disable_gc_diagnosis
+
         if self.dask == "local":
             with _ctrl_c_ignored():
                 self._cluster = LocalCluster(

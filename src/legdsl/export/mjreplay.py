@@ -114,7 +114,7 @@ def render_mp4(
             + ("; or raise the memory limit (ulimit -v), which OpenGL shares" if limited else "")
         ) from None
     camera = _camera(mujoco, model, mj, data, qpos[0])
-    root = mjcf_names(model)[0][model.bodies[0].name]
+    root = _root_body(model)
 
     def frames() -> Any:
         for f in range(len(times)):
@@ -140,6 +140,11 @@ def render_mp4(
     return len(times)
 
 
+def _root_body(model: Model) -> str:
+    """The MJCF name of the creature's root body (``world_`` for a body named ``world``)."""
+    return mjcf_names(model)[0][model.bodies[0].name]
+
+
 def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) -> Any:
     """A free camera beside the creature (from -y for a planar one), following its root."""
     data.qpos[:] = qpos0
@@ -157,7 +162,7 @@ def _camera(mujoco: Any, model: Model, mj: Any, data: Any, qpos0: np.ndarray) ->
     camera.distance = 4.5 * size
     camera.azimuth = 90.0 if model.planar else 120.0
     camera.elevation = -8.0 if model.planar else -20.0
-    camera.lookat[:] = data.body(mjcf_names(model)[0][model.bodies[0].name]).xpos
+    camera.lookat[:] = data.body(_root_body(model)).xpos
     camera.lookat[2] = 0.7 * camera.lookat[2]
     return camera
 

@@ -217,8 +217,8 @@ def load_motion(
     """Read a run directory and resample it for drawing (see the module docstring); ``video``
     is (frames per second, slow motion) when it is drawn for a video (its note then says so)."""
     run = drawable(read_run(directory, source))
-    t = run.trajectory.t
-    enough_frames(float(t[-1] - t[0]) if len(t) > 1 else 0.0, fps)
+    t = run.trajectory.t  # read_run refuses a run of no samples
+    enough_frames(float(t[-1] - t[0]), fps)
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 
