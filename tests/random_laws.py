@@ -205,6 +205,11 @@ class Law:
     def number(self, d: Dim, positive: bool = False) -> str:
         """A number with ``d``'s unit, near the dimension's scale, never 0."""
         value = SCALE.get(d, 1.0) * float(self.rng.choice([0.1, 0.5, 1.0, 1.5, 2.0, 3.0, 0.25]))
+        if d == TIME:
+            # half a 2 ms control tick more: a whole number of ticks is a tie at that tick
+            # (`time_in_state > 0.02 s` fires at the tenth or the eleventh by the last bit),
+            # which two runs of the same law scaled apart break differently (docs/scaling.md)
+            value += 0.001
         if not positive and self.chance(0.3):
             value = -value
         return _num(value, d)
