@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "7d7af9767c17b777";
+const char legdsl_control_fingerprint[] = "028ef0d833e97150";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -15,43 +15,44 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 {
     out[0] = leg_sense_act(s, 0, 3);  /* act.leg_l_spring.force */
     out[1] = leg_sense_act(s, 0, 0);  /* act.leg_l_spring.k */
-    out[2] = leg_sense_act(s, 1, 3);  /* act.leg_r_spring.force */
-    out[3] = leg_sense_body(s, 0, 7, err);  /* body.trunk.pitch */
-    out[4] = leg_sense_body(s, 0, 10, err);  /* body.trunk.pitch_rate */
-    out[5] = leg_sense_body(s, 0, 6, err);  /* body.trunk.roll */
-    out[6] = leg_sense_body(s, 0, 9, err);  /* body.trunk.roll_rate */
-    out[7] = leg_sense_body(s, 0, 8, err);  /* body.trunk.yaw */
-    out[8] = leg_sense_body(s, 0, 11, err);  /* body.trunk.yaw_rate */
-    out[9] = leg_sense_com(s, 0, 1, err);  /* com.vx */
-    out[10] = leg_sense_com(s, 1, 1, err);  /* com.vy */
-    out[11] = leg_sense_com(s, 2, 1, err);  /* com.vz */
-    out[12] = leg_sense_com(s, 0, 0, err);  /* com.x */
-    out[13] = leg_sense_com(s, 1, 0, err);  /* com.y */
-    out[14] = leg_sense_com(s, 2, 0, err);  /* com.z */
-    out[15] = s->q[7];  /* coord.hip_l_x.value */
-    out[16] = s->q[8];  /* coord.hip_l_y.value */
-    out[17] = s->q[9];  /* coord.hip_l_z.value */
-    out[18] = s->q[13];  /* coord.hip_r_z.value */
-    out[19] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
-    out[20] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
-    out[21] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
-    out[22] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
-    out[23] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
-    out[24] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
-    out[25] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
-    out[26] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
-    out[27] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
-    out[28] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
-    out[29] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
-    out[30] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
-    out[31] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
-    out[32] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
-    out[33] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
-    out[34] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
-    out[35] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
-    out[36] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
-    out[37] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
-    out[38] = s->t;  /* time */
+    out[2] = leg_sense_act(s, 0, 2);  /* act.leg_l_spring.rest */
+    out[3] = leg_sense_act(s, 1, 3);  /* act.leg_r_spring.force */
+    out[4] = leg_sense_body(s, 0, 7, err);  /* body.trunk.pitch */
+    out[5] = leg_sense_body(s, 0, 10, err);  /* body.trunk.pitch_rate */
+    out[6] = leg_sense_body(s, 0, 6, err);  /* body.trunk.roll */
+    out[7] = leg_sense_body(s, 0, 9, err);  /* body.trunk.roll_rate */
+    out[8] = leg_sense_body(s, 0, 8, err);  /* body.trunk.yaw */
+    out[9] = leg_sense_body(s, 0, 11, err);  /* body.trunk.yaw_rate */
+    out[10] = leg_sense_com(s, 0, 1, err);  /* com.vx */
+    out[11] = leg_sense_com(s, 1, 1, err);  /* com.vy */
+    out[12] = leg_sense_com(s, 2, 1, err);  /* com.vz */
+    out[13] = leg_sense_com(s, 0, 0, err);  /* com.x */
+    out[14] = leg_sense_com(s, 1, 0, err);  /* com.y */
+    out[15] = leg_sense_com(s, 2, 0, err);  /* com.z */
+    out[16] = s->q[7];  /* coord.hip_l_x.value */
+    out[17] = s->q[8];  /* coord.hip_l_y.value */
+    out[18] = s->q[9];  /* coord.hip_l_z.value */
+    out[19] = s->q[13];  /* coord.hip_r_z.value */
+    out[20] = (s->ctl_integral[4] + s->ctl_inputs[2] * (s->t - s->ctl_integral[5]));  /* integral.turn_rate */
+    out[21] = leg_sense_leg(s, 0, 8, err);  /* leg.left.foot_x */
+    out[22] = leg_sense_leg(s, 0, 9, err);  /* leg.left.foot_y */
+    out[23] = leg_sense_leg(s, 0, 10, err);  /* leg.left.foot_z */
+    out[24] = leg_sense_leg(s, 0, 5, err);  /* leg.left.hip_x */
+    out[25] = leg_sense_leg(s, 0, 6, err);  /* leg.left.hip_y */
+    out[26] = leg_sense_leg(s, 0, 7, err);  /* leg.left.hip_z */
+    out[27] = leg_sense_leg(s, 0, 3, err);  /* leg.left.length */
+    out[28] = leg_sense_leg(s, 0, 4, err);  /* leg.left.rate */
+    out[29] = leg_sense_leg(s, 0, 0, err);  /* leg.left.touching */
+    out[30] = leg_sense_leg(s, 1, 8, err);  /* leg.right.foot_x */
+    out[31] = leg_sense_leg(s, 1, 9, err);  /* leg.right.foot_y */
+    out[32] = leg_sense_leg(s, 1, 10, err);  /* leg.right.foot_z */
+    out[33] = leg_sense_leg(s, 1, 5, err);  /* leg.right.hip_x */
+    out[34] = leg_sense_leg(s, 1, 6, err);  /* leg.right.hip_y */
+    out[35] = leg_sense_leg(s, 1, 7, err);  /* leg.right.hip_z */
+    out[36] = leg_sense_leg(s, 1, 3, err);  /* leg.right.length */
+    out[37] = leg_sense_leg(s, 1, 4, err);  /* leg.right.rate */
+    out[38] = leg_sense_leg(s, 1, 0, err);  /* leg.right.touching */
+    out[39] = s->t;  /* time */
     (void)s; (void)out; (void)err;
 }
 
@@ -59,7 +60,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 /*   event: creatures/biped.leg:211:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[37];
+    const double leg_right_touching = s[38];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching < 0.5);
 }
@@ -68,7 +69,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:219:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[28];
+    const double leg_left_touching = s[29];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching > 0.5);
 }
@@ -77,7 +78,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 /*   event: creatures/biped.leg:226:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_right_touching = s[37];
+    const double leg_right_touching = s[38];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_right_touching > 0.5);
 }
@@ -86,7 +87,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 /*   event: creatures/biped.leg:231:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
-    const double leg_left_touching = s[28];
+    const double leg_left_touching = s[29];
     (void)s; (void)u; (void)p; (void)r; (void)tis; (void)err;
     return (leg_left_touching < 0.5);
 }
@@ -101,16 +102,16 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 /*   record extend_at: creatures/biped.leg:214:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_yaw = s[7];
-    const double com_vz = s[11];
-    const double com_x = s[12];
-    const double com_y = s[13];
-    const double time = s[38];
+    const double body_trunk_yaw = s[8];
+    const double com_vz = s[12];
+    const double com_x = s[13];
+    const double com_y = s[14];
+    const double time = s[39];
     const double speed = u[0];
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double extend_lead = p[18];
+    const double extend_lead = p[21];
     const double landed_1 = r[2];
     const double landed_2 = r[3];
     const double stance_1 = r[4];
@@ -124,6 +125,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double thrust_stroke = r[12];
     const double held_pitch = r[13];
     const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     const double new_stance_2 = (((landed_2 > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed_2 + time))) : (stance_guess));
     const double new_extend_at = time + leg_max(0.0, 0.2038735983690112*com_vz - extend_lead);
     const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
@@ -143,6 +145,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[12] = thrust_stroke;
     out[13] = held_pitch;
     out[14] = held_roll;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -157,27 +160,27 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 /*   hip_l_roll_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
 /*   hip_l_yaw.setpoint: creatures/biped.leg:216:7 > creatures/biped.leg:103:5 */
 /*   hip_l_yaw.kp: creatures/biped.leg:216:7 > creatures/biped.leg:104:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:259:5 > creatures/biped.leg:198:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:103:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:104:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:266:5 > creatures/biped.leg:198:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:104:5 */
 /*   place left (x, y): creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3 */
-/*   place right (x, y): creatures/biped.leg:218:7 > creatures/biped.leg:261:5 > stdlib/raibert.leg:57:3 */
+/*   place right (x, y): creatures/biped.leg:218:7 > creatures/biped.leg:268:5 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double body_trunk_yaw = s[7];
-    const double com_vx = s[9];
-    const double com_vy = s[10];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double time = s[38];
+    const double body_trunk_yaw = s[8];
+    const double com_vx = s[10];
+    const double com_vy = s[11];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
+    const double time = s[39];
     const double speed = u[0];
     const double k_speed = p[0];
     const double stance_guess = p[3];
@@ -185,7 +188,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double swing_kv = p[11];
     const double short_ = p[16];
     const double slew = p[17];
-    const double stagger = p[19];
+    const double stagger = p[18];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double stance_1 = r[4];
@@ -240,9 +243,9 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
 {
     const double act_leg_l_spring_force = s[0];
     const double act_leg_l_spring_k = s[1];
-    const double com_vz = s[11];
-    const double com_z = s[14];
-    const double time = s[38];
+    const double com_vz = s[12];
+    const double com_z = s[15];
+    const double time = s[39];
     const double height = u[3];
     const double stroke = p[12];
     const double k_height = p[13];
@@ -261,6 +264,7 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     const double predicted_apex = r[11];
     const double held_pitch = r[13];
     const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_thrust_stroke = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     out[0] = stance_2;
@@ -278,6 +282,7 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
     out[12] = new_thrust_stroke;
     out[13] = held_pitch;
     out[14] = held_roll;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -304,26 +309,26 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
 static void action_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
-    const double body_trunk_pitch = s[3];
-    const double body_trunk_pitch_rate = s[4];
-    const double body_trunk_roll = s[5];
-    const double body_trunk_roll_rate = s[6];
-    const double body_trunk_yaw = s[7];
-    const double body_trunk_yaw_rate = s[8];
-    const double com_vx = s[9];
-    const double com_vy = s[10];
-    const double coord_hip_l_z_value = s[17];
-    const double integral_turn_rate = s[19];
-    const double leg_left_foot_x = s[20];
-    const double leg_left_foot_y = s[21];
-    const double leg_left_foot_z = s[22];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double leg_left_hip_z = s[25];
-    const double leg_left_length = s[26];
-    const double leg_left_rate = s[27];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
+    const double body_trunk_pitch = s[4];
+    const double body_trunk_pitch_rate = s[5];
+    const double body_trunk_roll = s[6];
+    const double body_trunk_roll_rate = s[7];
+    const double body_trunk_yaw = s[8];
+    const double body_trunk_yaw_rate = s[9];
+    const double com_vx = s[10];
+    const double com_vy = s[11];
+    const double coord_hip_l_z_value = s[18];
+    const double integral_turn_rate = s[20];
+    const double leg_left_foot_x = s[21];
+    const double leg_left_foot_y = s[22];
+    const double leg_left_foot_z = s[23];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double leg_left_hip_z = s[26];
+    const double leg_left_length = s[27];
+    const double leg_left_rate = s[28];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
     const double speed = u[0];
     const double heading = u[1];
     const double k_speed = p[0];
@@ -335,13 +340,13 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double yaw_lead = p[9];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
-    const double pitch_lead = p[21];
+    const double lead_per_speed = p[20];
     const double stance_2 = r[0];
     const double speed_trim = r[7];
     const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
-    const double hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
+    const double hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - lead_per_speed*speed) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
     const double hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y);
     const double t2 = -body_trunk_yaw + heading + integral_turn_rate;
     const double hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + atan2(-leg_sin(t2), leg_cos(t2));
@@ -378,7 +383,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 /*   record landed_2: creatures/biped.leg:227:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double time = s[38];
+    const double time = s[39];
     const double stance_2 = r[0];
     const double extend_at = r[1];
     const double landed_1 = r[2];
@@ -393,6 +398,7 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
     const double thrust_stroke = r[12];
     const double held_pitch = r[13];
     const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     out[0] = stance_2;
     out[1] = extend_at;
     out[2] = landed_1;
@@ -408,6 +414,7 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
     out[12] = thrust_stroke;
     out[13] = held_pitch;
     out[14] = held_roll;
+    out[15] = leg_rest_at_lift;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -434,32 +441,33 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
 static void action_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
-    const double act_leg_r_spring_force = s[2];
-    const double body_trunk_pitch = s[3];
-    const double body_trunk_pitch_rate = s[4];
-    const double body_trunk_roll = s[5];
-    const double body_trunk_roll_rate = s[6];
-    const double body_trunk_yaw = s[7];
-    const double body_trunk_yaw_rate = s[8];
-    const double coord_hip_l_z_value = s[17];
-    const double coord_hip_r_z_value = s[18];
-    const double integral_turn_rate = s[19];
-    const double leg_left_foot_x = s[20];
-    const double leg_left_foot_y = s[21];
-    const double leg_left_foot_z = s[22];
-    const double leg_left_hip_x = s[23];
-    const double leg_left_hip_y = s[24];
-    const double leg_left_hip_z = s[25];
-    const double leg_left_length = s[26];
-    const double leg_left_rate = s[27];
-    const double leg_right_foot_x = s[29];
-    const double leg_right_foot_y = s[30];
-    const double leg_right_foot_z = s[31];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double leg_right_hip_z = s[34];
-    const double leg_right_length = s[35];
-    const double leg_right_rate = s[36];
+    const double act_leg_r_spring_force = s[3];
+    const double body_trunk_pitch = s[4];
+    const double body_trunk_pitch_rate = s[5];
+    const double body_trunk_roll = s[6];
+    const double body_trunk_roll_rate = s[7];
+    const double body_trunk_yaw = s[8];
+    const double body_trunk_yaw_rate = s[9];
+    const double coord_hip_l_z_value = s[18];
+    const double coord_hip_r_z_value = s[19];
+    const double integral_turn_rate = s[20];
+    const double leg_left_foot_x = s[21];
+    const double leg_left_foot_y = s[22];
+    const double leg_left_foot_z = s[23];
+    const double leg_left_hip_x = s[24];
+    const double leg_left_hip_y = s[25];
+    const double leg_left_hip_z = s[26];
+    const double leg_left_length = s[27];
+    const double leg_left_rate = s[28];
+    const double leg_right_foot_x = s[30];
+    const double leg_right_foot_y = s[31];
+    const double leg_right_foot_z = s[32];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
+    const double leg_right_hip_z = s[35];
+    const double leg_right_length = s[36];
+    const double leg_right_rate = s[37];
+    const double speed = u[0];
     const double heading = u[1];
     const double kp = p[4];
     const double kv = p[5];
@@ -469,13 +477,13 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double yaw_lead = p[9];
     const double short_ = p[16];
     const double slew = p[17];
-    const double double_time = p[20];
-    const double pitch_lead = p[21];
+    const double double_time = p[19];
+    const double lead_per_speed = p[20];
     const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0)) + (((double_time < tis)) ? (leg_max(short_, -slew*(-double_time + tis))) : (0.0));
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
-    const double t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead);
+    const double t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - lead_per_speed*speed);
     const double hip_l_motor_force = t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x) + t2;
     const double t3 = 0.5*body_trunk_roll*kp_roll + 0.5*body_trunk_roll_rate*kv_roll;
     const double hip_l_roll_motor_force = t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y) + t3;
@@ -508,16 +516,18 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     (void)err;
 }
 
-/* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, held_pitch, held_roll). */
+/* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift, held_pitch, held_roll). */
 /*   record stance_1: creatures/biped.leg:232:7 */
 /*   record lifted_1: creatures/biped.leg:233:7 */
-/*   record held_pitch: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:202:5 */
-/*   record held_roll: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:203:5 */
+/*   record leg_rest_at_lift: creatures/biped.leg:236:7 > creatures/biped.leg:272:5 */
+/*   record held_pitch: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:202:5 */
+/*   record held_roll: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:203:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double coord_hip_l_x_value = s[15];
-    const double coord_hip_l_y_value = s[16];
-    const double time = s[38];
+    const double act_leg_l_spring_rest = s[2];
+    const double coord_hip_l_x_value = s[16];
+    const double coord_hip_l_y_value = s[17];
+    const double time = s[39];
     const double stance_guess = p[3];
     const double stance_2 = r[0];
     const double extend_at = r[1];
@@ -546,11 +556,12 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
     out[12] = thrust_stroke;
     out[13] = coord_hip_l_y_value;
     out[14] = coord_hip_l_x_value;
+    out[15] = act_leg_l_spring_rest;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
-/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
+/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint, leg_l_spring.rest. */
 /*   leg_r_spring.rest: creatures/biped.leg:234:7 > stdlib/raibert.leg:223:3 */
 /*   hip_r_pitch.kp: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
 /*   hip_r_pitch.kv: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
@@ -560,36 +571,38 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
 /*   hip_r_roll_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
 /*   hip_r_yaw.kp: creatures/biped.leg:235:7 > creatures/biped.leg:184:5 */
 /*   hip_r_yaw.setpoint: creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:206:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:207:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:206:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:207:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:274:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double act_leg_r_spring_force = s[2];
-    const double body_trunk_pitch = s[3];
-    const double body_trunk_pitch_rate = s[4];
-    const double body_trunk_roll = s[5];
-    const double body_trunk_roll_rate = s[6];
-    const double body_trunk_yaw = s[7];
-    const double body_trunk_yaw_rate = s[8];
-    const double coord_hip_r_z_value = s[18];
-    const double integral_turn_rate = s[19];
-    const double leg_right_foot_x = s[29];
-    const double leg_right_foot_y = s[30];
-    const double leg_right_foot_z = s[31];
-    const double leg_right_hip_x = s[32];
-    const double leg_right_hip_y = s[33];
-    const double leg_right_hip_z = s[34];
-    const double leg_right_length = s[35];
-    const double leg_right_rate = s[36];
+    const double act_leg_r_spring_force = s[3];
+    const double body_trunk_pitch = s[4];
+    const double body_trunk_pitch_rate = s[5];
+    const double body_trunk_roll = s[6];
+    const double body_trunk_roll_rate = s[7];
+    const double body_trunk_yaw = s[8];
+    const double body_trunk_yaw_rate = s[9];
+    const double coord_hip_r_z_value = s[19];
+    const double integral_turn_rate = s[20];
+    const double leg_right_foot_x = s[30];
+    const double leg_right_foot_y = s[31];
+    const double leg_right_foot_z = s[32];
+    const double leg_right_hip_x = s[33];
+    const double leg_right_hip_y = s[34];
+    const double leg_right_hip_z = s[35];
+    const double leg_right_length = s[36];
+    const double leg_right_rate = s[37];
+    const double speed = u[0];
     const double heading = u[1];
     const double kp = p[4];
     const double kv = p[5];
@@ -601,17 +614,20 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double swing_kv = p[11];
     const double short_ = p[16];
     const double slew = p[17];
-    const double pitch_lead = p[21];
+    const double lead_per_speed = p[20];
     const double thrust_stroke = r[12];
     const double held_pitch = r[13];
     const double held_roll = r[14];
+    const double leg_rest_at_lift = r[15];
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
-    const double hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
+    const double hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - lead_per_speed*speed) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
     const double t2 = -body_trunk_yaw + heading + integral_turn_rate;
     const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(-leg_sin(t2), leg_cos(t2));
-    const double leg_l_spring_rest = leg_max(short_, -slew*tis);
+    const double t3 = -slew*tis;
+    const double leg_l_spring_rest = leg_max(short_, t3);
+    const double leg_l_spring_rest_2 = leg_max(short_, leg_rest_at_lift + t3);
     out[0] = leg_r_spring_rest;
     out[1] = 0.0;
     out[2] = 0.0;
@@ -632,6 +648,7 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     out[17] = swing_kp;
     out[18] = held_pitch;
     out[19] = held_roll;
+    out[20] = leg_l_spring_rest_2;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -647,9 +664,9 @@ static const leg_values_fn actions[] = {action_FLIGHT_0, action_SINGLE_1_0, acti
 static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_2[] = {0, 2, 1, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 4, 0, 7, 0, 4, 2, 7, 2};
-static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2};
+static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2, 0, 2};
 
-static const int64_t n_settings[] = {18, 17, 18, 20};
+static const int64_t n_settings[] = {18, 17, 18, 21};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3};
 
@@ -661,7 +678,7 @@ static const double places_0_0_d[] = {-1.3962634015954636, -0.5235987755982988, 
 
 static const double places_0_1_d[] = {-1.3962634015954636, -0.5235987755982988, 1.3962634015954636, 0.5235987755982988};
 
-static const int64_t n_outputs[] = {22, 19, 18, 20};
+static const int64_t n_outputs[] = {22, 19, 18, 21};
 
 static const int64_t n_places[] = {2, 1, 0, 0};
 
@@ -670,7 +687,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, 0, 0};
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, 0, 0};
 
 const leg_controller leg_the_controller = {
-    4, 1, 39, 4, 15, 22,
+    4, 1, 40, 4, 16, 22,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

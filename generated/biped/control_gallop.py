@@ -32,10 +32,10 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "7d7af9767c17b777"
+FINGERPRINT = "028ef0d833e97150"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
-SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
+SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
 INPUTS = {
     "speed": 1.5,
     "heading": 0.0,
@@ -43,12 +43,12 @@ INPUTS = {
     "height": 0.85,
 }
 PARAMS = {
-    "k_speed": 0.08,
-    "k_trim": 0.25,
+    "k_speed": 0.083,
+    "k_trim": 0.37,
     "trim_band": 0.3,
     "stance_guess": 0.14,
-    "kp": 300.0,
-    "kv": 25.0,
+    "kp": 150.0,
+    "kv": 62.0,
     "kp_roll": 300.0,
     "kv_roll": 25.0,
     "kp_yaw": 150.0,
@@ -56,17 +56,17 @@ PARAMS = {
     "swing_kp": 300.0,
     "swing_kv": 10.0,
     "stroke": 0.01,
-    "k_height": 0.2,
+    "k_height": 0.24,
     "min_stroke": -0.04,
     "max_stroke": 0.04,
     "short": -0.2,
     "slew": 2.0,
-    "extend_lead": 0.14,
-    "stagger": -0.05,
-    "double_time": 0.06,
-    "pitch_lead": -0.06981317007977318,
+    "stagger": -0.09,
+    "double_time": 0.032,
+    "lead_per_speed": -0.33161255787892263,
+    "extend_lead": 0.04,
 }
-RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke', 'held_pitch', 'held_roll')
+RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke', 'held_pitch', 'held_roll', 'leg_rest_at_lift')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -82,7 +82,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:211:5
     """
-    leg_right_touching = s[37]
+    leg_right_touching = s[38]
     return (leg_right_touching < 0.5)
 
 
@@ -92,7 +92,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:219:5
     """
-    leg_left_touching = s[28]
+    leg_left_touching = s[29]
     return (leg_left_touching > 0.5)
 
 
@@ -102,7 +102,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:226:5
     """
-    leg_right_touching = s[37]
+    leg_right_touching = s[38]
     return (leg_right_touching > 0.5)
 
 
@@ -112,7 +112,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     From the .leg file:
         event  creatures/biped.leg:231:5
     """
-    leg_left_touching = s[28]
+    leg_left_touching = s[29]
     return (leg_left_touching < 0.5)
 
 
@@ -128,16 +128,16 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         record lifted_y    creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3
         record extend_at   creatures/biped.leg:214:7
     """
-    body_trunk_yaw = s[7]
-    com_vz = s[11]
-    com_x = s[12]
-    com_y = s[13]
-    time = s[38]
+    body_trunk_yaw = s[8]
+    com_vz = s[12]
+    com_x = s[13]
+    com_y = s[14]
+    time = s[39]
     speed = u[0]
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    extend_lead = p[18]
+    extend_lead = p[21]
     landed_1 = r[2]
     landed_2 = r[3]
     stance_1 = r[4]
@@ -151,6 +151,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     thrust_stroke = r[12]
     held_pitch = r[13]
     held_roll = r[14]
+    leg_rest_at_lift = r[15]
     new_stance_2 = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed_2 + time))) if (landed_2 > 0.0) else (stance_guess))
     new_extend_at = time + maximum(0.0, 0.2038735983690112*com_vz - extend_lead)
     new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
@@ -171,6 +172,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         thrust_stroke,
         held_pitch,
         held_roll,
+        leg_rest_at_lift,
     ]
 
 
@@ -187,26 +189,26 @@ def action_FLIGHT_0(s, u, p, r, tis):
         hip_l_roll_motor.force  creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
         hip_l_yaw.setpoint      creatures/biped.leg:216:7 > creatures/biped.leg:103:5
         hip_l_yaw.kp            creatures/biped.leg:216:7 > creatures/biped.leg:104:5
-        leg_r_spring.rest       creatures/biped.leg:218:7 > creatures/biped.leg:259:5 > creatures/biped.leg:198:5
-        hip_r_pitch.kp          creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:218:7 > creatures/biped.leg:260:5 > creatures/biped.leg:104:5
+        leg_r_spring.rest       creatures/biped.leg:218:7 > creatures/biped.leg:266:5 > creatures/biped.leg:198:5
+        hip_r_pitch.kp          creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:104:5
         place left (x, y)       creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3
-        place right (x, y)      creatures/biped.leg:218:7 > creatures/biped.leg:261:5 > stdlib/raibert.leg:57:3
+        place right (x, y)      creatures/biped.leg:218:7 > creatures/biped.leg:268:5 > stdlib/raibert.leg:57:3
     """
-    body_trunk_yaw = s[7]
-    com_vx = s[9]
-    com_vy = s[10]
-    leg_left_hip_x = s[23]
-    leg_left_hip_y = s[24]
-    leg_right_hip_x = s[32]
-    leg_right_hip_y = s[33]
-    time = s[38]
+    body_trunk_yaw = s[8]
+    com_vx = s[10]
+    com_vy = s[11]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
+    time = s[39]
     speed = u[0]
     k_speed = p[0]
     stance_guess = p[3]
@@ -214,7 +216,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     swing_kv = p[11]
     short = p[16]
     slew = p[17]
-    stagger = p[19]
+    stagger = p[18]
     stance_2 = r[0]
     extend_at = r[1]
     stance_1 = r[4]
@@ -271,9 +273,9 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
-    com_vz = s[11]
-    com_z = s[14]
-    time = s[38]
+    com_vz = s[12]
+    com_z = s[15]
+    time = s[39]
     height = u[3]
     stroke = p[12]
     k_height = p[13]
@@ -292,6 +294,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     predicted_apex = r[11]
     held_pitch = r[13]
     held_roll = r[14]
+    leg_rest_at_lift = r[15]
     new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + 0.0509683995922528*com_vz*com_vz + com_z
     new_thrust_stroke = minimum(max_stroke, maximum(min_stroke, k_height*(height - predicted_apex) + stroke))
     return [
@@ -310,6 +313,7 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
         new_thrust_stroke,
         held_pitch,
         held_roll,
+        leg_rest_at_lift,
     ]
 
 
@@ -337,26 +341,26 @@ def action_SINGLE_1_0(s, u, p, r, tis):
         place right (x, y)      creatures/biped.leg:225:7 > stdlib/raibert.leg:57:3
     """
     act_leg_l_spring_force = s[0]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    com_vx = s[9]
-    com_vy = s[10]
-    coord_hip_l_z_value = s[17]
-    integral_turn_rate = s[19]
-    leg_left_foot_x = s[20]
-    leg_left_foot_y = s[21]
-    leg_left_foot_z = s[22]
-    leg_left_hip_x = s[23]
-    leg_left_hip_y = s[24]
-    leg_left_hip_z = s[25]
-    leg_left_length = s[26]
-    leg_left_rate = s[27]
-    leg_right_hip_x = s[32]
-    leg_right_hip_y = s[33]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    com_vx = s[10]
+    com_vy = s[11]
+    coord_hip_l_z_value = s[18]
+    integral_turn_rate = s[20]
+    leg_left_foot_x = s[21]
+    leg_left_foot_y = s[22]
+    leg_left_foot_z = s[23]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
+    leg_left_hip_z = s[26]
+    leg_left_length = s[27]
+    leg_left_rate = s[28]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
     speed = u[0]
     heading = u[1]
     k_speed = p[0]
@@ -368,13 +372,13 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     yaw_lead = p[9]
     swing_kp = p[10]
     swing_kv = p[11]
-    pitch_lead = p[21]
+    lead_per_speed = p[20]
     stance_2 = r[0]
     speed_trim = r[7]
     thrust_stroke = r[12]
     leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
-    hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
+    hip_l_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - lead_per_speed*speed) + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
     hip_l_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y)
     t2 = -body_trunk_yaw + heading + integral_turn_rate
     hip_l_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_l_z_value + math.atan2(-math.sin(t2), math.cos(t2))
@@ -413,7 +417,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     From the .leg file:
         record landed_2  creatures/biped.leg:227:7
     """
-    time = s[38]
+    time = s[39]
     stance_2 = r[0]
     extend_at = r[1]
     landed_1 = r[2]
@@ -428,6 +432,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     thrust_stroke = r[12]
     held_pitch = r[13]
     held_roll = r[14]
+    leg_rest_at_lift = r[15]
     return [
         stance_2,
         extend_at,
@@ -444,6 +449,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
         thrust_stroke,
         held_pitch,
         held_roll,
+        leg_rest_at_lift,
     ]
 
 
@@ -471,32 +477,33 @@ def action_DOUBLE_0(s, u, p, r, tis):
         hip_r_yaw.setpoint      creatures/biped.leg:230:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3
     """
     act_leg_l_spring_force = s[0]
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    coord_hip_l_z_value = s[17]
-    coord_hip_r_z_value = s[18]
-    integral_turn_rate = s[19]
-    leg_left_foot_x = s[20]
-    leg_left_foot_y = s[21]
-    leg_left_foot_z = s[22]
-    leg_left_hip_x = s[23]
-    leg_left_hip_y = s[24]
-    leg_left_hip_z = s[25]
-    leg_left_length = s[26]
-    leg_left_rate = s[27]
-    leg_right_foot_x = s[29]
-    leg_right_foot_y = s[30]
-    leg_right_foot_z = s[31]
-    leg_right_hip_x = s[32]
-    leg_right_hip_y = s[33]
-    leg_right_hip_z = s[34]
-    leg_right_length = s[35]
-    leg_right_rate = s[36]
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    coord_hip_l_z_value = s[18]
+    coord_hip_r_z_value = s[19]
+    integral_turn_rate = s[20]
+    leg_left_foot_x = s[21]
+    leg_left_foot_y = s[22]
+    leg_left_foot_z = s[23]
+    leg_left_hip_x = s[24]
+    leg_left_hip_y = s[25]
+    leg_left_hip_z = s[26]
+    leg_left_length = s[27]
+    leg_left_rate = s[28]
+    leg_right_foot_x = s[30]
+    leg_right_foot_y = s[31]
+    leg_right_foot_z = s[32]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
+    leg_right_hip_z = s[35]
+    leg_right_length = s[36]
+    leg_right_rate = s[37]
+    speed = u[0]
     heading = u[1]
     kp = p[4]
     kv = p[5]
@@ -506,13 +513,13 @@ def action_DOUBLE_0(s, u, p, r, tis):
     yaw_lead = p[9]
     short = p[16]
     slew = p[17]
-    double_time = p[20]
-    pitch_lead = p[21]
+    double_time = p[19]
+    lead_per_speed = p[20]
     thrust_stroke = r[12]
     leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((maximum(short, -slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_l_spring_force/leg_left_length
-    t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - pitch_lead)
+    t2 = 0.5*body_trunk_pitch_rate*kv + 0.5*kp*(body_trunk_pitch - lead_per_speed*speed)
     hip_l_motor_force = t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x) + t2
     t3 = 0.5*body_trunk_roll*kp_roll + 0.5*body_trunk_roll_rate*kv_roll
     hip_l_roll_motor_force = t1*(leg_left_foot_y*leg_left_hip_z - leg_left_foot_z*leg_left_hip_y) + t3
@@ -546,17 +553,19 @@ def action_DOUBLE_0(s, u, p, r, tis):
 
 
 def entry_SINGLE_2_0(s, u, p, r, tis):
-    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, held_pitch, held_roll).
+    """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift, held_pitch, held_roll).
 
     From the .leg file:
-        record stance_1    creatures/biped.leg:232:7
-        record lifted_1    creatures/biped.leg:233:7
-        record held_pitch  creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:202:5
-        record held_roll   creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:203:5
+        record stance_1          creatures/biped.leg:232:7
+        record lifted_1          creatures/biped.leg:233:7
+        record leg_rest_at_lift  creatures/biped.leg:236:7 > creatures/biped.leg:272:5
+        record held_pitch        creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:202:5
+        record held_roll         creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:203:5
     """
-    coord_hip_l_x_value = s[15]
-    coord_hip_l_y_value = s[16]
-    time = s[38]
+    act_leg_l_spring_rest = s[2]
+    coord_hip_l_x_value = s[16]
+    coord_hip_l_y_value = s[17]
+    time = s[39]
     stance_guess = p[3]
     stance_2 = r[0]
     extend_at = r[1]
@@ -586,11 +595,12 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
         thrust_stroke,
         coord_hip_l_y_value,
         coord_hip_l_x_value,
+        act_leg_l_spring_rest,
     ]
 
 
 def action_SINGLE_2_0(s, u, p, r, tis):
-    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint.
+    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint, leg_l_spring.rest.
 
     From the .leg file:
         leg_r_spring.rest       creatures/biped.leg:234:7 > stdlib/raibert.leg:223:3
@@ -602,35 +612,37 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         hip_r_roll_motor.force  creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
         hip_r_yaw.kp            creatures/biped.leg:235:7 > creatures/biped.leg:184:5
         hip_r_yaw.setpoint      creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5
-        hip_l_pitch.setpoint    creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:206:5
-        hip_l_roll.setpoint     creatures/biped.leg:236:7 > creatures/biped.leg:264:26 > creatures/biped.leg:207:5
+        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5
+        hip_l_pitch.setpoint    creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:206:5
+        hip_l_roll.setpoint     creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:207:5
+        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:274:5
     """
-    act_leg_r_spring_force = s[2]
-    body_trunk_pitch = s[3]
-    body_trunk_pitch_rate = s[4]
-    body_trunk_roll = s[5]
-    body_trunk_roll_rate = s[6]
-    body_trunk_yaw = s[7]
-    body_trunk_yaw_rate = s[8]
-    coord_hip_r_z_value = s[18]
-    integral_turn_rate = s[19]
-    leg_right_foot_x = s[29]
-    leg_right_foot_y = s[30]
-    leg_right_foot_z = s[31]
-    leg_right_hip_x = s[32]
-    leg_right_hip_y = s[33]
-    leg_right_hip_z = s[34]
-    leg_right_length = s[35]
-    leg_right_rate = s[36]
+    act_leg_r_spring_force = s[3]
+    body_trunk_pitch = s[4]
+    body_trunk_pitch_rate = s[5]
+    body_trunk_roll = s[6]
+    body_trunk_roll_rate = s[7]
+    body_trunk_yaw = s[8]
+    body_trunk_yaw_rate = s[9]
+    coord_hip_r_z_value = s[19]
+    integral_turn_rate = s[20]
+    leg_right_foot_x = s[30]
+    leg_right_foot_y = s[31]
+    leg_right_foot_z = s[32]
+    leg_right_hip_x = s[33]
+    leg_right_hip_y = s[34]
+    leg_right_hip_z = s[35]
+    leg_right_length = s[36]
+    leg_right_rate = s[37]
+    speed = u[0]
     heading = u[1]
     kp = p[4]
     kv = p[5]
@@ -642,17 +654,20 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     swing_kv = p[11]
     short = p[16]
     slew = p[17]
-    pitch_lead = p[21]
+    lead_per_speed = p[20]
     thrust_stroke = r[12]
     held_pitch = r[13]
     held_roll = r[14]
+    leg_rest_at_lift = r[15]
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
     t1 = act_leg_r_spring_force/leg_right_length
-    hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - pitch_lead) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
+    hip_r_motor_force = body_trunk_pitch_rate*kv + kp*(body_trunk_pitch - lead_per_speed*speed) + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = -body_trunk_yaw + heading + integral_turn_rate
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
-    leg_l_spring_rest = maximum(short, -slew*tis)
+    t3 = -slew*tis
+    leg_l_spring_rest = maximum(short, t3)
+    leg_l_spring_rest_2 = maximum(short, leg_rest_at_lift + t3)
     return [
         leg_r_spring_rest,
         0.0,
@@ -674,6 +689,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         swing_kp,
         held_pitch,
         held_roll,
+        leg_l_spring_rest_2,
     ]
 
 
@@ -700,7 +716,7 @@ SETTINGS = {
     (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp')),
     (0, 1): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp')),
     (0, 2): (('leg_l_spring', 'rest'), ('leg_r_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_r_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint')),
+    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('leg_l_spring', 'rest')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.

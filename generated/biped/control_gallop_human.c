@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "4100fe6411f0c958";
+const char legdsl_control_fingerprint[] = "5d97b93ddd0d9b54";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -100,8 +100,8 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 /*   record lifted_x: creatures/biped.leg:213:7 > stdlib/raibert.leg:75:3 */
 /*   record lifted_y: creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3 */
 /*   record extend_at: creatures/biped.leg:214:7 */
-/*   record held_pitch: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:202:5 */
-/*   record held_roll: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:203:5 */
+/*   record held_pitch: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:202:5 */
+/*   record held_roll: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:203:5 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[8];
@@ -115,7 +115,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double extend_lead = p[18];
+    const double extend_lead = p[24];
     const double landed_1 = r[2];
     const double landed_2 = r[3];
     const double stance_1 = r[4];
@@ -162,17 +162,17 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 /*   hip_l_roll_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
 /*   hip_l_yaw.setpoint: creatures/biped.leg:216:7 > creatures/biped.leg:103:5 */
 /*   hip_l_yaw.kp: creatures/biped.leg:216:7 > creatures/biped.leg:104:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:206:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:207:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:206:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:207:5 */
 /*   place left (x, y): creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
@@ -292,7 +292,7 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
 /*   hip_l_roll_motor.force: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
 /*   hip_l_yaw.kp: creatures/biped.leg:222:7 > creatures/biped.leg:184:5 */
 /*   hip_l_yaw.setpoint: creatures/biped.leg:222:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:223:7 > creatures/biped.leg:288:28 > stdlib/raibert.leg:196:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:223:7 > creatures/biped.leg:304:28 > stdlib/raibert.leg:196:3 */
 /*   hip_r_pitch.kp: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
 /*   hip_r_pitch.kv: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
 /*   hip_r_motor.force: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
@@ -337,9 +337,9 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
     const double swing_kp = p[10];
     const double swing_kv = p[11];
     const double short_ = p[16];
-    const double swing_slew = p[19];
-    const double swing_wait = p[20];
-    const double pitch_lead = p[24];
+    const double swing_slew = p[18];
+    const double swing_wait = p[19];
+    const double pitch_lead = p[23];
     const double stance_2 = r[0];
     const double speed_trim = r[7];
     const double thrust_stroke = r[12];
@@ -476,9 +476,9 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
     const double kp_yaw = p[8];
     const double yaw_lead = p[9];
     const double short_ = p[16];
-    const double double_time = p[21];
-    const double lift_slew = p[22];
-    const double pitch_lead = p[24];
+    const double double_time = p[20];
+    const double lift_slew = p[21];
+    const double pitch_lead = p[23];
     const double thrust_stroke = r[12];
     const double leg_l_spring_rest = (((leg_left_rate > 0.0)) ? (thrust_stroke) : (0.0)) + (((double_time < tis)) ? (leg_max(short_, -lift_slew*(-double_time + tis))) : (0.0));
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));
@@ -519,7 +519,7 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 /* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift). */
 /*   record stance_1: creatures/biped.leg:232:7 */
 /*   record lifted_1: creatures/biped.leg:233:7 */
-/*   record leg_rest_at_lift: creatures/biped.leg:236:7 > creatures/biped.leg:290:5 */
+/*   record leg_rest_at_lift: creatures/biped.leg:236:7 > creatures/biped.leg:306:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
@@ -569,17 +569,17 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
 /*   hip_r_roll_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
 /*   hip_r_yaw.kp: creatures/biped.leg:235:7 > creatures/biped.leg:184:5 */
 /*   hip_r_yaw.setpoint: creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:291:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:103:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:104:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:293:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:294:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:307:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:104:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:309:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:310:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -611,9 +611,9 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double swing_kp = p[10];
     const double swing_kv = p[11];
     const double short_ = p[16];
-    const double lift_slew = p[22];
-    const double mirror_gain = p[23];
-    const double pitch_lead = p[24];
+    const double lift_slew = p[21];
+    const double mirror_gain = p[22];
+    const double pitch_lead = p[23];
     const double thrust_stroke = r[12];
     const double leg_rest_at_lift = r[15];
     const double leg_r_spring_rest = (((leg_right_rate > 0.0)) ? (thrust_stroke) : (0.0));

@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "gallop_human"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "4100fe6411f0c958"
+FINGERPRINT = "5d97b93ddd0d9b54"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -43,12 +43,12 @@ INPUTS = {
     "height": 0.85,
 }
 PARAMS = {
-    "k_speed": 0.08,
-    "k_trim": 0.25,
+    "k_speed": 0.075,
+    "k_trim": 0.18,
     "trim_band": 0.3,
     "stance_guess": 0.14,
-    "kp": 300.0,
-    "kv": 25.0,
+    "kp": 440.0,
+    "kv": 46.0,
     "kp_roll": 300.0,
     "kv_roll": 25.0,
     "kp_yaw": 150.0,
@@ -56,18 +56,18 @@ PARAMS = {
     "swing_kp": 300.0,
     "swing_kv": 10.0,
     "stroke": 0.01,
-    "k_height": 0.05,
+    "k_height": 0.19,
     "min_stroke": -0.04,
     "max_stroke": 0.04,
     "short": -0.2,
     "slew": 2.0,
-    "extend_lead": 0.14,
-    "swing_slew": 4.0,
-    "swing_wait": 0.02,
-    "double_time": 0.04,
-    "lift_slew": 4.0,
+    "swing_slew": 5.8,
+    "swing_wait": 0.046,
+    "double_time": 0.021,
+    "lift_slew": 6.0,
     "mirror_gain": 1.0,
-    "pitch_lead": 0.0,
+    "pitch_lead": -0.08726646259971647,
+    "extend_lead": 0.134,
 }
 RECORDS = ('stance_2', 'extend_at', 'landed_1', 'landed_2', 'stance_1', 'lifted_1', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex', 'thrust_stroke', 'held_pitch', 'held_roll', 'leg_rest_at_lift')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -130,8 +130,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         record lifted_x    creatures/biped.leg:213:7 > stdlib/raibert.leg:75:3
         record lifted_y    creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3
         record extend_at   creatures/biped.leg:214:7
-        record held_pitch  creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:202:5
-        record held_roll   creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:203:5
+        record held_pitch  creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:202:5
+        record held_roll   creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:203:5
     """
     body_trunk_yaw = s[8]
     com_vz = s[12]
@@ -144,7 +144,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    extend_lead = p[18]
+    extend_lead = p[24]
     landed_1 = r[2]
     landed_2 = r[3]
     stance_1 = r[4]
@@ -194,17 +194,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
         hip_l_roll_motor.force  creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
         hip_l_yaw.setpoint      creatures/biped.leg:216:7 > creatures/biped.leg:103:5
         hip_l_yaw.kp            creatures/biped.leg:216:7 > creatures/biped.leg:104:5
-        leg_r_spring.rest       creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5
-        hip_r_pitch.setpoint    creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:206:5
-        hip_r_roll.setpoint     creatures/biped.leg:218:7 > creatures/biped.leg:287:27 > creatures/biped.leg:207:5
+        leg_r_spring.rest       creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5
+        hip_r_pitch.setpoint    creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:206:5
+        hip_r_roll.setpoint     creatures/biped.leg:218:7 > creatures/biped.leg:303:27 > creatures/biped.leg:207:5
         place left (x, y)       creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_yaw = s[8]
@@ -328,7 +328,7 @@ def action_SINGLE_1_0(s, u, p, r, tis):
         hip_l_roll_motor.force  creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
         hip_l_yaw.kp            creatures/biped.leg:222:7 > creatures/biped.leg:184:5
         hip_l_yaw.setpoint      creatures/biped.leg:222:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:223:7 > creatures/biped.leg:288:28 > stdlib/raibert.leg:196:3
+        leg_r_spring.rest       creatures/biped.leg:223:7 > creatures/biped.leg:304:28 > stdlib/raibert.leg:196:3
         hip_r_pitch.kp          creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
         hip_r_pitch.kv          creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
         hip_r_motor.force       creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
@@ -372,9 +372,9 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     short = p[16]
-    swing_slew = p[19]
-    swing_wait = p[20]
-    pitch_lead = p[24]
+    swing_slew = p[18]
+    swing_wait = p[19]
+    pitch_lead = p[23]
     stance_2 = r[0]
     speed_trim = r[7]
     thrust_stroke = r[12]
@@ -515,9 +515,9 @@ def action_DOUBLE_0(s, u, p, r, tis):
     kp_yaw = p[8]
     yaw_lead = p[9]
     short = p[16]
-    double_time = p[21]
-    lift_slew = p[22]
-    pitch_lead = p[24]
+    double_time = p[20]
+    lift_slew = p[21]
+    pitch_lead = p[23]
     thrust_stroke = r[12]
     leg_l_spring_rest = ((thrust_stroke) if (leg_left_rate > 0.0) else (0.0)) + ((maximum(short, -lift_slew*(-double_time + tis))) if (double_time < tis) else (0.0))
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))
@@ -561,7 +561,7 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     From the .leg file:
         record stance_1          creatures/biped.leg:232:7
         record lifted_1          creatures/biped.leg:233:7
-        record leg_rest_at_lift  creatures/biped.leg:236:7 > creatures/biped.leg:290:5
+        record leg_rest_at_lift  creatures/biped.leg:236:7 > creatures/biped.leg:306:5
     """
     act_leg_l_spring_rest = s[2]
     time = s[39]
@@ -613,17 +613,17 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         hip_r_roll_motor.force  creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
         hip_r_yaw.kp            creatures/biped.leg:235:7 > creatures/biped.leg:184:5
         hip_r_yaw.setpoint      creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:291:5
-        hip_l_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:292:5 > creatures/biped.leg:104:5
-        hip_l_pitch.setpoint    creatures/biped.leg:236:7 > creatures/biped.leg:293:5
-        hip_l_roll.setpoint     creatures/biped.leg:236:7 > creatures/biped.leg:294:5
+        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:307:5
+        hip_l_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:308:5 > creatures/biped.leg:104:5
+        hip_l_pitch.setpoint    creatures/biped.leg:236:7 > creatures/biped.leg:309:5
+        hip_l_roll.setpoint     creatures/biped.leg:236:7 > creatures/biped.leg:310:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]
@@ -654,9 +654,9 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     swing_kp = p[10]
     swing_kv = p[11]
     short = p[16]
-    lift_slew = p[22]
-    mirror_gain = p[23]
-    pitch_lead = p[24]
+    lift_slew = p[21]
+    mirror_gain = p[22]
+    pitch_lead = p[23]
     thrust_stroke = r[12]
     leg_rest_at_lift = r[15]
     leg_r_spring_rest = ((thrust_stroke) if (leg_right_rate > 0.0) else (0.0))

@@ -60,8 +60,9 @@ def test_the_bipeds_controllers_share_their_gains() -> None:
     assert names[0] == names[1]
     run = {c.name: c.value for c in model.controller("run").params}
     gallop = {c.name: c.value for c in model.controller("gallop").params}
-    assert (run["k_trim"], gallop["k_trim"]) == (0.1, 0.25)  # overridden where it differs
-    assert run["kp"] == gallop["kp"] == 300.0
+    assert (run["k_trim"], gallop["k_trim"]) == (0.1, 0.37)  # overridden where it differs
+    assert (run["kp"], gallop["kp"]) == (300.0, 150.0)
+    assert run["kp_roll"] == gallop["kp_roll"] == 300.0  # shared where it does not
 
 
 def test_a_part_includes_another_and_its_own_values_take_their_places(tmp_path: Path) -> None:
@@ -118,4 +119,7 @@ def test_the_bipeds_gallops_share_their_table() -> None:
     gallop, human = model.controller("gallop"), model.controller("gallop_human")
     assert gallop.state_names == human.state_names == ("FLIGHT", "SINGLE_1", "DOUBLE", "SINGLE_2")
     assert [s.span for s in gallop.states] == [s.span for s in human.states]
-    assert {c.name for c in gallop.params} - {c.name for c in human.params} == {"stagger"}
+    assert {c.name for c in gallop.params} - {c.name for c in human.params} == {
+        "stagger",
+        "lead_per_speed",
+    }
