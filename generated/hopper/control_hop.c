@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "92c722ee041238fa";
+const char legdsl_control_fingerprint[] = "295a2729b94be1fe";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -29,7 +29,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/hopper.leg:69:5 */
+/*   event: creatures/hopper.leg:76:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -38,7 +38,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/hopper.leg:70:5 */
+/*   event: creatures/hopper.leg:77:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -47,7 +47,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/hopper.leg:71:5 */
+/*   event: creatures/hopper.leg:78:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -56,7 +56,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/hopper.leg:72:5 */
+/*   event: creatures/hopper.leg:79:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -65,7 +65,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full */
-/*   event: creatures/hopper.leg:73:5 */
+/*   event: creatures/hopper.leg:80:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_length = s[8];
@@ -74,10 +74,11 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     return (leg_main_length > full);
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: speed_trim, apex_seen, apex_trim). */
-/*   record speed_trim: creatures/hopper.leg:69:104 > stdlib/raibert.leg:44:3 */
-/*   record apex_seen: creatures/hopper.leg:69:131 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/hopper.leg:69:131 > stdlib/raibert.leg:360:3 */
+/* The records on entering FLIGHT under binding 0 (changed: aim, speed_trim, apex_seen, apex_trim). */
+/*   record aim: creatures/hopper.leg:76:104 */
+/*   record speed_trim: creatures/hopper.leg:76:135 > stdlib/raibert.leg:44:3 */
+/*   record apex_seen: creatures/hopper.leg:76:173 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/hopper.leg:76:173 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -88,28 +89,33 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_apex = p[8];
     const double apex_limit = p[9];
     const double k_trim = p[10];
-    const double speed_trim = r[0];
-    const double predicted_apex = r[1];
-    const double thrust_stroke = r[2];
-    const double apex_trim = r[4];
-    const double new_speed_trim = k_trim*(-com_vx + speed) + speed_trim;
+    const double max_step = p[12];
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double predicted_apex = r[2];
+    const double thrust_stroke = r[3];
+    const double apex_trim = r[5];
+    const double t1 = aim - speed;
+    const double new_aim = speed + (((max_step >= fabs(t1))) ? (0.0) : (t1 + leg_min(max_step, leg_max(-max_step, -t1))));
+    const double new_speed_trim = k_trim*(-com_vx + new_aim) + speed_trim;
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    out[0] = new_speed_trim;
-    out[1] = predicted_apex;
-    out[2] = thrust_stroke;
-    out[3] = new_apex_seen;
-    out[4] = new_apex_trim;
+    out[0] = new_aim;
+    out[1] = new_speed_trim;
+    out[2] = predicted_apex;
+    out[3] = thrust_stroke;
+    out[4] = new_apex_seen;
+    out[5] = new_apex_trim;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x). */
-/*   leg_spring.rest: creatures/hopper.leg:69:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:69:69 > stdlib/raibert.leg:144:3 */
-/*   hip_servo.kv: creatures/hopper.leg:69:69 > stdlib/raibert.leg:145:3 */
-/*   hip_motor.force: creatures/hopper.leg:69:69 > stdlib/raibert.leg:146:3 */
-/*   place main (x): creatures/hopper.leg:69:171 > stdlib/raibert.leg:20:3 */
+/*   leg_spring.rest: creatures/hopper.leg:76:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:76:69 > stdlib/raibert.leg:144:3 */
+/*   hip_servo.kv: creatures/hopper.leg:76:69 > stdlib/raibert.leg:145:3 */
+/*   hip_motor.force: creatures/hopper.leg:76:69 > stdlib/raibert.leg:146:3 */
+/*   place main (x): creatures/hopper.leg:76:213 > stdlib/raibert.leg:20:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -120,8 +126,11 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double stance_guess = p[1];
     const double swing_kp = p[4];
     const double swing_kv = p[5];
-    const double speed_trim = r[0];
-    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed - speed_trim) - leg_main_hip_x;
+    const double max_step = p[12];
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double t1 = aim - speed;
+    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed - speed_trim - (((max_step >= fabs(t1))) ? (0.0) : (t1 + leg_min(max_step, leg_max(-max_step, -t1))))) - leg_main_hip_x;
     out[0] = 0.0;
     out[1] = swing_kp;
     out[2] = swing_kv;
@@ -134,24 +143,26 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 /* The records on entering LOADING under binding 0 (changed: none). */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double speed_trim = r[0];
-    const double predicted_apex = r[1];
-    const double thrust_stroke = r[2];
-    const double apex_seen = r[3];
-    const double apex_trim = r[4];
-    out[0] = speed_trim;
-    out[1] = predicted_apex;
-    out[2] = thrust_stroke;
-    out[3] = apex_seen;
-    out[4] = apex_trim;
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double predicted_apex = r[2];
+    const double thrust_stroke = r[3];
+    const double apex_seen = r[4];
+    const double apex_trim = r[5];
+    out[0] = aim;
+    out[1] = speed_trim;
+    out[2] = predicted_apex;
+    out[3] = thrust_stroke;
+    out[4] = apex_seen;
+    out[5] = apex_trim;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:70:49 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:70:49 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:70:49 > stdlib/raibert.leg:162:3 */
+/*   hip_servo.kp: creatures/hopper.leg:77:49 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:77:49 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:77:49 > stdlib/raibert.leg:162:3 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;
@@ -164,24 +175,26 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
 /* The records on entering COMPRESSION under binding 0 (changed: none). */
 static void entry_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double speed_trim = r[0];
-    const double predicted_apex = r[1];
-    const double thrust_stroke = r[2];
-    const double apex_seen = r[3];
-    const double apex_trim = r[4];
-    out[0] = speed_trim;
-    out[1] = predicted_apex;
-    out[2] = thrust_stroke;
-    out[3] = apex_seen;
-    out[4] = apex_trim;
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double predicted_apex = r[2];
+    const double thrust_stroke = r[3];
+    const double apex_seen = r[4];
+    const double apex_trim = r[5];
+    out[0] = aim;
+    out[1] = speed_trim;
+    out[2] = predicted_apex;
+    out[3] = thrust_stroke;
+    out[4] = apex_seen;
+    out[5] = apex_trim;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:71:49 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:71:49 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:71:49 > stdlib/raibert.leg:86:3 */
+/*   hip_servo.kp: creatures/hopper.leg:78:49 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:78:49 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:78:49 > stdlib/raibert.leg:86:3 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -197,8 +210,8 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke). */
-/*   record predicted_apex: creatures/hopper.leg:72:49 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/hopper.leg:72:49 > stdlib/raibert.leg:344:3 */
+/*   record predicted_apex: creatures/hopper.leg:79:49 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/hopper.leg:79:49 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_spring_force = s[0];
@@ -207,36 +220,38 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double com_z = s[6];
     const double height = u[1];
     const double stroke = p[6];
-    const double speed_trim = r[0];
-    const double apex_seen = r[3];
-    const double apex_trim = r[4];
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double apex_seen = r[4];
+    const double apex_trim = r[5];
     const double t1 = com_vz*com_vz;
     const double t2 = act_leg_spring_force*act_leg_spring_force;
     const double t3 = leg_div(1.0, act_leg_spring_k);
     const double t4 = t2*t3;
     const double new_predicted_apex = com_z + 0.0509683995922528*t1 + 0.004591747711013765*t4;
     const double new_thrust_stroke = leg_min(3.0*stroke, leg_max(0.0, -act_leg_spring_force*t3 + leg_sqrt(leg_max(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + leg_div(t2, act_leg_spring_k*act_leg_spring_k)))));
-    out[0] = speed_trim;
-    out[1] = new_predicted_apex;
-    out[2] = new_thrust_stroke;
-    out[3] = apex_seen;
-    out[4] = apex_trim;
+    out[0] = aim;
+    out[1] = speed_trim;
+    out[2] = new_predicted_apex;
+    out[3] = new_thrust_stroke;
+    out[4] = apex_seen;
+    out[5] = apex_trim;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:72:49 > stdlib/raibert.leg:345:3 */
-/*   hip_servo.kp: creatures/hopper.leg:72:112 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:72:112 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:72:112 > stdlib/raibert.leg:86:3 */
+/*   leg_spring.rest: creatures/hopper.leg:79:49 > stdlib/raibert.leg:345:3 */
+/*   hip_servo.kp: creatures/hopper.leg:79:112 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:79:112 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:79:112 > stdlib/raibert.leg:86:3 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
     const double body_body_pitch_rate = s[3];
     const double kp = p[2];
     const double kv = p[3];
-    const double thrust_stroke = r[2];
+    const double thrust_stroke = r[3];
     const double hip_motor_force = body_body_pitch*kp + body_body_pitch_rate*kv;
     out[0] = thrust_stroke;
     out[1] = 0.0;
@@ -249,25 +264,27 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
 /* The records on entering UNLOADING under binding 0 (changed: none). */
 static void entry_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double speed_trim = r[0];
-    const double predicted_apex = r[1];
-    const double thrust_stroke = r[2];
-    const double apex_seen = r[3];
-    const double apex_trim = r[4];
-    out[0] = speed_trim;
-    out[1] = predicted_apex;
-    out[2] = thrust_stroke;
-    out[3] = apex_seen;
-    out[4] = apex_trim;
+    const double aim = r[0];
+    const double speed_trim = r[1];
+    const double predicted_apex = r[2];
+    const double thrust_stroke = r[3];
+    const double apex_seen = r[4];
+    const double apex_trim = r[5];
+    out[0] = aim;
+    out[1] = speed_trim;
+    out[2] = predicted_apex;
+    out[3] = thrust_stroke;
+    out[4] = apex_seen;
+    out[5] = apex_trim;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:73:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:73:69 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:73:69 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:73:69 > stdlib/raibert.leg:162:3 */
+/*   leg_spring.rest: creatures/hopper.leg:80:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:80:69 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:80:69 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:80:69 > stdlib/raibert.leg:162:3 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;
@@ -309,7 +326,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0};
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 1, 12, 2, 5, 5,
+    5, 1, 12, 2, 6, 5,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };
