@@ -19,7 +19,10 @@ __all__ = ["__version__", "load", "open_run"]
 
 def __getattr__(name: str) -> Any:
     if name in ("load", "open_run", "Creature", "Run"):
-        from legdsl import api
+        from legdsl.signals import signals_held
+
+        with signals_held():  # a Ctrl-C in the 0.6 s import comes once it is whole
+            from legdsl import api
 
         return getattr(api, name)
     raise AttributeError(f"module 'legdsl' has no attribute {name!r}")

@@ -15,8 +15,8 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[2] / "src" / "legdsl"
 
 # The stages, in pipeline order. The package root (``legdsl/__init__.py``: the version, and
-# ``legdsl/files.py``: writing files whole; ``legdsl/figures.py``: numbers as printed) sits
-# below them all; ``cli`` and ``__main__`` on top.
+# ``legdsl/files.py``: writing files whole; ``legdsl/figures.py``: numbers as printed;
+# ``legdsl/signals.py``: Ctrl-C held back) sits below them all; ``cli`` and ``__main__`` on top.
 STAGES = (
     "lang",  # text -> syntax tree; units; the error types
     "ir",  # the checked model and controller IR
@@ -34,12 +34,14 @@ TOP = {
     "__init__": -1,
     "files": -1,
     "figures": -1,
+    "signals": -1,
     "cli": STAGES.index("cli"),
     "__main__": STAGES.index("cli"),
 }
 # The package root sits below every stage (they read its __version__), yet it is the face of
-# the public API: it may import ``legdsl.api``, lazily (module __getattr__), and nothing else.
-ROOT_MAY_IMPORT = ("legdsl.api",)
+# the public API: it may import ``legdsl.api``, lazily (module __getattr__), with Ctrl-C held
+# back (``legdsl.signals``), and nothing else.
+ROOT_MAY_IMPORT = ("legdsl.api", "legdsl.signals")
 
 
 def module_name(path: Path, package: Path = PACKAGE) -> str:

@@ -14,7 +14,8 @@ import pytest
 from runtime_helpers import child_pids
 
 from legdsl.pipeline import forked
-from legdsl.pipeline.forked import Forked, signals_held
+from legdsl.pipeline.forked import Forked
+from legdsl.signals import signals_held
 
 
 def test_ctrl_c_taken_by_another_thread_is_held_back_too() -> None:

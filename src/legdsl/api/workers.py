@@ -26,8 +26,8 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
 from legdsl.lang.errors import UsageError, thread_refused
-from legdsl.pipeline.forked import signals_held, unblock_stopping
 from legdsl.pipeline.optional import not_installed
+from legdsl.signals import signals_held, unblock_stopping
 
 T = TypeVar("T")
 R = TypeVar("R")

@@ -10,65 +10,18 @@ would not start, or it died) is done here instead: the result is the same, only 
 
 from __future__ import annotations
 
-import contextlib
 import multiprocessing
 import pickle
 import signal
 import sys
 import threading
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from multiprocessing.connection import Connection
 from typing import Any
 
+from legdsl.signals import signals_held, unblock_stopping
+
 Work = Callable[[Any], bytes]  # an item's result, pickled (what crosses the pipe)
-
-
-# What a command takes as an order to stop: Ctrl-C and the signals that end it as SIGTERM does
-# (a closed terminal, Ctrl-\\, ulimit -t's soft limit); all held back while a process starts.
-STOPPING = tuple(
-    getattr(signal, name)
-    for name in ("SIGINT", "SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
-    if hasattr(signal, name)
-)
-
-
-@contextlib.contextmanager
-def signals_held() -> Iterator[None]:
-    """Ctrl-C and the ending signals held back while a process starts: an exception raised by
-    their handlers in the fork's handlers (logging's lock, in this process or the new one) was
-    printed as "Exception ignored" and dropped (a SIGTERM so lost let a compile finish, exit
-    0), and one in the new process before it set its own handlers printed its traceback. They
-    come once this is over; the new process starts with them blocked, sets its handlers, then
-    unblocks them (``unblock_stopping``). Blocking holds back only this thread's share: in a
-    process of several threads (a Jupyter kernel) another thread takes the signal and Python
-    raised it here all the same, so the main thread's Ctrl-C handler (Python's, the console
-    script's or a kernel's) is swapped for one that notes it, and called once this is over."""
-    noted: list[int] = []
-    handler = signal.getsignal(signal.SIGINT)  # Python's, the console script's or a kernel's
-    main = threading.current_thread() is threading.main_thread()  # signal.signal's only thread
-    swapped = handler if main and callable(handler) else None  # not SIG_IGN, SIG_DFL
-    if swapped is not None:
-        signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
-    before = (
-        signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
-        if hasattr(signal, "pthread_sigmask")
-        else None
-    )
-    try:
-        yield
-    finally:
-        if before is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, before)
-        if swapped is not None:
-            signal.signal(signal.SIGINT, swapped)
-            if noted:
-                swapped(signal.SIGINT, None)
-
-
-def unblock_stopping() -> None:
-    """In a process started under ``signals_held``, once its own handlers are set."""
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, set(STOPPING))
 
 
 class Forked:

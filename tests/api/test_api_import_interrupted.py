@@ -1,0 +1,54 @@
+"""Ctrl-C during the public API's first import (``legdsl.load`` first used: sympy, lark and
+numpy, some 0.6 s). Landing mid-import it left those packages half-initialised, and the next
+call in the same process (a notebook's next cell) failed: sympy's RecursionError in
+``sympify``, or a syntax tree whose table rows were lark Trees ("'Tree' object has no
+attribute 'actions'", random API interrupt seed 13100). Now it comes once the import is whole."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from conftest import CREATURES
+
+# In a fresh interpreter: an import hook sends the process SIGINT as sympy's printing starts
+# to import, in the middle of the API's import; then the call is made again.
+PROBE = r"""
+import os, signal, sys
+
+class Kick:
+    fired = False
+
+    def find_spec(self, name, path=None, target=None):
+        if name == "sympy.printing" and not Kick.fired:
+            Kick.fired = True
+            os.kill(os.getpid(), signal.SIGINT)
+        return None
+
+sys.meta_path.insert(0, Kick())
+import legdsl
+
+try:
+    legdsl.load
+    print("not interrupted")
+except KeyboardInterrupt:
+    print("interrupted, the API whole:", "legdsl.api" in sys.modules)
+print(legdsl.load(sys.argv[1]))
+"""
+
+
+def test_ctrl_c_in_the_first_import_comes_once_the_api_is_whole(tmp_path: Path) -> None:
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE, str(CREATURES / "hopper.leg")],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == [
+        "interrupted, the API whole: True",
+        "<legdsl creature 'hopper': 5 DOF, controllers ['hop']>",
+    ], done.stdout + done.stderr
+    assert "Traceback" not in done.stderr, done.stderr
