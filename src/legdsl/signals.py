@@ -22,11 +22,11 @@ STOPPING = tuple(
 def signals_held() -> Iterator[None]:
     """Ctrl-C and the ending signals held back while a process starts, or the API is first
     imported (one landing mid-import left sympy or lark half-initialised, and the next call
-    failed: sympy's RecursionError, a syntax tree with lark's Trees for rows). While a process
-    starts, an exception raised by their handlers in the fork's handlers (logging's lock, in this process or the new one) was
-    printed as "Exception ignored" and dropped (a SIGTERM so lost let a compile finish, exit
-    0), and one in the new process before it set its own handlers printed its traceback. They
-    come once this is over; the new process starts with them blocked, sets its handlers, then
+    failed: sympy's RecursionError, a syntax tree with lark's Trees for rows). While a
+    process starts, an exception raised by their handlers in the fork's handlers (logging's
+    lock, in this process or the new one) was printed as "Exception ignored" and dropped (a
+    SIGTERM so lost let a compile finish, exit 0), and one in the new process before it set
+    its own handlers printed its traceback. They come once this is over; the new process starts with them blocked, sets its handlers, then
     unblocks them (``unblock_stopping``). Blocking holds back only this thread's share: in a
     process of several threads (a Jupyter kernel) another thread takes the signal and Python
     raised it here all the same, so the main thread's Ctrl-C handler (Python's, the console
