@@ -26,11 +26,12 @@ def signals_held() -> Iterator[None]:
     process starts, an exception raised by their handlers in the fork's handlers (logging's
     lock, in this process or the new one) was printed as "Exception ignored" and dropped (a
     SIGTERM so lost let a compile finish, exit 0), and one in the new process before it set
-    its own handlers printed its traceback. They come once this is over; the new process starts with them blocked, sets its handlers, then
-    unblocks them (``unblock_stopping``). Blocking holds back only this thread's share: in a
-    process of several threads (a Jupyter kernel) another thread takes the signal and Python
-    raised it here all the same, so the main thread's Ctrl-C handler (Python's, the console
-    script's or a kernel's) is swapped for one that notes it, and called once this is over."""
+    its own handlers printed its traceback. They come once this is over; the new process
+    starts with them blocked, sets its handlers, then unblocks them (``unblock_stopping``).
+    Blocking holds back only this thread's share: in a process of several threads (a Jupyter
+    kernel) another thread takes the signal and Python raised it here all the same, so the
+    main thread's Ctrl-C handler (Python's, the console script's or a kernel's) is swapped for
+    one that notes it, and called once this is over."""
     noted: list[int] = []
     handler = signal.getsignal(signal.SIGINT)  # Python's, the console script's or a kernel's
     main = threading.current_thread() is threading.main_thread()  # signal.signal's only thread
