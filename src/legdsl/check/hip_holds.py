@@ -141,13 +141,17 @@ def _legs(scope: Scope, legs: ir.Legs) -> tuple[str, ...]:
 
 def _trunk_bodies(model: Model) -> set[str]:
     """The bodies no leg's joints carry: the root and those hung from it by joints of no leg
-    (a spine's rear half, a head, a tail), which every hip's torque reaches."""
+    (a spine's rear half, a head, a tail), which every hip's torque reaches. A body whose
+    chain meets a misspelt parent or goes round a cycle (both already told as errors) is not
+    the trunk's."""
     first = {leg.joints[0] for leg in model.legs if leg.joints}
     parent_joint = {b.name: (b.parent, b.joint) for b in model.bodies}
     trunk = set()
     for name in parent_joint:
         body: str | None = name
-        while body is not None and parent_joint[body][1] not in first:
+        seen: set[str] = set()
+        while body in parent_joint and body not in seen and parent_joint[body][1] not in first:
+            seen.add(body)
             body = parent_joint[body][0]
         if body is None:
             trunk.add(name)
