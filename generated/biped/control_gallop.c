@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "028ef0d833e97150";
+const char legdsl_control_fingerprint[] = "485e910986fe80b2";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(second) */
-/*   event: creatures/biped.leg:211:5 */
+/*   event: creatures/biped.leg:212:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[38];
@@ -66,7 +66,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_1 (waiting under binding 0) when: touchdown(first) */
-/*   event: creatures/biped.leg:219:5 */
+/*   event: creatures/biped.leg:220:5 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[29];
@@ -75,7 +75,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 }
 
 /* Enter DOUBLE (waiting under binding 0) when: touchdown(second) */
-/*   event: creatures/biped.leg:226:5 */
+/*   event: creatures/biped.leg:227:5 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[38];
@@ -84,7 +84,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_2 (waiting under binding 0) when: liftoff(first) */
-/*   event: creatures/biped.leg:231:5 */
+/*   event: creatures/biped.leg:232:5 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[29];
@@ -93,13 +93,13 @@ static int event_SINGLE_2_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at). */
-/*   record stance_2: creatures/biped.leg:212:7 */
-/*   record step_speed: creatures/biped.leg:213:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:213:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:213:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:213:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3 */
-/*   record extend_at: creatures/biped.leg:214:7 */
+/*   record stance_2: creatures/biped.leg:213:7 */
+/*   record step_speed: creatures/biped.leg:214:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:214:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:214:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:214:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:214:7 > stdlib/raibert.leg:76:3 */
+/*   record extend_at: creatures/biped.leg:215:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[8];
@@ -151,26 +151,26 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place left (x, y), place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:215:7 > creatures/biped.leg:198:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:216:7 > creatures/biped.leg:103:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:216:7 > creatures/biped.leg:104:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:218:7 > creatures/biped.leg:266:5 > creatures/biped.leg:198:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:103:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:104:5 */
-/*   place left (x, y): creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3 */
-/*   place right (x, y): creatures/biped.leg:218:7 > creatures/biped.leg:268:5 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:216:7 > creatures/biped.leg:198:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:217:7 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:217:7 > creatures/biped.leg:104:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:219:7 > creatures/biped.leg:267:5 > creatures/biped.leg:198:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:104:5 */
+/*   place left (x, y): creatures/biped.leg:218:7 > stdlib/raibert.leg:57:3 */
+/*   place right (x, y): creatures/biped.leg:219:7 > creatures/biped.leg:269:5 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[8];
@@ -236,9 +236,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke). */
-/*   record landed_1: creatures/biped.leg:220:7 */
-/*   record predicted_apex: creatures/biped.leg:221:7 > stdlib/raibert.leg:215:3 */
-/*   record thrust_stroke: creatures/biped.leg:221:7 > stdlib/raibert.leg:216:3 */
+/*   record landed_1: creatures/biped.leg:221:7 */
+/*   record predicted_apex: creatures/biped.leg:222:7 > stdlib/raibert.leg:215:3 */
+/*   record thrust_stroke: creatures/biped.leg:222:7 > stdlib/raibert.leg:216:3 */
 static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -288,24 +288,24 @@ static void entry_SINGLE_1_0(const double *s, const double *u, const double *p, 
 }
 
 /* Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:221:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:222:7 > creatures/biped.leg:184:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:222:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:224:7 > creatures/biped.leg:103:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:224:7 > creatures/biped.leg:104:5 */
-/*   place right (x, y): creatures/biped.leg:225:7 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:222:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:223:7 > creatures/biped.leg:184:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:223:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:225:7 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:225:7 > creatures/biped.leg:104:5 */
+/*   place right (x, y): creatures/biped.leg:226:7 > stdlib/raibert.leg:57:3 */
 static void action_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -380,7 +380,7 @@ static void action_SINGLE_1_0(const double *s, const double *u, const double *p,
 }
 
 /* The records on entering DOUBLE under binding 0 (changed: landed_2). */
-/*   record landed_2: creatures/biped.leg:227:7 */
+/*   record landed_2: creatures/biped.leg:228:7 */
 static void entry_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[39];
@@ -420,24 +420,24 @@ static void entry_DOUBLE_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:228:7 > stdlib/raibert.leg:223:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:230:7 > creatures/biped.leg:190:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:230:7 > creatures/biped.leg:191:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:230:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:230:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:230:7 > stdlib/raibert.leg:223:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:231:7 > creatures/biped.leg:190:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:231:7 > creatures/biped.leg:191:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:231:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:231:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3 */
 static void action_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -517,11 +517,11 @@ static void action_DOUBLE_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift, held_pitch, held_roll). */
-/*   record stance_1: creatures/biped.leg:232:7 */
-/*   record lifted_1: creatures/biped.leg:233:7 */
-/*   record leg_rest_at_lift: creatures/biped.leg:236:7 > creatures/biped.leg:272:5 */
-/*   record held_pitch: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:202:5 */
-/*   record held_roll: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:203:5 */
+/*   record stance_1: creatures/biped.leg:233:7 */
+/*   record lifted_1: creatures/biped.leg:234:7 */
+/*   record leg_rest_at_lift: creatures/biped.leg:237:7 > creatures/biped.leg:273:5 */
+/*   record held_pitch: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:203:5 */
+/*   record held_roll: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:204:5 */
 static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
@@ -561,28 +561,27 @@ static void entry_SINGLE_2_0(const double *s, const double *u, const double *p, 
     (void)err;
 }
 
-/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint, leg_l_spring.rest. */
-/*   leg_r_spring.rest: creatures/biped.leg:234:7 > stdlib/raibert.leg:223:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:235:7 > creatures/biped.leg:184:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:206:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:207:5 */
-/*   leg_l_spring.rest: creatures/biped.leg:236:7 > creatures/biped.leg:274:5 */
+/* Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint. */
+/*   leg_r_spring.rest: creatures/biped.leg:235:7 > stdlib/raibert.leg:223:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:236:7 > creatures/biped.leg:184:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:236:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:205:5 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:104:5 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:207:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:208:5 */
 static void action_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -625,9 +624,7 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     const double hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y);
     const double t2 = -body_trunk_yaw + heading + integral_turn_rate;
     const double hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + atan2(-leg_sin(t2), leg_cos(t2));
-    const double t3 = -slew*tis;
-    const double leg_l_spring_rest = leg_max(short_, t3);
-    const double leg_l_spring_rest_2 = leg_max(short_, leg_rest_at_lift + t3);
+    const double leg_l_spring_rest = leg_max(short_, leg_rest_at_lift - slew*tis);
     out[0] = leg_r_spring_rest;
     out[1] = 0.0;
     out[2] = 0.0;
@@ -648,7 +645,6 @@ static void action_SINGLE_2_0(const double *s, const double *u, const double *p,
     out[17] = swing_kp;
     out[18] = held_pitch;
     out[19] = held_roll;
-    out[20] = leg_l_spring_rest_2;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
@@ -664,9 +660,9 @@ static const leg_values_fn actions[] = {action_FLIGHT_0, action_SINGLE_1_0, acti
 static const int64_t settings_0_0[] = {0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 1, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_1[] = {0, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 4, 0, 4, 2, 6, 0, 6, 1, 10, 3, 5, 0, 5, 1, 11, 3, 7, 2, 7, 0};
 static const int64_t settings_0_2[] = {0, 2, 1, 2, 3, 0, 3, 1, 2, 0, 2, 1, 8, 3, 9, 3, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 4, 0, 7, 0, 4, 2, 7, 2};
-static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2, 0, 2};
+static const int64_t settings_0_3[] = {1, 2, 6, 0, 6, 1, 5, 0, 5, 1, 10, 3, 11, 3, 7, 0, 7, 2, 0, 2, 3, 0, 3, 1, 8, 3, 2, 0, 2, 1, 9, 3, 4, 2, 4, 0, 3, 2, 2, 2};
 
-static const int64_t n_settings[] = {18, 17, 18, 21};
+static const int64_t n_settings[] = {18, 17, 18, 20};
 
 static const int64_t *const settings[] = {settings_0_0, settings_0_1, settings_0_2, settings_0_3};
 
@@ -678,7 +674,7 @@ static const double places_0_0_d[] = {-1.3962634015954636, -0.5235987755982988, 
 
 static const double places_0_1_d[] = {-1.3962634015954636, -0.5235987755982988, 1.3962634015954636, 0.5235987755982988};
 
-static const int64_t n_outputs[] = {22, 19, 18, 21};
+static const int64_t n_outputs[] = {22, 19, 18, 20};
 
 static const int64_t n_places[] = {2, 1, 0, 0};
 

@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "028ef0d833e97150"
+FINGERPRINT = "485e910986fe80b2"
 STATE_NAMES = ('FLIGHT', 'SINGLE_1', 'DOUBLE', 'SINGLE_2')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'time')
@@ -80,7 +80,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(second)
 
     From the .leg file:
-        event  creatures/biped.leg:211:5
+        event  creatures/biped.leg:212:5
     """
     leg_right_touching = s[38]
     return (leg_right_touching < 0.5)
@@ -90,7 +90,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)
 
     From the .leg file:
-        event  creatures/biped.leg:219:5
+        event  creatures/biped.leg:220:5
     """
     leg_left_touching = s[29]
     return (leg_left_touching > 0.5)
@@ -100,7 +100,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     """Enter DOUBLE (waiting under binding 0) when: touchdown(second)
 
     From the .leg file:
-        event  creatures/biped.leg:226:5
+        event  creatures/biped.leg:227:5
     """
     leg_right_touching = s[38]
     return (leg_right_touching > 0.5)
@@ -110,7 +110,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)
 
     From the .leg file:
-        event  creatures/biped.leg:231:5
+        event  creatures/biped.leg:232:5
     """
     leg_left_touching = s[29]
     return (leg_left_touching < 0.5)
@@ -120,13 +120,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at).
 
     From the .leg file:
-        record stance_2    creatures/biped.leg:212:7
-        record step_speed  creatures/biped.leg:213:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:213:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:213:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:213:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:213:7 > stdlib/raibert.leg:76:3
-        record extend_at   creatures/biped.leg:214:7
+        record stance_2    creatures/biped.leg:213:7
+        record step_speed  creatures/biped.leg:214:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:214:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:214:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:214:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:214:7 > stdlib/raibert.leg:76:3
+        record extend_at   creatures/biped.leg:215:7
     """
     body_trunk_yaw = s[8]
     com_vz = s[12]
@@ -180,26 +180,26 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place left (x, y), place right (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:215:7 > creatures/biped.leg:198:5
-        hip_l_pitch.kp          creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:216:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:216:7 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:216:7 > creatures/biped.leg:104:5
-        leg_r_spring.rest       creatures/biped.leg:218:7 > creatures/biped.leg:266:5 > creatures/biped.leg:198:5
-        hip_r_pitch.kp          creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:218:7 > creatures/biped.leg:267:5 > creatures/biped.leg:104:5
-        place left (x, y)       creatures/biped.leg:217:7 > stdlib/raibert.leg:57:3
-        place right (x, y)      creatures/biped.leg:218:7 > creatures/biped.leg:268:5 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:216:7 > creatures/biped.leg:198:5
+        hip_l_pitch.kp          creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:217:7 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:217:7 > creatures/biped.leg:104:5
+        leg_r_spring.rest       creatures/biped.leg:219:7 > creatures/biped.leg:267:5 > creatures/biped.leg:198:5
+        hip_r_pitch.kp          creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:104:5
+        place left (x, y)       creatures/biped.leg:218:7 > stdlib/raibert.leg:57:3
+        place right (x, y)      creatures/biped.leg:219:7 > creatures/biped.leg:269:5 > stdlib/raibert.leg:57:3
     """
     body_trunk_yaw = s[8]
     com_vx = s[10]
@@ -267,9 +267,9 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record landed_1        creatures/biped.leg:220:7
-        record predicted_apex  creatures/biped.leg:221:7 > stdlib/raibert.leg:215:3
-        record thrust_stroke   creatures/biped.leg:221:7 > stdlib/raibert.leg:216:3
+        record landed_1        creatures/biped.leg:221:7
+        record predicted_apex  creatures/biped.leg:222:7 > stdlib/raibert.leg:215:3
+        record thrust_stroke   creatures/biped.leg:222:7 > stdlib/raibert.leg:216:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
@@ -321,24 +321,24 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:221:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:222:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:222:7 > creatures/biped.leg:184:5
-        hip_l_yaw.setpoint      creatures/biped.leg:222:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        hip_r_pitch.kp          creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:224:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:224:7 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:224:7 > creatures/biped.leg:104:5
-        place right (x, y)      creatures/biped.leg:225:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:222:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:223:7 > creatures/biped.leg:184:5
+        hip_l_yaw.setpoint      creatures/biped.leg:223:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
+        hip_r_pitch.kp          creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:225:7 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:225:7 > creatures/biped.leg:104:5
+        place right (x, y)      creatures/biped.leg:226:7 > stdlib/raibert.leg:57:3
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[4]
@@ -415,7 +415,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     """The records on entering DOUBLE under binding 0 (changed: landed_2).
 
     From the .leg file:
-        record landed_2  creatures/biped.leg:227:7
+        record landed_2  creatures/biped.leg:228:7
     """
     time = s[39]
     stance_2 = r[0]
@@ -457,24 +457,24 @@ def action_DOUBLE_0(s, u, p, r, tis):
     """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:228:7 > stdlib/raibert.leg:223:3
-        leg_r_spring.rest       creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
-        hip_r_pitch.kp          creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:230:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:230:7 > creatures/biped.leg:190:5
-        hip_r_yaw.kp            creatures/biped.leg:230:7 > creatures/biped.leg:191:5
-        hip_l_yaw.setpoint      creatures/biped.leg:230:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3
-        hip_r_yaw.setpoint      creatures/biped.leg:230:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3
+        leg_r_spring.rest       creatures/biped.leg:230:7 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
+        hip_r_pitch.kp          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:231:7 > creatures/biped.leg:190:5
+        hip_r_yaw.kp            creatures/biped.leg:231:7 > creatures/biped.leg:191:5
+        hip_l_yaw.setpoint      creatures/biped.leg:231:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3
+        hip_r_yaw.setpoint      creatures/biped.leg:231:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_r_spring_force = s[3]
@@ -556,11 +556,11 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift, held_pitch, held_roll).
 
     From the .leg file:
-        record stance_1          creatures/biped.leg:232:7
-        record lifted_1          creatures/biped.leg:233:7
-        record leg_rest_at_lift  creatures/biped.leg:236:7 > creatures/biped.leg:272:5
-        record held_pitch        creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:202:5
-        record held_roll         creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:203:5
+        record stance_1          creatures/biped.leg:233:7
+        record lifted_1          creatures/biped.leg:234:7
+        record leg_rest_at_lift  creatures/biped.leg:237:7 > creatures/biped.leg:273:5
+        record held_pitch        creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:203:5
+        record held_roll         creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:204:5
     """
     act_leg_l_spring_rest = s[2]
     coord_hip_l_x_value = s[16]
@@ -600,30 +600,29 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
 
 
 def action_SINGLE_2_0(s, u, p, r, tis):
-    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint, leg_l_spring.rest.
+    """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:234:7 > stdlib/raibert.leg:223:3
-        hip_r_pitch.kp          creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:235:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:235:7 > creatures/biped.leg:184:5
-        hip_r_yaw.setpoint      creatures/biped.leg:235:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:204:5 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:205:5 > creatures/biped.leg:104:5
-        hip_l_pitch.setpoint    creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:206:5
-        hip_l_roll.setpoint     creatures/biped.leg:236:7 > creatures/biped.leg:273:5 > creatures/biped.leg:207:5
-        leg_l_spring.rest       creatures/biped.leg:236:7 > creatures/biped.leg:274:5
+        leg_r_spring.rest       creatures/biped.leg:235:7 > stdlib/raibert.leg:223:3
+        hip_r_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:184:5
+        hip_r_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:205:5 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:104:5
+        hip_l_pitch.setpoint    creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:207:5
+        hip_l_roll.setpoint     creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:208:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]
@@ -665,9 +664,7 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     hip_r_roll_motor_force = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll + t1*(leg_right_foot_y*leg_right_hip_z - leg_right_foot_z*leg_right_hip_y)
     t2 = -body_trunk_yaw + heading + integral_turn_rate
     hip_r_yaw_setpoint = body_trunk_yaw_rate*yaw_lead + coord_hip_r_z_value + math.atan2(-math.sin(t2), math.cos(t2))
-    t3 = -slew*tis
-    leg_l_spring_rest = maximum(short, t3)
-    leg_l_spring_rest_2 = maximum(short, leg_rest_at_lift + t3)
+    leg_l_spring_rest = maximum(short, leg_rest_at_lift - slew*tis)
     return [
         leg_r_spring_rest,
         0.0,
@@ -689,7 +686,6 @@ def action_SINGLE_2_0(s, u, p, r, tis):
         swing_kp,
         held_pitch,
         held_roll,
-        leg_l_spring_rest_2,
     ]
 
 
@@ -716,7 +712,7 @@ SETTINGS = {
     (0, 0): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp')),
     (0, 1): (('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'setpoint'), ('hip_r_yaw', 'kp')),
     (0, 2): (('leg_l_spring', 'rest'), ('leg_r_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll_motor', 'force'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_l_yaw', 'kp'), ('hip_r_yaw', 'kp'), ('hip_l_yaw', 'setpoint'), ('hip_r_yaw', 'setpoint')),
-    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint'), ('leg_l_spring', 'rest')),
+    (0, 3): (('leg_r_spring', 'rest'), ('hip_r_pitch', 'kp'), ('hip_r_pitch', 'kv'), ('hip_r_roll', 'kp'), ('hip_r_roll', 'kv'), ('hip_r_motor', 'force'), ('hip_r_roll_motor', 'force'), ('hip_r_yaw', 'kp'), ('hip_r_yaw', 'setpoint'), ('leg_l_spring', 'rest'), ('hip_l_pitch', 'kp'), ('hip_l_pitch', 'kv'), ('hip_l_motor', 'force'), ('hip_l_roll', 'kp'), ('hip_l_roll', 'kv'), ('hip_l_roll_motor', 'force'), ('hip_l_yaw', 'setpoint'), ('hip_l_yaw', 'kp'), ('hip_l_pitch', 'setpoint'), ('hip_l_roll', 'setpoint')),
 }
 # Kinematic solves (place LEG at ... using SERVOS): (leg, goal axes, servos). Their goals
 # are the ACTIONS function's values after the SETTINGS ones, in this order.
