@@ -153,7 +153,11 @@ class Workers:
             return
         from distributed import as_completed
 
-        for future in as_completed(self._client.map(fn, list(items), pure=False)):
+        # a Ctrl-C inside map left a Future half made, whose __del__ then printed its
+        # AttributeError as "Exception ignored"; it comes once the futures are whole
+        with signals_held():
+            futures = self._client.map(fn, list(items), pure=False)
+        for future in as_completed(futures):
             yield future.result()
 
     def _check_manager(self) -> None:
