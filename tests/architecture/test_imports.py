@@ -8,6 +8,8 @@ each other, directly or round a longer cycle.
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -161,6 +163,14 @@ def test_every_package_is_a_stage() -> None:
 def test_imports_go_down_the_pipeline() -> None:
     bad = flow_violations()
     assert not bad, "imports against the pipeline:\n" + "\n".join(bad)
+
+
+def test_the_runtime_loads_without_sympy() -> None:
+    """A run of compiled modules needs no symbolic algebra: importing sympy (some 0.4 s) is
+    left to the compiler and to explaining a control law that failed."""
+    code = "import sys, legdsl.sim.simulate; print(sorted(m for m in sys.modules if m.startswith('sympy'))[:3])"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]", out.stdout
 
 
 def test_no_import_cycles() -> None:

@@ -17,6 +17,7 @@ import pytest
 
 from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory
+from tests.faults.processes import wait_until_simulating
 
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = "creatures/hopper.leg"
@@ -34,31 +35,8 @@ def _start(generated: Path, out: Path) -> subprocess.Popen[str]:
                             stderr=subprocess.PIPE, text=True)  # fmt: skip
 
 
-def _cpu_seconds(pid: int) -> float | None:
-    """The processor time a process has used so far (Linux's /proc), or None elsewhere."""
-    try:
-        stat = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    except OSError:
-        return None
-    return (int(stat[11]) + int(stat[12])) / os.sysconf("SC_CLK_TCK")
-
-
-def _wait_and_send(
-    proc: subprocess.Popen[str], signals: list[int], after: float, gap: float = 0.05
-) -> str:
-    # some simulated seconds (the hopper runs faster than real time): `after` seconds of the
-    # run's own processor time where it can be read, so that a machine busy with other tests
-    # (the run starting slowly) cannot make the signal come before the first sample
-    deadline = time.monotonic() + 120
-    while proc.poll() is None and time.monotonic() < deadline:
-        used = _cpu_seconds(proc.pid)
-        if used is None:
-            time.sleep(after)
-            break
-        if used >= after:
-            break
-        time.sleep(0.05)
-    assert proc.poll() is None, proc.communicate()
+def _wait_and_send(proc: subprocess.Popen[str], signals: list[int], gap: float = 0.05) -> str:
+    wait_until_simulating(proc)  # the hopper runs faster than real time: some simulated seconds
     for sig in signals:
         proc.send_signal(sig)
         time.sleep(gap)
@@ -90,7 +68,7 @@ def test_an_interrupted_long_run_keeps_what_it_recorded(
 ) -> None:
     out = tmp_path / "run"
     proc = _start(generated, out)
-    err = _wait_and_send(proc, signals, after=2.0, gap=gap)
+    err = _wait_and_send(proc, signals, gap=gap)
     assert proc.returncode == code, err
     assert "Traceback" not in err and "internal error" not in err, err
     info = _readable(out)

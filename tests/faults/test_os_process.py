@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.faults.processes import wait_until_simulating
+
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = str(ROOT / "creatures" / "hopper.leg")
 ENV = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
@@ -50,12 +52,7 @@ def test_a_closed_terminal_ends_a_run_with_what_it_recorded(
     out = tmp_path / "run"
     proc = subprocess.Popen(_long_run(generated, out), env=ENV, text=True,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)  # fmt: skip
-    deadline = time.monotonic() + 60
-    while proc.poll() is None and time.monotonic() < deadline:  # simulating after 1.5 s of CPU
-        time.sleep(0.1)
-        stat = Path(f"/proc/{proc.pid}/stat").read_text().rsplit(")", 1)[1].split()
-        if int(stat[11]) / os.sysconf("SC_CLK_TCK") > 1.5:
-            break
+    wait_until_simulating(proc)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 128 + sig, err

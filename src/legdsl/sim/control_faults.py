@@ -22,10 +22,7 @@ from legdsl.ir.controller import FUNCTION_VALUES
 from legdsl.ir.model import Model
 from legdsl.lang.errors import Span
 from legdsl.lower.control import FUNCTIONS
-
-
-class ControlFault(Exception):
-    """A control law that failed at run time; the message says where and why."""
+from legdsl.sim.run_loop import ControlFault
 
 
 class _Bad(Exception):

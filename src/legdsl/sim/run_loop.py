@@ -1,6 +1,6 @@
 """A run's terms and bookkeeping: the options it is asked with (``RunOptions``), how far its
 loop got (``RunLoop``, with the recording it grows as it goes), what ends it early from outside
-(``Interrupted``) and what it gives back (``RunResult``). ``legdsl.sim.simulate`` runs it."""
+(``Interrupted``), what ends it from inside (``ControlFault``) and what it gives back (``RunResult``). ``legdsl.sim.simulate`` runs it."""
 
 from __future__ import annotations
 
@@ -87,6 +87,11 @@ class Interrupted(BaseException):
     def __init__(self, signal: str):
         super().__init__(signal)
         self.signal = signal
+
+
+class ControlFault(Exception):
+    """A control law that failed at run time; the message says where and why
+    (``legdsl.sim.control_faults`` makes it)."""
 
 
 INITIAL_ROWS = 1024  # samples the recorder holds before it first grows

@@ -20,11 +20,11 @@ from typing import Any, Protocol
 from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
-from legdsl.sim.control_faults import ControlFault
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
 from legdsl.sim.run_loop import (
     CHECK_INTERVAL,
     INITIAL_ROWS,
+    ControlFault,
     Interrupted,
     RunLoop,
     RunOptions,
