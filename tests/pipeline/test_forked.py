@@ -5,6 +5,8 @@ from __future__ import annotations
 import multiprocessing
 import os
 import pickle
+import time
+from pathlib import Path
 
 import pytest
 
@@ -26,6 +28,13 @@ def _dies_elsewhere(item: tuple[int, int]) -> bytes:
 
 def _refuses(n: int) -> bytes:
     raise ValueError(f"no {n}")
+
+
+def _large_noted(item: tuple[int, str]) -> bytes:
+    n, notes = item
+    with open(notes, "a", encoding="utf-8") as f:
+        f.write(f"{n}\n")
+    return pickle.dumps((n, b"x" * 1_000_000))  # more than a pipe holds
 
 
 def _results(forked: Forked, count: int) -> list[tuple[int, int]]:
@@ -65,5 +74,23 @@ def test_an_exception_in_another_process_is_raised_here() -> None:
     try:
         with pytest.raises(ValueError, match="no 0"):
             forked.result(0)
+    finally:
+        forked.close()
+
+
+def test_a_process_works_all_its_items_while_this_one_is_busy(tmp_path: Path) -> None:
+    """The compiler reads the controllers only once it has lowered the dynamics: a process
+    that sent each result (some 300 KB, more than a pipe holds) as it came stood still after
+    the first until then."""
+    notes = tmp_path / "worked"
+    forked = Forked(_large_noted, [(n, str(notes)) for n in range(3)], 1)
+    try:
+        deadline = time.monotonic() + 30  # no result read meanwhile, as while lowering
+        while time.monotonic() < deadline and not (
+            notes.exists() and len(notes.read_text().split()) == 3
+        ):
+            time.sleep(0.05)
+        assert notes.read_text().split() == ["0", "1", "2"]
+        assert [pickle.loads(forked.result(k))[0] for k in range(3)] == [0, 1, 2]
     finally:
         forked.close()

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.check.source import check_model
-from legdsl.codegen.python.dynamics import creature_fingerprint
+from legdsl.codegen.fingerprints import creature_fingerprint
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 

@@ -55,7 +55,7 @@ def creature_again(source: str, name: str, generated: str, was: tuple[str, ...])
 
 
 def _fingerprints(model: Model) -> tuple[str, ...]:
-    from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
+    from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
 
     controllers = (controller_fingerprint(model, c) for c in model.controllers)
     return (creature_fingerprint(model), *controllers)
@@ -63,7 +63,7 @@ def _fingerprints(model: Model) -> tuple[str, ...]:
 
 def dynamics_again(model: Model, file: str | None) -> ModuleType:
     """The generated dynamics module at ``file``, imported again for ``model``."""
-    from legdsl.codegen.python.dynamics import model_fingerprint
+    from legdsl.codegen.fingerprints import model_fingerprint
     from legdsl.pipeline.generated import import_module_file
 
     if file is None or not Path(file).is_file():

@@ -30,7 +30,7 @@ from legdsl.api.sweep import (
 )
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
-from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
+from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim

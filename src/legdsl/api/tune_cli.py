@@ -33,7 +33,7 @@ from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, write
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
-from legdsl.codegen.python.dynamics import controller_fingerprint, creature_fingerprint
+from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe

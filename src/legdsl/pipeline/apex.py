@@ -22,7 +22,7 @@ import numpy as np
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import Flight, Summary
 from legdsl.analysis.rows import stat
-from legdsl.codegen.python.dynamics import model_fingerprint
+from legdsl.codegen.fingerprints import model_fingerprint
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.generated import import_module_file
 from legdsl.pipeline.scaled import q_factors

@@ -10,7 +10,6 @@ modules are stale). Writing ``generated/NAME/`` is ``legdsl.pipeline.generated``
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
 import pickle
 import time
@@ -23,8 +22,10 @@ from sympy.core.parameters import evaluate
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.c.control import render_control_c
 from legdsl.codegen.c.dynamics import render_header, render_some_source, render_source
+from legdsl.codegen.fingerprints import controller_fingerprint
+from legdsl.codegen.manifest import SUMS, render_init, sha256_sums
 from legdsl.codegen.python.control import control_programs, render_control
-from legdsl.codegen.python.dynamics import controller_fingerprint, render_dynamics, render_init
+from legdsl.codegen.python.dynamics import render_dynamics
 from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
 from legdsl.lang.errors import LegError
@@ -175,18 +176,6 @@ def compile_checked(
     )
 
 
-SUMS = "SHA256SUMS"  # in generated/NAME/: each file's digest, as ``sha256sum`` lists them
-
-
-def sha256_sums(files: tuple[tuple[str, str], ...]) -> str:
-    """The listing of ``sha256sum`` for the files (name, text) as written (UTF-8): loading
-    checks each file against it (``legdsl.pipeline.generated``), and so can
-    ``sha256sum -c SHA256SUMS``."""
-    return "".join(
-        f"{hashlib.sha256(text.encode('utf-8')).hexdigest()}  {name}\n" for name, text in files
-    )
-
-
 def compile_jobs() -> int:
     """Processes that lower a creature, this one (its dynamics) among them:
     ``$LEGDSL_COMPILE_JOBS`` if set, else one per core (1: all in this process)."""
@@ -196,8 +185,9 @@ def compile_jobs() -> int:
 
 def _controller_processes(model: Model, source: str) -> Forked | None:
     """``compile_jobs() - 1`` processes (at most one per controller) lowering the controllers,
-    beside this one lowering the dynamics, which are the longest part: a worker per core as
-    well took the quadruped 9.6 to 11.3 s on 2 cores instead of 7.5 to 8.8 s."""
+    beside this one lowering the dynamics: on 2 cores a worker per core as well was no faster
+    for the quadruped (6.6 and 6.7 s against 6.1 and 7.5 s), and slower before its workers
+    sent their results at the end (9.6 to 11.3 s against 7.5 to 8.8 s)."""
     processes = min(compile_jobs() - 1, len(model.controllers))
     if processes < 1:
         return None

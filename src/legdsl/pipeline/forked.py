@@ -111,13 +111,18 @@ def _answer(
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), signal.SIG_DFL)
     unblock_stopping()
+    answers = []
+    for item in items:
+        try:
+            answers.append(pickle.dumps((False, work(item))))
+        except Exception as e:  # raised again where the result is asked for
+            answers.append(pickle.dumps((True, e)))
+            break
+    # Sent once all are worked: a result is more than a pipe holds (a controller's some
+    # 300 KB, a pipe 64 KB), and the command reads only once its own work is done (the
+    # dynamics), so sending each as it came held this process still until then.
     try:
-        for item in items:
-            try:
-                answer = (False, work(item))
-            except Exception as e:  # raised again where the result is asked for
-                pipe.send_bytes(pickle.dumps((True, e)))
-                return
-            pipe.send_bytes(pickle.dumps(answer))
+        for answer in answers:
+            pipe.send_bytes(answer)
     except BrokenPipeError:  # the command ended (a signal, a kill): nobody reads
         return

@@ -21,9 +21,10 @@ import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from legdsl.codegen.python.dynamics import controller_fingerprint, model_fingerprint, render_init
+from legdsl.codegen.fingerprints import controller_fingerprint, model_fingerprint
+from legdsl.codegen.manifest import SUMS, render_init, sha256_sums
 from legdsl.files import (
     REFUSED_WRITES,
     instant,
@@ -36,18 +37,11 @@ from legdsl.files import (
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.compile import (
-    SUMS,
-    Compiled,
-    Done,
-    compile_checked,
-    compile_model,
-    controller_files,
-    sha256_sums,
-    source_label,
-)
 from legdsl.pipeline.report import CompileProgress
 from legdsl.pipeline.settings import require_controller
+
+if TYPE_CHECKING:
+    from legdsl.pipeline.compile import Compiled, Done
 
 
 def import_module_file(path: Path, name: str) -> ModuleType:
@@ -171,6 +165,9 @@ def _compiled(
     model: Model, source: Path, syntax: ast.SourceFile | None, done: Done | None = None
 ) -> Compiled:
     """The creature compiled again (from its checked syntax tree when at hand)."""
+    # the compiler imported here: sympy alone takes some 0.4 s, and a fresh module needs none
+    from legdsl.pipeline.compile import compile_checked, compile_model
+
     if syntax is None:
         return compile_model(source, model.name, done=done)
     return compile_checked(syntax, model, done=done)
@@ -232,6 +229,8 @@ def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str]
     """The creature's files with its stale controllers alone lowered again, when its dynamics
     in ``folder`` are fresh and were printed from the same file by this legdsl and sympy (their
     first lines are a new controller's); None when the dynamics must be compiled too."""
+    from legdsl.pipeline.compile import controller_files, source_label
+
     kept = _fresh(folder, _dynamics_stamps(model))
     if kept is None:
         return None

@@ -26,7 +26,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
-from legdsl.codegen.python.dynamics import creature_fingerprint
+from legdsl.codegen.fingerprints import creature_fingerprint
 from legdsl.files import leftovers, remove, write_atomic, writing_alone
 from legdsl.ir.model import Model, Pad, setting_kind
 from legdsl.ir.paths import PathSpec

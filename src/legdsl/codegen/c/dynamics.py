@@ -12,7 +12,7 @@ from __future__ import annotations
 from legdsl import __version__
 from legdsl.codegen.c import slices
 from legdsl.codegen.c.printer import INDENT, CPrinter, flatten
-from legdsl.codegen.python.dynamics import model_fingerprint
+from legdsl.codegen.fingerprints import model_fingerprint
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Call, Function, SymbolicSystem
 

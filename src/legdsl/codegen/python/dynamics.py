@@ -2,18 +2,15 @@
 
 from __future__ import annotations
 
-import hashlib
-import json
-from dataclasses import fields, is_dataclass
 from pathlib import Path
-from typing import Any
 
 import jinja2
 import sympy
 
 from legdsl import __version__
+from legdsl.codegen.fingerprints import model_fingerprint
 from legdsl.codegen.python.printer import LegPrinter
-from legdsl.ir.model import Controller, Model
+from legdsl.ir.model import Model
 from legdsl.lower.straightline import Assign, Comment, Unpack
 from legdsl.lower.symbolic import Call, Function, Nested, SymbolicSystem
 
@@ -71,67 +68,6 @@ def function_body(function: Function) -> str:
             lines.append(f"{INDENT}# {st.text}")
     lines.append(f"{INDENT}return {format_result(function.result, INDENT, printer)}")
     return "\n".join(lines)
-
-
-def _clean(obj: Any) -> Any:
-    """A dataclass tree as plain data, without source spans (so comments and layout don't count)."""
-    if is_dataclass(obj) and not isinstance(obj, type):
-        return {
-            f.name: _clean(getattr(obj, f.name))
-            for f in fields(obj)
-            if f.name != "span" and (getattr(obj, f.name) or not f.metadata.get("omit_empty"))
-        }
-    if isinstance(obj, tuple | list):
-        return [_clean(x) for x in obj]
-    return obj
-
-
-def _digest(payload: Any) -> str:
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:16]
-
-
-def model_fingerprint(model: Model) -> str:
-    """A hash of what the dynamics depend on (not spans or comments): the runtime's staleness check."""
-    return _digest(
-        {
-            "legdsl": __version__,
-            "planar": model.planar,
-            "gravity": model.gravity,
-            "bodies": _clean(model.bodies),
-            "joints": _clean(model.joints),
-            "contacts": _clean(model.contacts),
-        }
-    )
-
-
-def creature_fingerprint(model: Model) -> str:
-    """A hash of the creature a recorded run shows (the tree, its legs, actuators, ground and
-    initial state; not the controllers, spans or comments): a run whose creature hashes
-    differently now was made with another creature, and is not drawn on this one."""
-    return _digest(
-        {
-            "model": model_fingerprint(model),
-            "legs": _clean(model.legs),
-            "actuators": _clean(model.actuators),
-            "ground": _clean(model.ground) if model.ground is not None else None,
-            "stops": _clean(model.stops),
-            "start": [model.q0, model.v0],
-        }
-    )
-
-
-def controller_fingerprint(model: Model, controller: Controller) -> str:
-    """A hash of what a control module depends on: the controller, the legs and actuators it drives."""
-    return _digest(
-        {
-            "model": model_fingerprint(model),
-            "legs": _clean(model.legs),
-            "actuators": _clean(model.actuators),
-            "controller": {
-                k: v for k, v in _clean(controller).items() if k not in ("paths", "own")
-            },
-        }
-    )
 
 
 def _layout(model: Model) -> list[tuple[str, str, str, str]]:
@@ -216,11 +152,4 @@ def render_dynamics(system: SymbolicSystem, source: str) -> str:
         gravity=_floats(model.gravity),
         total_mass=repr(float(model.total_mass)),
         body={f.name: function_body(f) for f in system.functions},
-    )
-
-
-def render_init(model: Model) -> str:
-    """The text of ``generated/NAME/__init__.py``."""
-    return (
-        f'"""Generated code for the creature \'{model.name}\' (legdsl compile); do not edit."""\n'
     )
