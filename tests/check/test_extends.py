@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from legdsl.check.source import check_file, check_model
-from legdsl.codegen.python.dynamics import _clean
+from legdsl.codegen.fingerprints import _clean
 from legdsl.ir.controller import Controller
 from legdsl.lang.errors import LegError
 

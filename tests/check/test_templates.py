@@ -11,7 +11,7 @@ import pytest
 
 from legdsl.check.source import check_model
 from legdsl.cli import main
-from legdsl.codegen.python.dynamics import _clean
+from legdsl.codegen.fingerprints import _clean
 from legdsl.ir.model import Model
 from legdsl.pipeline.compile import compile_model
 from tests.conftest import load_module

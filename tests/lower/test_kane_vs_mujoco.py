@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from conftest import ROOT
 from mjhelpers import index_maps, load_mjcf, random_state, set_state
-from test_export import BRICK, ZOO
 
 from legdsl.check.source import check_model
+from tests.export.test_export import BRICK, ZOO
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from kane_baseline import compile_kane  # noqa: E402

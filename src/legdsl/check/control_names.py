@@ -38,6 +38,12 @@ class Mismatch:
 
 MISMATCH = Mismatch()
 
+# A signal is resolved once the signals it names are (``control_exprs.signals_used``), so a
+# chain of them is checked by recursion, some four calls a signal (a chain of 240 plain
+# ones checks): one longer than this is refused where it starts, well before Python's
+# recursion limit. (Written out, one of sums is deeper than ``MAX_WRITTEN_DEPTH`` by then.)
+MAX_SIGNAL_CHAIN = 100
+
 
 @dataclass(frozen=True)
 class Opaque:
@@ -119,6 +125,8 @@ class NameResolver:
         self.record_types: dict[str, list[tuple[Type, Span]]] = {}
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
+        self._depths: dict[int, tuple[ir.Expr, int]] = {}  # ExprChecker.written_depth's
+        self.within_expression = False  # checking a statement's expression (ExprChecker)
         self._planar_sites: set[Span] = set()
         self._reported_at_call: set[tuple[Span, str]] = set()
         self.each_count = 0  # names each `each` block, in the order they are checked
@@ -391,13 +399,24 @@ class NameResolver:
             decl = self.scope.signals[name]
             self.err(decl.name.span, f"signal '{name}' is defined in terms of itself")
             return None
+        open_ = self._signals_open
+        if name not in self.signal_ir and len(open_) >= MAX_SIGNAL_CHAIN:
+            self.err(
+                self.scope.signals[open_[0]].name.span,
+                f"signal '{open_[0]}' is written with a chain of more than {MAX_SIGNAL_CHAIN} "
+                f"signals, each with the next ({' -> '.join(open_[:3])} -> ... -> {name}): too "
+                "deep to compute as one expression; compute it in fewer steps",
+            )
+            self.signal_ir[name] = None
         if name not in self.signal_ir:
             self._signals_open.append(name)
             calls, self.calls = self.calls, []
+            within, self.within_expression = self.within_expression, False  # a statement's own
             try:
                 self.signal_ir[name] = self.number(self.scope.signals[name].value, {})
             finally:
                 self.calls = calls
+                self.within_expression = within
                 self._signals_open.pop()
         value = self.signal_ir[name]
         return None if value is None else ir.Named("signal", name, value.type)

@@ -493,8 +493,8 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
         if args.debug:
             traceback.print_exc()
         print(
-            "legdsl: an expression in the input is nested too deeply to be handled; "
-            "split it into steps with 'let' or a signal",
+            "legdsl: an expression in the input, with the lets and signals it uses written "
+            "out, is nested too deeply to be handled; compute it in fewer steps",
             file=sys.stderr,
         )
         return EXIT_USER_ERROR

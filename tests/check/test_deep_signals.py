@@ -1,0 +1,40 @@
+"""Signals written with signals, and lets with lets, as deep as the later stages can take.
+
+A signal is resolved before the expression that names it is checked, so a chain of signals
+is checked without recursing through their expressions: a chain of 80 was a RecursionError
+("nested too deeply", no line, no caret) and now compiles and runs. Past the limits
+(``MAX_SIGNAL_CHAIN`` signals, ``MAX_WRITTEN_DEPTH`` levels written out) the error has its
+line (tests/bad/control_signal_chain_too_long, control_lets_written_out_too_deep)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from conftest import CREATURES
+
+from legdsl.pipeline.compile import compile_model
+from legdsl.pipeline.generated import write_generated
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import RunOptions
+
+
+def _hopper_with(tmp_path: Path, signals: list[str], aim: str) -> Path:
+    text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
+    text = text.replace("  table {", "\n".join(signals) + "\n  table {", 1)
+    text = text.replace("record aim = speed + catch_up", f"record aim = {aim} + catch_up")
+    path = tmp_path / "hopper.leg"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_a_chain_of_80_signals_compiles_and_runs(tmp_path: Path) -> None:
+    chain = ["  signal s0 = speed"]
+    chain += [f"  signal s{k} = s{k - 1} * 1.0 + 0 m/s" for k in range(1, 80)]
+    path = _hopper_with(tmp_path, chain, "s79")
+    write_generated(compile_model(path), tmp_path / "generated")
+    session = RunSession.from_file(path, generated=tmp_path / "generated")
+    run = session.run("hop", ["speed=1m/s"], options=RunOptions(duration=1.0), backend="python")
+    assert run.result.status == "ok"
+    plain = RunSession.from_file(CREATURES / "hopper.leg", generated=tmp_path / "plain")
+    same = plain.run("hop", ["speed=1m/s"], options=RunOptions(duration=1.0), backend="python")
+    assert (run.result.trajectory.q == same.result.trajectory.q).all()  # s79 is speed * 1.0 ... + 0
