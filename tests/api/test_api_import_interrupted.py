@@ -1,5 +1,5 @@
-"""Ctrl-C during the public API's first import (``legdsl.load`` first used: sympy, lark and
-numpy, some 0.6 s). Landing mid-import it left those packages half-initialised, and the next
+"""Ctrl-C during the public API's first import (``legdsl.load`` first used: lark and numpy,
+some 0.6 s; sympy was among them until a run of fresh modules no longer needed it). Landing mid-import it left those packages half-initialised, and the next
 call in the same process (a notebook's next cell) failed: sympy's RecursionError in
 ``sympify``, or a syntax tree whose table rows were lark Trees ("'Tree' object has no
 attribute 'actions'", random API interrupt seed 13100). Now it comes once the import is whole."""
@@ -12,8 +12,8 @@ from pathlib import Path
 
 from conftest import CREATURES
 
-# In a fresh interpreter: an import hook sends the process SIGINT as sympy's printing starts
-# to import, in the middle of the API's import; then the call is made again.
+# In a fresh interpreter: an import hook sends the process SIGINT as lark's lexer starts to
+# import, in the middle of the API's import; then the call is made again.
 PROBE = r"""
 import os, signal, sys
 
@@ -21,7 +21,7 @@ class Kick:
     fired = False
 
     def find_spec(self, name, path=None, target=None):
-        if name == "sympy.printing" and not Kick.fired:
+        if name == "lark.lexer" and not Kick.fired:
             Kick.fired = True
             os.kill(os.getpid(), signal.SIGINT)
         return None

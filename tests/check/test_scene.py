@@ -152,6 +152,25 @@ def test_the_quadrupeds_scenes_are_the_issues_transition_run() -> None:
     assert (controller, planned) == ("trot", switches)
 
 
+def test_a_setting_for_a_band_never_reached_is_told() -> None:
+    """``--set`` of a name only the gallop has, in a run whose speeds never reach the gallop's
+    band: left out, as before, and now told (it said nothing); reached, it is kept."""
+    model = check_model(ROOT / "creatures" / "quadruped.leg")
+    by_speed = model.scene("by_speed")
+    mine = ["lead_rear=1", "gallop.kv=1N*m*s/rad", "kp=100N*m/rad"]
+    notes: list[str] = []
+    _, sets, _ = scene_plan(by_speed, model, ["speed=2m/s@12s", *mine], [], notes)
+    assert "lead_rear=1" not in sets and "kp=100N*m/rad" in sets
+    assert [n.partition(":")[0] for n in notes] == [
+        "--set lead_rear=1",
+        "--set gallop.kv=1N*m*s/rad",
+    ]
+    assert "only gallop has it" in notes[0] and "(SI: gallop from 3.3)" in notes[0]
+    reached: list[str] = []
+    _, sets, _ = scene_plan(by_speed, model, mine, [], reached)  # 4 m/s at 12 s: the gallop
+    assert "lead_rear=1" in sets and reached == []
+
+
 def test_a_scene_for_one_of_several_creatures_runs_without_creature(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

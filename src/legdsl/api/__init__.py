@@ -231,11 +231,14 @@ class Creature:
                              f"not {set!r}")  # fmt: skip
         settings = [setting_text(name, value) for name, value in (set or {}).items()]
         switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
+        unreached: list[str] = []  # settings for gait bands the run never reaches
         if scene is not None:
             from legdsl.pipeline.scenes import find_scene, scene_plan
 
             plan, given = find_scene(self.model, scene), controller
-            controller, settings, switches = scene_plan(plan, self.model, settings, switches)
+            controller, settings, switches = scene_plan(
+                plan, self.model, settings, switches, unreached
+            )
             if given is not None and given != controller:  # a gait table's: its first band's
                 raise UsageError(f"run(): scene {scene} starts with {controller}")
             if time is None and plan.duration is not None:
@@ -247,11 +250,13 @@ class Creature:
             "paths": [path] if path is not None else [],
             "options": options_read,
             "switches": switches,
+            "unreached": unreached,
         }
 
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
+        unreached = plan.pop("unreached")  # told here, and no argument of the run
         if self.session.note is not None:
-            notes.before_run(self.model, plan, passive_asked)
+            notes.before_run(self.model, plan, passive_asked, unreached)
 
     def _after(self, done: Any) -> None:
         if self.session.note is not None:

@@ -13,7 +13,7 @@ import contextlib
 import sys
 import threading
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -66,12 +66,15 @@ class _NotGiven:
 NOT_GIVEN: Any = _NotGiven()
 
 
-def before_run(model: Model, plan: dict[str, Any], passive_asked: bool = False) -> None:
+def before_run(
+    model: Model, plan: dict[str, Any], passive_asked: bool = False, unreached: Sequence[str] = ()
+) -> None:
     """What ``legdsl run`` notes before a run (the session notes the rest as it prepares);
-    ``passive_asked``: the caller wrote controller=None, so a passive run is not news."""
+    ``passive_asked``: the caller wrote controller=None, so a passive run is not news;
+    ``unreached``: the notes of settings for gait bands the run never reaches."""
     from legdsl.pipeline.options import notes_before_run
 
-    for note in notes_before_run(plan["settings"], plan["options"], model):
+    for note in [*unreached, *notes_before_run(plan["settings"], plan["options"], model)]:
         warn(note)
     names = [c.name for c in model.controllers]
     if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it

@@ -106,6 +106,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
     )
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
+    unreached: list[str] = []  # --set texts for gait bands the run never reaches
     refuse_repeated(settings)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
         from legdsl.pipeline.scenes import find_scene, scene_plan
@@ -116,7 +117,9 @@ def cmd_run(args: argparse.Namespace) -> int:
 
             check_scale(args.scale)
             scene = scale_scene(scene, session.model, args.scale)
-        controller, settings, switches = scene_plan(scene, session.model, settings, switches)
+        controller, settings, switches = scene_plan(
+            scene, session.model, settings, switches, unreached
+        )
         if args.controller not in (None, controller):  # a gait table's start is its first band's
             chosen = " (its gait table's band for the first command)" if scene.bands else ""
             raise UsageError(
@@ -137,7 +140,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         from legdsl.pipeline.scenes import scene_sources
 
         sources = scene_sources(scene)
-    for note in notes_before_run(settings, options, session.model, sources):
+    for note in [*unreached, *notes_before_run(settings, options, session.model, sources)]:
         print(f"legdsl: note: {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:

@@ -140,12 +140,18 @@ def same_time(a: float, b: float) -> bool:
 
 
 def scene_plan(
-    scene: Scene, model: Model, settings: Sequence[str], switches: Sequence[str]
+    scene: Scene,
+    model: Model,
+    settings: Sequence[str],
+    switches: Sequence[str],
+    notes: list[str] | None = None,
 ) -> tuple[str, list[str], list[str]]:
     """The controller, ``--set`` and ``--switch`` texts of a run of ``scene`` with the command
     line's own ``settings`` and ``switches`` added after the scene's lines. A scene with a
     gait table (``gait by speed { ... }``) gets its switches from the final speed commands
-    (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``."""
+    (``legdsl.ir.scene.choose_gaits``); a command no band holds is a ``UsageError``. A
+    ``settings`` text left out, as it is only for a band the commands never reach, is told
+    in ``notes``."""
     sets, changes = scene_texts(scene)
     sets, changes = _not_overridden(scene, model, sets, changes, settings, switches)
     texts = sets + list(settings)
@@ -187,6 +193,16 @@ def scene_plan(
         name = text.partition("=")[0].strip()
         return name.partition(".")[0] not in idle and name not in waiting
 
+    if notes is not None:
+        for text in (t for t in settings if not runs(t)):
+            name = text.partition("=")[0].strip()
+            owners = [n for n in idle if name.partition(".")[0] == n or name in has[n]]
+            notes.append(
+                f"--set {text}: only {' and '.join(owners)} has it, and the commands never "
+                f"reach its band of the gait table of scene {scene.name} (SI: "
+                + "; ".join(b.text() for b in scene.bands if b.controller in owners)
+                + "): it changes nothing in this run"
+            )
     return first, [t for t in texts if runs(t)], [f"{t!r}s={name}" for t, name in planned]
 
 
