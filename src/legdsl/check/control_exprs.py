@@ -75,7 +75,7 @@ class ExprChecker(NameResolver):
             self.within_expression = True
             try:
                 for name in signals_used(e, self.scope.signals, local):
-                    if name not in self._signals_open:  # (one that is: told where it is met)
+                    if name not in self._signals_open:  # a cycle: told where it is named
                         self.signal(name)
                 return self._typed(e, local, want_bool, event)
             finally:
