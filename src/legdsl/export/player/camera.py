@@ -7,7 +7,9 @@ biped's somersault, its legs above a 1.35 m mass centre) would leave the frame a
 ``camera_lift`` gives, per frame, how much the target rises so that every link's extent stays
 inside the default view with a margin. It is zero while the creature stays in frame (the
 camera keeps its height), and where it is not it is smoothed in time, rising before it is
-needed and coming down after, with no jump between frames.
+needed and coming down after, with no jump between frames. It is not raised past what keeps
+the creature's lowest point in frame: a creature taller than the frame (a light link flung
+metres above the rest) shows its feet and the ground, not the sky around that link.
 
 The player reads the lift per stored frame (``cameraLift``) and the video's views
 interpolate it the same way, so both follow the same height.
@@ -66,14 +68,16 @@ def camera_axes(
     return offset, up, forward
 
 
-def needed_lift(motion: Motion, look_height: float, distance: float) -> np.ndarray:
-    """(F,): how far the target must rise at each frame for the creature's highest point to be
-    a margin under the frame's top (negative: that far to spare).
+def lift_range(motion: Motion, look_height: float, distance: float) -> np.ndarray:
+    """(F, 2): at each frame, how far the target must rise for the creature's highest point
+    to be a margin under the frame's top (negative: that far to spare), and how far it may
+    rise with its lowest point still a margin over the frame's bottom.
 
     Planar creatures: the video's side view, an orthographic frame ``2 d tan(fov / 2)`` high
     centred on the target. 3D creatures: the perspective default view; raising the target by
-    h raises the eye by h, so a point at camera coordinates (y up, z depth) is in when
-    ``y - h up_z <= T (z - h forward_z)``, T the tangent of the allowed half-angle.
+    h raises the eye by h, so a point at camera coordinates (y up, z depth) is under the top
+    when ``y - h up_z <= T (z - h forward_z)`` and over the bottom when ``y - h up_z >=
+    -T (z - h forward_z)``, T the tangent of the allowed half-angle.
     """
     points = world_points(motion)
     tilt = slope_tangent(motion.terrain)
@@ -81,8 +85,9 @@ def needed_lift(motion: Motion, look_height: float, distance: float) -> np.ndarr
     base = look_height + tilt * com[:, 0]  # the target's height without a lift
     half = math.tan(math.radians(FIELD_OF_VIEW / 2))
     if motion.planar:
-        height = 2 * distance * half
-        return np.asarray(points[..., 2].max(axis=1) - (base + height * (0.5 - MARGIN)))
+        room = 2 * distance * half * (0.5 - MARGIN)
+        z = points[..., 2]
+        return np.column_stack([z.max(axis=1) - (base + room), z.min(axis=1) - (base - room)])
     azimuth, elevation = SPATIAL_VIEW
     offset, up, forward = camera_axes(azimuth, elevation, tilt)
     target = np.column_stack([com[:, 0], com[:, 1], base])
@@ -90,8 +95,10 @@ def needed_lift(motion: Motion, look_height: float, distance: float) -> np.ndarr
     y, z = rel @ up, rel @ forward
     t = half * (1 - 2 * MARGIN)
     need = (y - t * z) / (up[2] - t * forward[2])
-    need = np.where(z > 0, need, -np.inf)  # points behind the eye are not framed anyway
-    return np.asarray(need.max(axis=1))
+    may = (y + t * z) / (up[2] + t * forward[2])
+    ahead = z > 0  # points behind the eye are not framed anyway
+    need, may = np.where(ahead, need, -np.inf), np.where(ahead, may, np.inf)
+    return np.column_stack([need.max(axis=1), may.min(axis=1)])
 
 
 def camera_lift(motion: Motion, look_height: float, distance: float, size: float) -> np.ndarray:
@@ -101,9 +108,15 @@ def camera_lift(motion: Motion, look_height: float, distance: float, size: float
     ``EASE`` natural times either side, averaged over the same window with a Hann
     weighting, is at least the need at every frame (every sample averaged is a maximum over
     a window that holds that frame) and changes smoothly; where the need is never positive
-    within the window, the lift is exactly zero.
+    within the window, the lift is exactly zero. The need goes no further than what keeps the
+    creature's lowest point in the frame: one taller than the frame shows its feet and the
+    ground, its top cut off.
     """
-    need = np.maximum(needed_lift(motion, look_height, distance), 0.0)
+    need, may = lift_range(motion, look_height, distance).T
+    # a creature taller than the frame (a link flung high above the rest) keeps its lowest
+    # point in view, and the ground under it: raised to its top, the frame showed only sky
+    may = np.maximum(may, 0.0)
+    need = np.minimum(np.maximum(need, 0.0), may)
     need = np.where(need <= FARTHEST_FOLLOWED * size, need, 0.0)
     if not need.any() or motion.frames < 2:
         return need
