@@ -37,12 +37,11 @@ from legdsl.api.arguments import (
     friction_edge_time,
     metrics_groups,
     min_stance_time,
-    setting_text,
     thread_count,
     window_time,
 )
 from legdsl.api.notes import LegdslWarning
-from legdsl.api.run_options import run_options
+from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
@@ -131,7 +130,7 @@ class Creature:
         radians, ``drop``). Without ``controller`` (nor ``scene``) the run is passive and says
         so in a ``LegdslWarning``; ``controller=None`` asks for a passive run, without it."""
         asked = controller is not notes.NOT_GIVEN
-        plan = self._session_args(controller if asked else None, set, time, path, switch, scene,
+        plan = session_args(self.model, controller if asked else None, set, time, path, switch, scene,
                                   **options)  # fmt: skip
         self._before(plan, asked)
         done = self.session.run(**plan)
@@ -157,7 +156,7 @@ class Creature:
             if not isinstance(r, Mapping):
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
-        plans = [self._session_args(**r) for r in runs]
+        plans = [session_args(self.model, **r) for r in runs]
         for r, plan in zip(runs, plans, strict=True):
             self._before(plan, "controller" in r)
         with notes.from_threads(self.session) as flush:
@@ -189,7 +188,7 @@ class Creature:
         from legdsl.pipeline.batch import Batch
 
         asked = controller is not notes.NOT_GIVEN
-        plan = self._session_args(controller if asked else None, set, time, **options)
+        plan = session_args(self.model, controller if asked else None, set, time, **options)
         if plan["switches"]:  # a batch runs one controller: a switch would be left out
             raise UsageError(
                 "run_copies(): the copies run one controller, and this run switches "
@@ -206,52 +205,6 @@ class Creature:
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
         return Copies(self, batch.run(thread_count(threads), progress))
-
-    def _session_args(
-        self,
-        controller: str | None = None,
-        set: Mapping[str, str | float] | None = None,  # noqa: A002
-        time: float | None = None,
-        path: str | None = None,
-        switch: Mapping[str, str] | None = None,
-        scene: str | None = None,
-        **options: Any,
-    ) -> dict[str, Any]:
-        """``run``'s arguments as those of ``RunSession.run``."""
-        for name, value in (("controller", controller), ("path", path), ("scene", scene)):
-            if value is not None and not isinstance(value, str):
-                raise UsageError(f"run(): {name}= takes a text, not {value!r}")
-        if switch is not None and (
-            not isinstance(switch, Mapping) or not all(isinstance(k, str) for k in switch)
-        ):
-            raise UsageError(f"run(): switch= maps times to controllers, e.g. {{'6 s': "
-                             f"'gallop'}}, not {switch!r}")  # fmt: skip
-        if set is not None and not isinstance(set, Mapping):
-            raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
-                             f"not {set!r}")  # fmt: skip
-        settings = [setting_text(name, value) for name, value in (set or {}).items()]
-        switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
-        unreached: list[str] = []  # settings for gait bands the run never reaches
-        if scene is not None:
-            from legdsl.pipeline.scenes import find_scene, scene_plan
-
-            plan, given = find_scene(self.model, scene), controller
-            controller, settings, switches = scene_plan(
-                plan, self.model, settings, switches, unreached
-            )
-            if given is not None and given != controller:  # a gait table's: its first band's
-                raise UsageError(f"run(): scene {scene} starts with {controller}")
-            if time is None and plan.duration is not None:
-                time = plan.duration
-        options_read = run_options(self.model, time, options)
-        return {
-            "controller": controller,
-            "settings": settings,
-            "paths": [path] if path is not None else [],
-            "options": options_read,
-            "switches": switches,
-            "unreached": unreached,
-        }
 
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
         unreached = plan.pop("unreached")  # told here, and no argument of the run

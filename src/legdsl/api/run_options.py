@@ -1,15 +1,17 @@
-"""``run()``'s options as ``legdsl run`` reads them: each with its unit, a misspelt one named,
-and the step, control interval and record rate the creature's ``simulation`` block sets where
-none is given (a scaled creature's, or a small one's finer step)."""
+"""``run()``'s arguments as ``legdsl run`` reads them (``session_args``), and its options: each
+with its unit, a misspelt one named, and the step, control interval and record rate the
+creature's ``simulation`` block sets where none is given (a scaled creature's, or a small
+one's finer step)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any
 
 import numpy as np
 
-from legdsl.api.arguments import a_float, seconds, with_units
+from legdsl.api.arguments import a_float, seconds, setting_text, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -57,3 +59,49 @@ def _bare_number(text: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+def session_args(
+    model: Model,
+    controller: str | None = None,
+    set: Mapping[str, str | float] | None = None,  # noqa: A002
+    time: float | None = None,
+    path: str | None = None,
+    switch: Mapping[str, str] | None = None,
+    scene: str | None = None,
+    **options: Any,
+) -> dict[str, Any]:
+    """``Creature.run``'s arguments as those of ``RunSession.run``, with ``unreached``: the
+    notes of settings for gait bands the run never reaches (told before it, not passed)."""
+    for name, value in (("controller", controller), ("path", path), ("scene", scene)):
+        if value is not None and not isinstance(value, str):
+            raise UsageError(f"run(): {name}= takes a text, not {value!r}")
+    if switch is not None and (
+        not isinstance(switch, Mapping) or not all(isinstance(k, str) for k in switch)
+    ):
+        raise UsageError(f"run(): switch= maps times to controllers, e.g. {{'6 s': "
+                         f"'gallop'}}, not {switch!r}")  # fmt: skip
+    if set is not None and not isinstance(set, Mapping):
+        raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
+                         f"not {set!r}")  # fmt: skip
+    settings = [setting_text(name, value) for name, value in (set or {}).items()]
+    switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
+    unreached: list[str] = []  # settings for gait bands the run never reaches
+    if scene is not None:
+        from legdsl.pipeline.scenes import find_scene, scene_plan
+
+        plan, given = find_scene(model, scene), controller
+        controller, settings, switches = scene_plan(plan, model, settings, switches, unreached)
+        if given is not None and given != controller:  # a gait table's: its first band's
+            raise UsageError(f"run(): scene {scene} starts with {controller}")
+        if time is None and plan.duration is not None:
+            time = plan.duration
+    options_read = run_options(model, time, options)
+    return {
+        "controller": controller,
+        "settings": settings,
+        "paths": [path] if path is not None else [],
+        "options": options_read,
+        "switches": switches,
+        "unreached": unreached,
+    }

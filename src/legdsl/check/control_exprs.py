@@ -20,8 +20,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 
+from legdsl.check.control_depth import MAX_WRITTEN_DEPTH, signals_used, written_depth
 from legdsl.check.control_names import (
     KIND_WORDS,
     MEMBER_EXAMPLES,
@@ -49,11 +50,6 @@ BUILTIN_FUNCTIONS: dict[str, int | None] = {
     "liftoff": 1, "touchdown": 1, "integral": 1,
 }  # fmt: skip
 EVENT_FUNCTIONS = ("liftoff", "touchdown")
-# How deep an expression may be with its lets, signals and action arguments written out, as
-# lowering writes them: sympy, the printers and pickling walk it recursively, and 400 levels
-# met Python's recursion limit (a chain of 200 lets `x2 = x1 * 1.01 + speed`; the parser's own
-# limit, 120 levels, is for one expression as written).
-MAX_WRITTEN_DEPTH = 250
 
 
 class ExprChecker(NameResolver):
@@ -144,7 +140,7 @@ class ExprChecker(NameResolver):
         NaN, an infinity or a complex number there."""
         if node is None:
             return None
-        depth = self.written_depth(node)
+        depth = written_depth(node, self._depths, self.signal_ir)
         if depth > MAX_WRITTEN_DEPTH:
             self.err(
                 e.span,
@@ -160,34 +156,6 @@ class ExprChecker(NameResolver):
             self.err(e.span, str(why))
             return None
         return node
-
-    def written_depth(self, e: ir.Expr) -> int:
-        """Levels of operators of ``e`` with its signals written out, as lowering writes them
-        (lets and action arguments are written out in the IR already); remembered per node,
-        each built from nodes already measured, so that this costs a step a node."""
-        memo = self._depths
-        stack = [e]
-        while stack:
-            node = stack[-1]
-            if id(node) in memo:
-                stack.pop()
-                continue
-            parts: list[ir.Expr] = []
-            if isinstance(node, ir.Unary):
-                parts = [node.operand]
-            elif isinstance(node, ir.Binary):
-                parts = [node.left, node.right]
-            elif isinstance(node, ir.Call):
-                parts = list(node.args)
-            elif isinstance(node, ir.Named) and node.kind == "signal":
-                parts = [v] if (v := self.signal_ir.get(node.name)) is not None else []
-            waiting = [part for part in parts if id(part) not in memo]
-            if waiting:
-                stack += waiting
-                continue
-            stack.pop()  # the node itself kept too, so that its id is not reused meanwhile
-            memo[id(node)] = (node, 1 + max((memo[id(part)][1] for part in parts), default=0))
-        return memo[id(e)][1]
 
     def constant_value(self, e: ir.Expr) -> float | None:
         """The value of an expression of numbers, the model's constants, pi, g and the total
@@ -520,29 +488,3 @@ def _gram_for_gravity(exprs: list[ast.Expr]) -> str | None:
         elif isinstance(node, list | tuple):
             stack.extend(node)
     return None
-
-
-def signals_used(
-    e: ast.Expr, signals: Mapping[str, object], local: Mapping[str, object]
-) -> list[str]:
-    """The signals ``e`` names (not those a local name hides), in the order the checker meets
-    them: resolved before ``e`` is checked, each from the top of the stack rather than from
-    within ``e`` and the signals that name it, a chain of signals is checked without
-    recursing through their expressions (a chain of some 85 met Python's recursion limit)."""
-    found: list[str] = []
-    stack: list[ast.Expr] = [e]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, ast.EName):
-            name = node.ident.name
-            if name in signals and name not in local and name not in found:
-                found.append(name)
-        elif isinstance(node, ast.EAttr):
-            stack.append(node.base)
-        elif isinstance(node, ast.EUnary):
-            stack.append(node.operand)
-        elif isinstance(node, ast.EBinary):
-            stack += [node.right, node.left]
-        elif isinstance(node, ast.ECall):
-            stack += reversed(node.args)
-    return found

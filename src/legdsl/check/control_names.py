@@ -38,7 +38,7 @@ class Mismatch:
 
 MISMATCH = Mismatch()
 
-# A signal is resolved once the signals it names are (``control_exprs.signals_used``), so a
+# A signal is resolved once the signals it names are (``control_depth.signals_used``), so a
 # chain of them is checked by recursion, some four calls a signal (a chain of 240 plain
 # ones checks): one longer than this is refused where it starts, well before Python's
 # recursion limit. (Written out, one of sums is deeper than ``MAX_WRITTEN_DEPTH`` by then.)
