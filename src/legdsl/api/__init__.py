@@ -130,8 +130,8 @@ class Creature:
         radians, ``drop``). Without ``controller`` (nor ``scene``) the run is passive and says
         so in a ``LegdslWarning``; ``controller=None`` asks for a passive run, without it."""
         asked = controller is not notes.NOT_GIVEN
-        plan = session_args(self.model, controller if asked else None, set, time, path, switch, scene,
-                                  **options)  # fmt: skip
+        plan = session_args(self.model, controller if asked else None, set, time, path, switch,
+                            scene, **options)  # fmt: skip
         self._before(plan, asked)
         done = self.session.run(**plan)
         self._after(done)
