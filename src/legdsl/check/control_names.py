@@ -125,7 +125,7 @@ class NameResolver:
         self.record_types: dict[str, list[tuple[Type, Span]]] = {}
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
-        self._depths: dict[int, tuple[ir.Expr, int]] = {}  # ExprChecker.written_depth's
+        self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo
         self.within_expression = False  # checking a statement's expression (ExprChecker)
         self._planar_sites: set[Span] = set()
         self._reported_at_call: set[tuple[Span, str]] = set()

@@ -115,8 +115,7 @@ def camera_lift(motion: Motion, look_height: float, distance: float, size: float
     need, may = lift_range(motion, look_height, distance).T
     # a creature taller than the frame (a link flung high above the rest) keeps its lowest
     # point in view, and the ground under it: raised to its top, the frame showed only sky
-    may = np.maximum(may, 0.0)
-    need = np.minimum(np.maximum(need, 0.0), may)
+    need = np.clip(need, 0.0, np.maximum(may, 0.0))
     need = np.where(need <= FARTHEST_FOLLOWED * size, need, 0.0)
     if not need.any() or motion.frames < 2:
         return need
