@@ -147,8 +147,9 @@ def compile_checked(
         for k, controller in enumerate(model.controllers):
             say(f"{model.name}: lowering controller {controller.name}")
             if others:
+                answer = others.result(k)  # lowered here, evaluating, if its process is gone
                 with evaluate(False):  # rebuilt as printed: evaluating them again is seconds
-                    lowered_controller, text, c_text = pickle.loads(others.result(k))
+                    lowered_controller, text, c_text = pickle.loads(answer)
             else:
                 lowered_controller, text, c_text = controller_files(model, controller, source)
             controllers += (lowered_controller,)
