@@ -1,13 +1,17 @@
 """Ctrl-C and the signals that end a command, held back while something must not be cut in
-half: a process starting (``legdsl.pipeline.forked``, ``legdsl.api.workers``) and the public
-API's first import (``legdsl.__getattr__``). It sits below every stage, as ``files`` does."""
+half: a process starting (``legdsl.pipeline.forked``, ``legdsl.api.workers``), the public
+API's first import (``legdsl.__getattr__``) and the libraries imported when first needed
+(``import_held``). It sits below every stage, as ``files`` does."""
 
 from __future__ import annotations
 
 import contextlib
+import importlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
+from types import ModuleType
 
 # What a command takes as an order to stop: Ctrl-C and the signals that end it as SIGTERM does
 # (a closed terminal, Ctrl-\\, ulimit -t's soft limit).
@@ -58,3 +62,16 @@ def unblock_stopping() -> None:
     """In a process started under ``signals_held``, once its own handlers are set."""
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, set(STOPPING))
+
+
+def import_held(name: str) -> ModuleType:
+    """``import name`` with the stopping signals held until it is whole, for a module imported
+    when first needed whose import takes a library (the compiler's sympy and jinja2,
+    matplotlib). A Ctrl-C caught in a notebook mid-import left the library half-made, and the
+    next call in that process failed ("module 'sympy' has no attribute 'core'", random API
+    interrupt seed 15700); now it comes once the import is over."""
+    module = sys.modules.get(name)
+    if module is not None:  # imported whole before: nothing to hold
+        return module
+    with signals_held():
+        return importlib.import_module(name)

@@ -14,12 +14,20 @@ import numpy as np
 
 from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
+from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
 if TYPE_CHECKING:
     from legdsl.ir.paths import PathSpec
 
 LINE_STYLES = ("-", "--", "-.", ":")
+
+
+def pyplot() -> Any:
+    """matplotlib's pyplot, drawing off screen (Agg); imported when first drawn (some 0.5 s),
+    whole even if a Ctrl-C comes meanwhile (``import_held``)."""
+    import_held("matplotlib").use("Agg")
+    return import_held("matplotlib.pyplot")
 
 
 def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
@@ -74,10 +82,7 @@ def plot_run(
     t_to: float | None = None,
 ) -> Path:
     """Draw the Figure-6 panels of a run into ``out`` (PNG)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     tr = Trajectory.load(run)
     window = samples_in_window(tr, run, t_from, t_to, "draw")
@@ -168,10 +173,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     per leg (per contact for a creature without legs), the first leg at the top, then a row
     for each other contact that touched (``footfall_bars``); each
     controller change is a vertical line labelled with the controller it starts."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     tr = Trajectory.load(run)
     end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))  # as Figure 6's axis
@@ -296,10 +298,7 @@ def path_title(name: str, report: dict[str, Any]) -> str:
 
 def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
     """A top view: the path(s) the run followed and the track of the centre of mass."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from legdsl.analysis.path_report import followed_reports
     from legdsl.sim.path_tracking import PathGeometry

@@ -22,11 +22,11 @@ def plot_sweep(
     def label(name: str) -> str:
         return f"{name} ({given[name]})" if given.get(name) else name
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import numpy as np
+
+    from legdsl.analysis.plot import pyplot
+
+    plt = pyplot()
 
     def number(value: Any) -> float:
         try:

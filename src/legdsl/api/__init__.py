@@ -52,6 +52,7 @@ from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import named_si_unit
 from legdsl.pipeline.terrain_rows import model_ground_normal
+from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
@@ -327,7 +328,7 @@ class Run:
     def to_pandas(self) -> Any:
         """The samples as a pandas DataFrame indexed by time (pandas must be installed)."""
         try:
-            import pandas as pd
+            pd = import_held("pandas")
         except ImportError:
             raise UsageError("to_pandas() needs pandas: pip install pandas") from None
         samples = self.samples

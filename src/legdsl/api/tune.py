@@ -43,6 +43,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from legdsl.analysis.plot import pyplot
 from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
@@ -333,11 +334,7 @@ def why_stopped(conditions: dict[str, Any]) -> str:
 
 
 def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | None = None) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
     gens = [h["generation"] for h in history]
     ax.plot(gens, [h["best"] for h in history], "o-", label="best of the generation")

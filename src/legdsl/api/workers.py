@@ -27,7 +27,7 @@ from typing import Any, TypeVar
 
 from legdsl.lang.errors import UsageError, thread_refused
 from legdsl.pipeline.optional import not_installed
-from legdsl.signals import signals_held, unblock_stopping
+from legdsl.signals import import_held, signals_held, unblock_stopping
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -74,25 +74,23 @@ class Workers:
             self._hook = threading.excepthook  # restored at __exit__
             threading.excepthook = _quiet_when_refused
             return self  # the processes start with the first as_completed
-        from distributed import Client, LocalCluster  # there: dask_address looked
-        from distributed.gc import disable_gc_diagnosis
-
+        distributed = import_held("distributed")  # there: dask_address looked
         if self.dask == "local":
             with _ctrl_c_ignored():
-                self._cluster = LocalCluster(
+                self._cluster = distributed.LocalCluster(
                     n_workers=self.workers,
                     threads_per_worker=1,
                     processes=True,
                     dashboard_address=None,
                     silence_logs=logging.CRITICAL,  # its workers' lost scheduler, as it closes
                 )
-                self._client = Client(self._cluster)
+                self._client = distributed.Client(self._cluster)
             # the scheduler, here, times the garbage collector from a gc callback: a Ctrl-C
             # landing there was printed ("Exception ignored in: ...GCDiagnosis...") and lost
-            disable_gc_diagnosis(force=True)
+            import_held("distributed.gc").disable_gc_diagnosis(force=True)
         else:
             try:
-                self._client = Client(self.dask, timeout="10s")
+                self._client = distributed.Client(self.dask, timeout="10s")
             except OSError as e:
                 raise UsageError(f"--dask {self.dask}: cannot reach the scheduler ({e})") from None
         return self

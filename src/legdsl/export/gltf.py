@@ -30,6 +30,7 @@ from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_t
 from legdsl.files import write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.optional import not_installed
+from legdsl.signals import import_held
 
 FORMATS = ("glb", "gltf")
 Z_UP_TO_Y_UP = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # (x, y, z, w): -90 deg about x
@@ -43,7 +44,7 @@ UNSIGNED_INT = 5125
 
 def _pygltflib() -> Any:
     try:
-        import pygltflib
+        pygltflib = import_held("pygltflib")
     except ImportError as e:
         if not not_installed(e, "pygltflib"):
             raise

@@ -30,12 +30,13 @@ from legdsl.files import atomic_path
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.optional import not_installed
+from legdsl.signals import import_held
 
 
 def _mujoco() -> Any:
     os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: offscreen on Mesa
     try:
-        import mujoco
+        mujoco = import_held("mujoco")
     except ImportError as e:
         if not not_installed(e, "mujoco"):
             raise

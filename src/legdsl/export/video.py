@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.analysis.plot import pyplot
 from legdsl.export.frames import enough_frames, every_frame
 from legdsl.export.motion import Motion, Snapshot
 from legdsl.export.player import OVERLAYS
@@ -41,15 +42,6 @@ class VideoResult:
     frames: int
     seconds: float  # wall time to render and encode
     size: int  # bytes
-
-
-def _import_pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 # ---------------------------------------------------------------- rendering
@@ -75,7 +67,7 @@ def render_video(
         raise UsageError("writing a .gif needs Pillow: pip install 'legdsl[export]'")
     enough_frames(motion.duration, fps, usual=30.0, slow=slow)
     width, height = (size[0] // 2) * 2, (size[1] // 2) * 2
-    plt = _import_pyplot()
+    plt = pyplot()
     start = time.perf_counter()
     fig = plt.figure(figsize=(width / 100, height / 100), dpi=100, facecolor=SKY)
     ax = fig.add_axes((0, 0, 1, 1))

@@ -39,6 +39,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.report import CompileProgress
 from legdsl.pipeline.settings import require_controller
+from legdsl.signals import import_held
 
 if TYPE_CHECKING:
     from legdsl.pipeline.compile import Compiled, Done
@@ -165,12 +166,16 @@ def _compiled(
     model: Model, source: Path, syntax: ast.SourceFile | None, done: Done | None = None
 ) -> Compiled:
     """The creature compiled again (from its checked syntax tree when at hand)."""
-    # the compiler imported here: sympy alone takes some 0.4 s, and a fresh module needs none
-    from legdsl.pipeline.compile import compile_checked, compile_model
-
+    compiler = _compiler()
     if syntax is None:
-        return compile_model(source, model.name, done=done)
-    return compile_checked(syntax, model, done=done)
+        return compiler.compile_model(source, model.name, done=done)
+    return compiler.compile_checked(syntax, model, done=done)
+
+
+def _compiler() -> ModuleType:
+    """``legdsl.pipeline.compile``, imported here: sympy alone takes some 0.4 s, and a fresh
+    module needs none."""
+    return import_held("legdsl.pipeline.compile")
 
 
 def _recompile(
@@ -229,8 +234,6 @@ def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str]
     """The creature's files with its stale controllers alone lowered again, when its dynamics
     in ``folder`` are fresh and were printed from the same file by this legdsl and sympy (their
     first lines are a new controller's); None when the dynamics must be compiled too."""
-    from legdsl.pipeline.compile import controller_files, source_label
-
     kept = _fresh(folder, _dynamics_stamps(model))
     if kept is None:
         return None
@@ -239,7 +242,9 @@ def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str]
     for controller in model.controllers:
         texts = _fresh(folder, _controller_stamps(model, controller.name))
         if texts is None:
-            _, text, c_text = controller_files(model, controller, source_label(model.source))
+            compiler = _compiler()
+            label = compiler.source_label(model.source)
+            _, text, c_text = compiler.controller_files(model, controller, label)
             texts = {f"control_{controller.name}.py": text, f"control_{controller.name}.c": c_text}
             printed.append((text, c_text))
         files += texts.items()

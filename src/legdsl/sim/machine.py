@@ -28,6 +28,7 @@ from typing import Any
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.signals import import_held
 from legdsl.sim.handover import Clock, Pair, cycle, take_over
 from legdsl.sim.kinematics import FootPlacer
 from legdsl.sim.run_loop import ControlFault
@@ -206,8 +207,7 @@ class StateMachine:
     def _fault(self, kind: str, key: tuple[int, int], args: tuple[Any, ...], t: float,
                state: int, error: str, index: int | None = None) -> ControlFault:  # fmt: skip
         # sympy (some 0.4 s to import) lowers the controller again: only once a law has failed
-        from legdsl.sim.control_faults import explain
-
+        explain = import_held("legdsl.sim.control_faults").explain
         return explain(self.model, self.module, kind, key, args, t, self.state_names[state],
                        error, index)  # fmt: skip
 
