@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "295a2729b94be1fe";
+const char legdsl_control_fingerprint[] = "4fa16949d9377d56";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -29,7 +29,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/hopper.leg:76:5 */
+/*   event: creatures/hopper.leg:81:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -38,7 +38,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/hopper.leg:77:5 */
+/*   event: creatures/hopper.leg:82:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -47,7 +47,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/hopper.leg:78:5 */
+/*   event: creatures/hopper.leg:83:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -56,7 +56,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/hopper.leg:79:5 */
+/*   event: creatures/hopper.leg:84:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -65,7 +65,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full */
-/*   event: creatures/hopper.leg:80:5 */
+/*   event: creatures/hopper.leg:85:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_length = s[8];
@@ -75,10 +75,10 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* The records on entering FLIGHT under binding 0 (changed: aim, speed_trim, apex_seen, apex_trim). */
-/*   record aim: creatures/hopper.leg:76:104 */
-/*   record speed_trim: creatures/hopper.leg:76:135 > stdlib/raibert.leg:44:3 */
-/*   record apex_seen: creatures/hopper.leg:76:173 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/hopper.leg:76:173 > stdlib/raibert.leg:360:3 */
+/*   record aim: creatures/hopper.leg:81:104 */
+/*   record speed_trim: creatures/hopper.leg:81:135 > stdlib/raibert.leg:44:3 */
+/*   record apex_seen: creatures/hopper.leg:81:173 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/hopper.leg:81:173 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -90,13 +90,17 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double apex_limit = p[9];
     const double k_trim = p[10];
     const double max_step = p[12];
+    const double moving_step = p[13];
     const double aim = r[0];
     const double speed_trim = r[1];
     const double predicted_apex = r[2];
     const double thrust_stroke = r[3];
     const double apex_trim = r[5];
-    const double t1 = aim - speed;
-    const double new_aim = speed + (((max_step >= fabs(t1))) ? (0.0) : (t1 + leg_min(max_step, leg_max(-max_step, -t1))));
+    const double t1 = (fabs(aim) < 0.001);
+    const double t2 = aim - speed;
+    const double t3 = fabs(t2);
+    const double t4 = ((t1) ? (max_step) : (moving_step));
+    const double new_aim = speed + ((((t1) ? ((max_step >= t3)) : ((moving_step >= t3)))) ? (0.0) : (t2 + leg_min(t4, leg_max(-t2, -t4))));
     const double new_speed_trim = k_trim*(-com_vx + new_aim) + speed_trim;
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
@@ -111,11 +115,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x). */
-/*   leg_spring.rest: creatures/hopper.leg:76:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:76:69 > stdlib/raibert.leg:144:3 */
-/*   hip_servo.kv: creatures/hopper.leg:76:69 > stdlib/raibert.leg:145:3 */
-/*   hip_motor.force: creatures/hopper.leg:76:69 > stdlib/raibert.leg:146:3 */
-/*   place main (x): creatures/hopper.leg:76:213 > stdlib/raibert.leg:20:3 */
+/*   leg_spring.rest: creatures/hopper.leg:81:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:81:69 > stdlib/raibert.leg:144:3 */
+/*   hip_servo.kv: creatures/hopper.leg:81:69 > stdlib/raibert.leg:145:3 */
+/*   hip_motor.force: creatures/hopper.leg:81:69 > stdlib/raibert.leg:146:3 */
+/*   place main (x): creatures/hopper.leg:81:213 > stdlib/raibert.leg:20:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -127,10 +131,14 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double swing_kp = p[4];
     const double swing_kv = p[5];
     const double max_step = p[12];
+    const double moving_step = p[13];
     const double aim = r[0];
     const double speed_trim = r[1];
-    const double t1 = aim - speed;
-    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed - speed_trim - (((max_step >= fabs(t1))) ? (0.0) : (t1 + leg_min(max_step, leg_max(-max_step, -t1))))) - leg_main_hip_x;
+    const double t1 = (fabs(aim) < 0.001);
+    const double t2 = aim - speed;
+    const double t3 = fabs(t2);
+    const double t4 = ((t1) ? (max_step) : (moving_step));
+    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed - speed_trim - ((((t1) ? ((max_step >= t3)) : ((moving_step >= t3)))) ? (0.0) : (t2 + leg_min(t4, leg_max(-t2, -t4))))) - leg_main_hip_x;
     out[0] = 0.0;
     out[1] = swing_kp;
     out[2] = swing_kv;
@@ -160,9 +168,9 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:77:49 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:77:49 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:77:49 > stdlib/raibert.leg:162:3 */
+/*   hip_servo.kp: creatures/hopper.leg:82:49 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:82:49 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:82:49 > stdlib/raibert.leg:162:3 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;
@@ -192,9 +200,9 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:78:49 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:78:49 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:78:49 > stdlib/raibert.leg:86:3 */
+/*   hip_servo.kp: creatures/hopper.leg:83:49 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:83:49 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:83:49 > stdlib/raibert.leg:86:3 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -210,8 +218,8 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke). */
-/*   record predicted_apex: creatures/hopper.leg:79:49 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/hopper.leg:79:49 > stdlib/raibert.leg:344:3 */
+/*   record predicted_apex: creatures/hopper.leg:84:49 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/hopper.leg:84:49 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_spring_force = s[0];
@@ -241,10 +249,10 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:79:49 > stdlib/raibert.leg:345:3 */
-/*   hip_servo.kp: creatures/hopper.leg:79:112 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:79:112 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:79:112 > stdlib/raibert.leg:86:3 */
+/*   leg_spring.rest: creatures/hopper.leg:84:49 > stdlib/raibert.leg:345:3 */
+/*   hip_servo.kp: creatures/hopper.leg:84:112 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:84:112 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:84:112 > stdlib/raibert.leg:86:3 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -281,10 +289,10 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:80:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:80:69 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:80:69 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:80:69 > stdlib/raibert.leg:162:3 */
+/*   leg_spring.rest: creatures/hopper.leg:85:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:85:69 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:85:69 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:85:69 > stdlib/raibert.leg:162:3 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;

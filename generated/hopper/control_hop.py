@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "295a2729b94be1fe"
+FINGERPRINT = "4fa16949d9377d56"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
@@ -54,6 +54,7 @@ PARAMS = {
     "k_trim": 0.5,
     "full": 0.79,
     "max_step": 1.5,
+    "moving_step": 0.3,
 }
 RECORDS = ('aim', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'apex_seen', 'apex_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
@@ -70,7 +71,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:76:5
+        event  creatures/hopper.leg:81:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching < 0.5)
@@ -80,7 +81,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:77:5
+        event  creatures/hopper.leg:82:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching > 0.5)
@@ -90,7 +91,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/hopper.leg:78:5
+        event  creatures/hopper.leg:83:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate < 0.0)
@@ -100,7 +101,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/hopper.leg:79:5
+        event  creatures/hopper.leg:84:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate > 0.0)
@@ -110,7 +111,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full
 
     From the .leg file:
-        event  creatures/hopper.leg:80:5
+        event  creatures/hopper.leg:85:5
     """
     leg_main_length = s[8]
     full = p[11]
@@ -121,10 +122,10 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: aim, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record aim         creatures/hopper.leg:76:104
-        record speed_trim  creatures/hopper.leg:76:135 > stdlib/raibert.leg:44:3
-        record apex_seen   creatures/hopper.leg:76:173 > stdlib/raibert.leg:359:3
-        record apex_trim   creatures/hopper.leg:76:173 > stdlib/raibert.leg:360:3
+        record aim         creatures/hopper.leg:81:104
+        record speed_trim  creatures/hopper.leg:81:135 > stdlib/raibert.leg:44:3
+        record apex_seen   creatures/hopper.leg:81:173 > stdlib/raibert.leg:359:3
+        record apex_trim   creatures/hopper.leg:81:173 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -135,13 +136,17 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     apex_limit = p[9]
     k_trim = p[10]
     max_step = p[12]
+    moving_step = p[13]
     aim = r[0]
     speed_trim = r[1]
     predicted_apex = r[2]
     thrust_stroke = r[3]
     apex_trim = r[5]
-    t1 = aim - speed
-    new_aim = speed + ((0.0) if (max_step >= abs(t1)) else (t1 + minimum(max_step, maximum(-max_step, -t1))))
+    t1 = (abs(aim) < 0.001)
+    t2 = aim - speed
+    t3 = abs(t2)
+    t4 = ((max_step) if t1 else (moving_step))
+    new_aim = speed + ((0.0) if (((max_step >= t3)) if t1 else ((moving_step >= t3))) else (t2 + minimum(t4, maximum(-t2, -t4))))
     new_speed_trim = k_trim*(-com_vx + new_aim) + speed_trim
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
     new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
@@ -152,11 +157,11 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x).
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:76:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:76:69 > stdlib/raibert.leg:144:3
-        hip_servo.kv     creatures/hopper.leg:76:69 > stdlib/raibert.leg:145:3
-        hip_motor.force  creatures/hopper.leg:76:69 > stdlib/raibert.leg:146:3
-        place main (x)   creatures/hopper.leg:76:213 > stdlib/raibert.leg:20:3
+        leg_spring.rest  creatures/hopper.leg:81:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:81:69 > stdlib/raibert.leg:144:3
+        hip_servo.kv     creatures/hopper.leg:81:69 > stdlib/raibert.leg:145:3
+        hip_motor.force  creatures/hopper.leg:81:69 > stdlib/raibert.leg:146:3
+        place main (x)   creatures/hopper.leg:81:213 > stdlib/raibert.leg:20:3
     """
     com_vx = s[4]
     leg_main_hip_x = s[7]
@@ -167,10 +172,14 @@ def action_FLIGHT_0(s, u, p, r, tis):
     swing_kp = p[4]
     swing_kv = p[5]
     max_step = p[12]
+    moving_step = p[13]
     aim = r[0]
     speed_trim = r[1]
-    t1 = aim - speed
-    main_x_goal = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed - speed_trim - ((0.0) if (max_step >= abs(t1)) else (t1 + minimum(max_step, maximum(-max_step, -t1))))) - leg_main_hip_x
+    t1 = (abs(aim) < 0.001)
+    t2 = aim - speed
+    t3 = abs(t2)
+    t4 = ((max_step) if t1 else (moving_step))
+    main_x_goal = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed - speed_trim - ((0.0) if (((max_step >= t3)) if t1 else ((moving_step >= t3))) else (t2 + minimum(t4, maximum(-t2, -t4))))) - leg_main_hip_x
     return [0.0, swing_kp, swing_kv, 0.0, main_x_goal]
 
 
@@ -189,9 +198,9 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:77:49 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:77:49 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:77:49 > stdlib/raibert.leg:162:3
+        hip_servo.kp     creatures/hopper.leg:82:49 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:82:49 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:82:49 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0]
 
@@ -211,9 +220,9 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:78:49 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:78:49 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:78:49 > stdlib/raibert.leg:86:3
+        hip_servo.kp     creatures/hopper.leg:83:49 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:83:49 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:83:49 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -227,8 +236,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record predicted_apex  creatures/hopper.leg:79:49 > stdlib/raibert.leg:343:3
-        record thrust_stroke   creatures/hopper.leg:79:49 > stdlib/raibert.leg:344:3
+        record predicted_apex  creatures/hopper.leg:84:49 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/hopper.leg:84:49 > stdlib/raibert.leg:344:3
     """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
@@ -253,10 +262,10 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:79:49 > stdlib/raibert.leg:345:3
-        hip_servo.kp     creatures/hopper.leg:79:112 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:79:112 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:79:112 > stdlib/raibert.leg:86:3
+        leg_spring.rest  creatures/hopper.leg:84:49 > stdlib/raibert.leg:345:3
+        hip_servo.kp     creatures/hopper.leg:84:112 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:84:112 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:84:112 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -282,10 +291,10 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:80:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:80:69 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:80:69 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:80:69 > stdlib/raibert.leg:162:3
+        leg_spring.rest  creatures/hopper.leg:85:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:85:69 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:85:69 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:85:69 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0, 0.0]
 
