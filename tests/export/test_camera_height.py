@@ -17,10 +17,11 @@ from anim_runs import creature_motion
 from camera_runs import APEX, bumped, flip_motion
 from pixels import hue_mask
 
+from legdsl.analysis.plot import pyplot
 from legdsl.export.motion import Motion
 from legdsl.export.player.camera import MARGIN, hull_points, world_points
 from legdsl.export.shapes import hex_rgb
-from legdsl.export.video import _import_pyplot, render_video
+from legdsl.export.video import render_video
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 
 WIDTH, HEIGHT = 640, 360
@@ -32,7 +33,7 @@ def flip(tmp_path_factory: pytest.TempPathFactory) -> Motion:
 
 
 def views(motion: Motion) -> tuple[object, View]:
-    plt = _import_pyplot()
+    plt = pyplot()
     fig = plt.figure(figsize=(WIDTH / 100, HEIGHT / 100), dpi=100, facecolor=SKY)
     ax = fig.add_axes((0, 0, 1, 1))
     ax.set_autoscale_on(False)
@@ -54,7 +55,7 @@ def side_frames(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
             view.update(motion.at(float(t)))
             limits.append(view.ax.get_ylim())
     finally:
-        _import_pyplot().close(fig)
+        pyplot().close(fig)
     return np.array(limits), world_points(motion)[..., 2].max(axis=1)
 
 
@@ -136,7 +137,7 @@ def test_the_3d_view_keeps_a_high_hop_in_frame(tmp_path: Path) -> None:
             assert pixels[:, 1].max() <= HEIGHT * (1 - MARGIN) + 1e-6, t
             heights.append(cam.eye[2])
     finally:
-        _import_pyplot().close(fig)
+        pyplot().close(fig)
     raised = np.array(heights) - heights[0]
     assert raised[quadruped.frame_at(0.5)] > 0.05
     assert raised[0] == 0 and np.abs(np.diff(raised)).max() < 3.0 / 60
@@ -168,4 +169,4 @@ def test_a_link_flung_far_above_keeps_the_rest_and_the_ground_in_frame(tmp_path:
             assert ys.min() > 0, t  # the feet in the frame (the easing may take the margin)
             assert view.camera.eye[2] < 5.0, t  # not raised towards the flung link
     finally:
-        _import_pyplot().close(fig)
+        pyplot().close(fig)
