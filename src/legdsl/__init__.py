@@ -19,10 +19,8 @@ __all__ = ["__version__", "load", "open_run"]
 
 def __getattr__(name: str) -> Any:
     if name in ("load", "open_run", "Creature", "Run"):
-        from legdsl.signals import signals_held
+        from legdsl.signals import import_held
 
-        with signals_held():  # a Ctrl-C in the 0.6 s import comes once it is whole
-            from legdsl import api
-
-        return getattr(api, name)
+        # a Ctrl-C in the 0.6 s import comes once it is whole
+        return getattr(import_held("legdsl.api"), name)
     raise AttributeError(f"module 'legdsl' has no attribute {name!r}")
