@@ -159,13 +159,22 @@ class ExprChecker(NameResolver):
 
     def constant_value(self, e: ir.Expr) -> float | None:
         """The value of an expression of numbers, the model's constants, pi, g and the total
-        mass; None for one that reads anything else. Raises ``NoValue``."""
-        builtins = {"pi": math.pi, "g": -self.scope.model.gravity[2]}
+        mass; None for one that reads anything else. Raises ``NoValue``.
+
+        Remembered per node (kept, so that its id is not reused): each expression is asked
+        again as part of every larger one built on it."""
+        known = self._constants.get(id(e))
+        if known is None:
+            known = self._constants[id(e)] = (e, self._constant_value(e))
+        return known[1]
+
+    def _constant_value(self, e: ir.Expr) -> float | None:
         if isinstance(e, ir.Num):
             return e.value
         if isinstance(e, ir.Named):
             if e.kind == "builtin" and e.name == "total_mass":
                 return self.scope.model.total_mass
+            builtins = {"pi": math.pi, "g": -self.scope.model.gravity[2]}
             return builtins.get(e.name) if e.kind == "builtin" else None
         if isinstance(e, ir.Unary) and e.op == "-":
             v = self.constant_value(e.operand)

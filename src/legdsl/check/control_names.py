@@ -10,6 +10,7 @@ action from another file are reported at the user's call.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, fields, is_dataclass
 from typing import Any
 
@@ -126,6 +127,7 @@ class NameResolver:
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo
+        self._constants: dict[int, tuple[ir.Expr, float | None]] = {}  # constant_value's memo
         self.within_expression = False  # checking a statement's expression (ExprChecker)
         self._planar_sites: set[Span] = set()
         self._reported_at_call: set[tuple[Span, str]] = set()
@@ -499,7 +501,16 @@ def dotted_members(node: Any, found: dict[str, set[str]] | None = None) -> dict[
     if isinstance(node, tuple | list):
         for item in node:
             dotted_members(item, found)
-    elif is_dataclass(node) and not isinstance(node, type) and not isinstance(node, Span):
-        for f in fields(node):
-            dotted_members(getattr(node, f.name), found)
+    else:
+        for name in _walked_fields(type(node)):
+            dotted_members(getattr(node, name), found)
     return found
+
+
+@functools.cache
+def _walked_fields(cls: type) -> tuple[str, ...]:
+    """The fields ``dotted_members`` walks into, per class (``fields`` is slow to ask each
+    node: this walk visits every node of every controller)."""
+    if not is_dataclass(cls) or issubclass(cls, Span):
+        return ()
+    return tuple(f.name for f in fields(cls))
