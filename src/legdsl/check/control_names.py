@@ -502,7 +502,7 @@ def dotted_members(node: Any, found: dict[str, set[str]] | None = None) -> dict[
         for item in node:
             dotted_members(item, found)
     else:
-        for name in _walked_fields(type(node)):
+        for name in _walked_fields(node.__class__):
             dotted_members(getattr(node, name), found)
     return found
 
