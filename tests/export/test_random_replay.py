@@ -35,6 +35,7 @@ from seeded import told_with_seed
 
 from legdsl.cli import main
 from legdsl.export.motion import read_run
+from legdsl.lang.errors import UsageError
 from legdsl.pipeline.generated import load_dynamics
 
 # MuJoCo picks its OpenGL backend when it is first imported: an offscreen one (EGL) if this
@@ -153,6 +154,12 @@ def check_rig(seed: int, where: Path) -> None:
     record_rate = float(rng.choice(RECORD_RATES))
     fps = float(rng.choice(FRAME_RATES))
     recorded_rig(seed, where, DURATION, record_rate)
+    t = read_run(where / "run").trajectory.t
+    span = float(t[-1] - t[0])
+    if span > 0 and promised_frames(span, fps) < 2:  # a run stopped early (seed 16400: 0.05 s)
+        with pytest.raises(UsageError, match=r"gives one frame .*two frames need"):
+            replay_frames(where / "run", fps)  # one still picture is refused, saying what to give
+        fps = float(math.ceil(1 / span * (1 + 1e-9)))  # the rate the refusal names for two
     check_poses(where / "run", where / "generated", fps)
     if rng.random() < 1 / 3 and shutil.which("ffprobe"):
         size = (int(rng.integers(64, 200)), int(rng.integers(64, 160)))
