@@ -80,7 +80,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(second)
 
     From the .leg file:
-        event  creatures/biped.leg:212:5
+        event  creatures/biped.leg:227:5
     """
     leg_right_touching = s[38]
     return (leg_right_touching < 0.5)
@@ -90,7 +90,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)
 
     From the .leg file:
-        event  creatures/biped.leg:220:5
+        event  creatures/biped.leg:235:5
     """
     leg_left_touching = s[29]
     return (leg_left_touching > 0.5)
@@ -100,7 +100,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     """Enter DOUBLE (waiting under binding 0) when: touchdown(second)
 
     From the .leg file:
-        event  creatures/biped.leg:227:5
+        event  creatures/biped.leg:242:5
     """
     leg_right_touching = s[38]
     return (leg_right_touching > 0.5)
@@ -110,7 +110,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)
 
     From the .leg file:
-        event  creatures/biped.leg:232:5
+        event  creatures/biped.leg:247:5
     """
     leg_left_touching = s[29]
     return (leg_left_touching < 0.5)
@@ -120,13 +120,13 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     """The records on entering FLIGHT under binding 0 (changed: stance_2, step_speed, speed_trim, lifted, lifted_x, lifted_y, extend_at).
 
     From the .leg file:
-        record stance_2    creatures/biped.leg:213:7
-        record step_speed  creatures/biped.leg:214:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:214:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:214:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:214:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:214:7 > stdlib/raibert.leg:76:3
-        record extend_at   creatures/biped.leg:215:7
+        record stance_2    creatures/biped.leg:228:7
+        record step_speed  creatures/biped.leg:229:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:229:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:229:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:229:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:229:7 > stdlib/raibert.leg:76:3
+        record extend_at   creatures/biped.leg:230:7
     """
     body_trunk_yaw = s[8]
     com_vz = s[12]
@@ -180,26 +180,26 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place left (x, y), place right (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:216:7 > creatures/biped.leg:198:5
-        hip_l_pitch.kp          creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:217:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:217:7 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:217:7 > creatures/biped.leg:104:5
-        leg_r_spring.rest       creatures/biped.leg:219:7 > creatures/biped.leg:267:5 > creatures/biped.leg:198:5
-        hip_r_pitch.kp          creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:219:7 > creatures/biped.leg:268:5 > creatures/biped.leg:104:5
-        place left (x, y)       creatures/biped.leg:218:7 > stdlib/raibert.leg:57:3
-        place right (x, y)      creatures/biped.leg:219:7 > creatures/biped.leg:269:5 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:231:7 > creatures/biped.leg:213:5
+        hip_l_pitch.kp          creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:232:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:232:7 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:232:7 > creatures/biped.leg:104:5
+        leg_r_spring.rest       creatures/biped.leg:234:7 > creatures/biped.leg:282:5 > creatures/biped.leg:213:5
+        hip_r_pitch.kp          creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:234:7 > creatures/biped.leg:283:5 > creatures/biped.leg:104:5
+        place left (x, y)       creatures/biped.leg:233:7 > stdlib/raibert.leg:57:3
+        place right (x, y)      creatures/biped.leg:234:7 > creatures/biped.leg:284:5 > stdlib/raibert.leg:57:3
     """
     body_trunk_yaw = s[8]
     com_vx = s[10]
@@ -267,9 +267,9 @@ def entry_SINGLE_1_0(s, u, p, r, tis):
     """The records on entering SINGLE_1 under binding 0 (changed: landed_1, predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record landed_1        creatures/biped.leg:221:7
-        record predicted_apex  creatures/biped.leg:222:7 > stdlib/raibert.leg:215:3
-        record thrust_stroke   creatures/biped.leg:222:7 > stdlib/raibert.leg:216:3
+        record landed_1        creatures/biped.leg:236:7
+        record predicted_apex  creatures/biped.leg:237:7 > stdlib/raibert.leg:215:3
+        record thrust_stroke   creatures/biped.leg:237:7 > stdlib/raibert.leg:216:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
@@ -321,24 +321,24 @@ def action_SINGLE_1_0(s, u, p, r, tis):
     """Every tick in SINGLE_1 under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, place right (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:222:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:223:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:223:7 > creatures/biped.leg:184:5
-        hip_l_yaw.setpoint      creatures/biped.leg:223:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        hip_r_pitch.kp          creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:225:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:225:7 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:225:7 > creatures/biped.leg:104:5
-        place right (x, y)      creatures/biped.leg:226:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:237:7 > stdlib/raibert.leg:217:3 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:238:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:238:7 > creatures/biped.leg:199:5
+        hip_l_yaw.setpoint      creatures/biped.leg:238:7 > creatures/biped.leg:200:5 > stdlib/raibert.leg:125:3
+        hip_r_pitch.kp          creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:240:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:240:7 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:240:7 > creatures/biped.leg:104:5
+        place right (x, y)      creatures/biped.leg:241:7 > stdlib/raibert.leg:57:3
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[4]
@@ -415,7 +415,7 @@ def entry_DOUBLE_0(s, u, p, r, tis):
     """The records on entering DOUBLE under binding 0 (changed: landed_2).
 
     From the .leg file:
-        record landed_2  creatures/biped.leg:228:7
+        record landed_2  creatures/biped.leg:243:7
     """
     time = s[39]
     stance_2 = r[0]
@@ -457,24 +457,24 @@ def action_DOUBLE_0(s, u, p, r, tis):
     """Every tick in DOUBLE under binding 0: leg_l_spring.rest, leg_r_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_l_yaw.kp, hip_r_yaw.kp, hip_l_yaw.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:229:7 > stdlib/raibert.leg:223:3
-        leg_r_spring.rest       creatures/biped.leg:230:7 > stdlib/raibert.leg:223:3
-        hip_l_pitch.kp          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
-        hip_r_pitch.kp          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:231:7 > creatures/biped.leg:189:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:231:7 > creatures/biped.leg:190:5
-        hip_r_yaw.kp            creatures/biped.leg:231:7 > creatures/biped.leg:191:5
-        hip_l_yaw.setpoint      creatures/biped.leg:231:7 > creatures/biped.leg:192:5 > stdlib/raibert.leg:125:3
-        hip_r_yaw.setpoint      creatures/biped.leg:231:7 > creatures/biped.leg:193:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:244:7 > stdlib/raibert.leg:223:3
+        leg_r_spring.rest       creatures/biped.leg:245:7 > stdlib/raibert.leg:223:3
+        hip_l_pitch.kp          creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:203:3 > stdlib/raibert.leg:112:3
+        hip_r_pitch.kp          creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:246:7 > creatures/biped.leg:204:5 > stdlib/raibert.leg:204:3 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:246:7 > creatures/biped.leg:205:5
+        hip_r_yaw.kp            creatures/biped.leg:246:7 > creatures/biped.leg:206:5
+        hip_l_yaw.setpoint      creatures/biped.leg:246:7 > creatures/biped.leg:207:5 > stdlib/raibert.leg:125:3
+        hip_r_yaw.setpoint      creatures/biped.leg:246:7 > creatures/biped.leg:208:5 > stdlib/raibert.leg:125:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_r_spring_force = s[3]
@@ -556,11 +556,11 @@ def entry_SINGLE_2_0(s, u, p, r, tis):
     """The records on entering SINGLE_2 under binding 0 (changed: stance_1, lifted_1, leg_rest_at_lift, held_pitch, held_roll).
 
     From the .leg file:
-        record stance_1          creatures/biped.leg:233:7
-        record lifted_1          creatures/biped.leg:234:7
-        record leg_rest_at_lift  creatures/biped.leg:237:7 > creatures/biped.leg:273:5
-        record held_pitch        creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:203:5
-        record held_roll         creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:204:5
+        record stance_1          creatures/biped.leg:248:7
+        record lifted_1          creatures/biped.leg:249:7
+        record leg_rest_at_lift  creatures/biped.leg:252:7 > creatures/biped.leg:288:5
+        record held_pitch        creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:218:5
+        record held_roll         creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:219:5
     """
     act_leg_l_spring_rest = s[2]
     coord_hip_l_x_value = s[16]
@@ -603,26 +603,26 @@ def action_SINGLE_2_0(s, u, p, r, tis):
     """Every tick in SINGLE_2 under binding 0: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, hip_l_pitch.setpoint, hip_l_roll.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:235:7 > stdlib/raibert.leg:223:3
-        hip_r_pitch.kp          creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:236:7 > creatures/biped.leg:183:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:236:7 > creatures/biped.leg:184:5
-        hip_r_yaw.setpoint      creatures/biped.leg:236:7 > creatures/biped.leg:185:5 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:205:5 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:206:5 > creatures/biped.leg:104:5
-        hip_l_pitch.setpoint    creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:207:5
-        hip_l_roll.setpoint     creatures/biped.leg:237:7 > creatures/biped.leg:274:5 > creatures/biped.leg:208:5
+        leg_r_spring.rest       creatures/biped.leg:250:7 > stdlib/raibert.leg:223:3
+        hip_r_pitch.kp          creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:251:7 > creatures/biped.leg:198:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:251:7 > creatures/biped.leg:199:5
+        hip_r_yaw.setpoint      creatures/biped.leg:251:7 > creatures/biped.leg:200:5 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:220:5 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:221:5 > creatures/biped.leg:104:5
+        hip_l_pitch.setpoint    creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:222:5
+        hip_l_roll.setpoint     creatures/biped.leg:252:7 > creatures/biped.leg:289:5 > creatures/biped.leg:223:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[4]

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "5c2aca69a7c1f173";
+const char legdsl_control_fingerprint[] = "231b98c4f8c6b06a";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -63,7 +63,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/biped.leg:150:5 */
+/*   event: creatures/biped.leg:164:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[32];
@@ -72,7 +72,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/biped.leg:158:5 */
+/*   event: creatures/biped.leg:173:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[32];
@@ -81,7 +81,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/biped.leg:159:5 */
+/*   event: creatures/biped.leg:174:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_rate = s[31];
@@ -90,7 +90,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/biped.leg:160:5 */
+/*   event: creatures/biped.leg:175:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_rate = s[31];
@@ -99,7 +99,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest */
-/*   event: creatures/biped.leg:161:5 */
+/*   event: creatures/biped.leg:176:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_l_spring_rest = s[2];
@@ -110,7 +110,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/biped.leg:150:5 */
+/*   event: creatures/biped.leg:164:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[41];
@@ -119,7 +119,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/biped.leg:158:5 */
+/*   event: creatures/biped.leg:173:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[41];
@@ -128,7 +128,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/biped.leg:159:5 */
+/*   event: creatures/biped.leg:174:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_rate = s[40];
@@ -137,7 +137,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 */
-/*   event: creatures/biped.leg:160:5 */
+/*   event: creatures/biped.leg:175:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_rate = s[40];
@@ -146,7 +146,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest */
-/*   event: creatures/biped.leg:161:5 */
+/*   event: creatures/biped.leg:176:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double act_leg_r_spring_rest = s[5];
@@ -156,13 +156,14 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     return (leg_right_length > act_leg_r_spring_rest + full);
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record step_speed: creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/biped.leg:155:7 */
+/* The records on entering FLIGHT under binding 0 (changed: speed_aim, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record speed_aim: creatures/biped.leg:168:7 */
+/*   record step_speed: creatures/biped.leg:169:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:169:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:169:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:169:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:169:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/biped.leg:170:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[10];
@@ -173,49 +174,57 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
+    const double max_step = p[24];
+    const double moving_step = p[25];
+    const double speed_aim = r[0];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    const double t1 = (fabs(speed_aim) < 0.001);
+    const double t2 = ((t1) ? (max_step) : (moving_step));
+    const double t3 = ((t1) ? (step_speed) : (speed_aim));
+    const double new_speed_aim = ((((t1) ? ((max_step >= fabs(speed - step_speed))) : ((moving_step >= fabs(speed - speed_aim))))) ? (speed) : (t3 + leg_min(t2, leg_max(-t2, speed - t3))));
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
-    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, speed - step_speed)) + speed_trim;
-    out[0] = new_stance;
-    out[1] = landed;
-    out[2] = new_step_speed;
-    out[3] = new_speed_trim;
-    out[4] = time;
-    out[5] = com_x;
-    out[6] = com_y;
-    out[7] = predicted_apex;
+    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (new_speed_aim));
+    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, -step_speed + new_speed_aim)) + speed_trim;
+    out[0] = new_speed_aim;
+    out[1] = new_stance;
+    out[2] = landed;
+    out[3] = new_step_speed;
+    out[4] = new_speed_trim;
+    out[5] = time;
+    out[6] = com_x;
+    out[7] = com_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y). */
-/*   leg_l_spring.rest: creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:153:7 > creatures/biped.leg:103:5 */
-/*   hip_l_yaw.kp: creatures/biped.leg:153:7 > creatures/biped.leg:104:5 */
-/*   leg_r_spring.rest: creatures/biped.leg:157:7 > creatures/biped.leg:135:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:137:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:138:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:139:5 */
-/*   place left (x, y): creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:166:7 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:167:7 > creatures/biped.leg:103:5 */
+/*   hip_l_yaw.kp: creatures/biped.leg:167:7 > creatures/biped.leg:104:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:172:7 > creatures/biped.leg:149:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:151:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:152:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:153:5 */
+/*   place left (x, y): creatures/biped.leg:171:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[6];
@@ -229,7 +238,6 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double coord_hip_l_y_value = s[18];
     const double leg_left_hip_x = s[27];
     const double leg_left_hip_y = s[28];
-    const double speed = u[0];
     const double k_speed = p[0];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
@@ -238,8 +246,9 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double mirror = p[18];
     const double short_ = p[19];
     const double slew = p[21];
-    const double stance = r[0];
-    const double speed_trim = r[3];
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double speed_trim = r[4];
     const double t1 = slew*tis;
     const double leg_l_spring_rest = leg_min(0.0, short_ + t1);
     const double leg_r_spring_rest = leg_max(short_, -t1);
@@ -248,7 +257,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double t2 = leg_cos(body_trunk_yaw);
     const double t3 = leg_sin(body_trunk_yaw);
     const double t4 = com_vx*t2 + com_vy*t3;
-    const double left_x_goal = k_speed*(-speed - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4;
+    const double left_x_goal = k_speed*(-speed_aim - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4;
     const double t5 = -com_vx*t3 + com_vy*t2;
     const double left_y_goal = k_speed*t5 - leg_left_hip_y + 0.5*stance*t5;
     out[0] = leg_l_spring_rest;
@@ -277,46 +286,48 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed). */
-/*   record landed: creatures/biped.leg:158:48 */
+/*   record landed: creatures/biped.leg:173:48 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[45];
-    const double stance = r[0];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = time;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = time;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   hip_l_pitch.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_l_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:158:91 > creatures/biped.leg:135:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:137:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:138:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:139:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_l_motor.force: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:173:70 > stdlib/raibert.leg:167:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:173:70 > stdlib/raibert.leg:168:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:173:70 > stdlib/raibert.leg:169:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:173:91 > creatures/biped.leg:149:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:151:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:152:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:153:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[17];
@@ -349,45 +360,47 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
 /* The records on entering COMPRESSION under binding 0 (changed: none). */
 static void entry_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   hip_l_pitch.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:159:48 > creatures/biped.leg:145:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:159:65 > creatures/biped.leg:135:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:137:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:138:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:139:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:174:48 > creatures/biped.leg:159:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:174:48 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:174:65 > creatures/biped.leg:149:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:151:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:152:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:153:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -454,52 +467,54 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3 */
+/*   record predicted_apex: creatures/biped.leg:175:48 > stdlib/raibert.leg:191:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
     const double act_leg_l_spring_k = s[1];
     const double com_z = s[16];
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force, act_leg_l_spring_k) + com_z;
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = new_predicted_apex;
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = new_predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
-/*   hip_l_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
-/*   hip_l_yaw.kp: creatures/biped.leg:160:130 > creatures/biped.leg:145:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:160:147 > creatures/biped.leg:135:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:137:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:138:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:139:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:175:48 > stdlib/raibert.leg:192:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3 */
+/*   hip_l_motor.force: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3 */
+/*   hip_l_yaw.kp: creatures/biped.leg:175:130 > creatures/biped.leg:159:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:175:130 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:175:147 > creatures/biped.leg:149:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:151:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:152:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:153:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_l_spring_force = s[0];
@@ -541,7 +556,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double short_ = p[19];
     const double k_path = p[22];
     const double turn_limit = p[23];
-    const double predicted_apex = r[7];
+    const double predicted_apex = r[8];
     const double leg_l_spring_rest = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     const double t1 = leg_div(act_leg_l_spring_force, leg_left_length);
     const double hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x);
@@ -576,44 +591,46 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
 /* The records on entering UNLOADING under binding 0 (changed: none). */
 static void entry_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint. */
-/*   leg_l_spring.rest: creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3 */
-/*   hip_l_pitch.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_l_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3 */
-/*   leg_r_spring.rest: creatures/biped.leg:162:48 > creatures/biped.leg:135:5 */
-/*   hip_r_pitch.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_pitch.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:137:5 */
-/*   hip_r_roll.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:138:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:139:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3 */
+/*   hip_l_pitch.kp: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_l_motor.force: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:177:27 > stdlib/raibert.leg:167:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:177:27 > stdlib/raibert.leg:168:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:177:27 > stdlib/raibert.leg:169:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:177:48 > creatures/biped.leg:149:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_pitch.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:151:5 */
+/*   hip_r_roll.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:152:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:153:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_l_x_value = s[17];
@@ -644,13 +661,14 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     (void)err;
 }
 
-/* The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record step_speed: creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/biped.leg:155:7 */
+/* The records on entering FLIGHT under binding 1 (changed: speed_aim, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record speed_aim: creatures/biped.leg:168:7 */
+/*   record step_speed: creatures/biped.leg:169:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/biped.leg:169:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/biped.leg:169:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/biped.leg:169:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/biped.leg:169:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/biped.leg:170:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[10];
@@ -661,49 +679,57 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double k_trim = p[1];
     const double trim_band = p[2];
     const double stance_guess = p[3];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
+    const double max_step = p[24];
+    const double moving_step = p[25];
+    const double speed_aim = r[0];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    const double t1 = (fabs(speed_aim) < 0.001);
+    const double t2 = ((t1) ? (max_step) : (moving_step));
+    const double t3 = ((t1) ? (step_speed) : (speed_aim));
+    const double new_speed_aim = ((((t1) ? ((max_step >= fabs(speed - step_speed))) : ((moving_step >= fabs(speed - speed_aim))))) ? (speed) : (t3 + leg_min(t2, leg_max(-t2, speed - t3))));
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
-    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (speed));
-    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, speed - step_speed)) + speed_trim;
-    out[0] = new_stance;
-    out[1] = landed;
-    out[2] = new_step_speed;
-    out[3] = new_speed_trim;
-    out[4] = time;
-    out[5] = com_x;
-    out[6] = com_y;
-    out[7] = predicted_apex;
+    const double new_step_speed = (((lifted > 0.0)) ? (leg_div(((com_x - lifted_x)*leg_cos(body_trunk_yaw) + (com_y - lifted_y)*leg_sin(body_trunk_yaw)), (-lifted + time))) : (new_speed_aim));
+    const double new_speed_trim = k_trim*leg_min(trim_band, leg_max(-trim_band, -step_speed + new_speed_aim)) + speed_trim;
+    out[0] = new_speed_aim;
+    out[1] = new_stance;
+    out[2] = landed;
+    out[3] = new_step_speed;
+    out[4] = new_speed_trim;
+    out[5] = time;
+    out[6] = com_x;
+    out[7] = com_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y). */
-/*   leg_r_spring.rest: creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_r_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:153:7 > creatures/biped.leg:103:5 */
-/*   hip_r_yaw.kp: creatures/biped.leg:153:7 > creatures/biped.leg:104:5 */
-/*   leg_l_spring.rest: creatures/biped.leg:157:7 > creatures/biped.leg:135:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:137:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:138:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:157:7 > creatures/biped.leg:139:5 */
-/*   place right (x, y): creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3 */
+/*   leg_r_spring.rest: creatures/biped.leg:166:7 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_r_motor.force: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:167:7 > creatures/biped.leg:103:5 */
+/*   hip_r_yaw.kp: creatures/biped.leg:167:7 > creatures/biped.leg:104:5 */
+/*   leg_l_spring.rest: creatures/biped.leg:172:7 > creatures/biped.leg:149:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:151:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:152:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:172:7 > creatures/biped.leg:153:5 */
+/*   place right (x, y): creatures/biped.leg:171:7 > stdlib/raibert.leg:57:3 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[6];
@@ -717,7 +743,6 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double coord_hip_r_y_value = s[21];
     const double leg_right_hip_x = s[36];
     const double leg_right_hip_y = s[37];
-    const double speed = u[0];
     const double k_speed = p[0];
     const double swing_kp = p[10];
     const double swing_kv = p[11];
@@ -726,8 +751,9 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double mirror = p[18];
     const double short_ = p[19];
     const double slew = p[21];
-    const double stance = r[0];
-    const double speed_trim = r[3];
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double speed_trim = r[4];
     const double t1 = slew*tis;
     const double leg_r_spring_rest = leg_min(0.0, short_ + t1);
     const double leg_l_spring_rest = leg_max(short_, -t1);
@@ -736,7 +762,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double t2 = leg_cos(body_trunk_yaw);
     const double t3 = leg_sin(body_trunk_yaw);
     const double t4 = com_vx*t2 + com_vy*t3;
-    const double right_x_goal = k_speed*(-speed - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4;
+    const double right_x_goal = k_speed*(-speed_aim - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4;
     const double t5 = -com_vx*t3 + com_vy*t2;
     const double right_y_goal = k_speed*t5 - leg_right_hip_y + 0.5*stance*t5;
     out[0] = leg_r_spring_rest;
@@ -765,46 +791,48 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed). */
-/*   record landed: creatures/biped.leg:158:48 */
+/*   record landed: creatures/biped.leg:173:48 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double time = s[45];
-    const double stance = r[0];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = time;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = time;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   hip_r_pitch.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_r_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:158:91 > creatures/biped.leg:135:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:137:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:138:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:158:91 > creatures/biped.leg:139:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_r_motor.force: creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:173:70 > stdlib/raibert.leg:167:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:173:70 > stdlib/raibert.leg:168:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:173:70 > stdlib/raibert.leg:169:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:173:91 > creatures/biped.leg:149:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:151:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:152:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:173:91 > creatures/biped.leg:153:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_r_x_value = s[20];
@@ -837,45 +865,47 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
 /* The records on entering COMPRESSION under binding 1 (changed: none). */
 static void entry_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   hip_r_pitch.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:159:48 > creatures/biped.leg:145:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:159:65 > creatures/biped.leg:135:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:137:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:138:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:159:65 > creatures/biped.leg:139:5 */
+/*   hip_r_pitch.kp: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:174:48 > creatures/biped.leg:159:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:174:48 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:174:65 > creatures/biped.leg:149:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:151:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:152:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:174:65 > creatures/biped.leg:153:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -942,52 +972,54 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 1 (changed: predicted_apex). */
-/*   record predicted_apex: creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3 */
+/*   record predicted_apex: creatures/biped.leg:175:48 > stdlib/raibert.leg:191:3 */
 static void entry_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
     const double act_leg_r_spring_k = s[4];
     const double com_z = s[16];
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
     const double new_predicted_apex = leg_div(0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force, act_leg_r_spring_k) + com_z;
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = new_predicted_apex;
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = new_predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3 */
-/*   hip_r_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3 */
-/*   hip_r_yaw.kp: creatures/biped.leg:160:130 > creatures/biped.leg:145:5 */
-/*   hip_r_yaw.setpoint: creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:160:147 > creatures/biped.leg:135:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:137:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:138:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:160:147 > creatures/biped.leg:139:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:175:48 > stdlib/raibert.leg:192:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3 */
+/*   hip_r_motor.force: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3 */
+/*   hip_r_yaw.kp: creatures/biped.leg:175:130 > creatures/biped.leg:159:5 */
+/*   hip_r_yaw.setpoint: creatures/biped.leg:175:130 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:175:147 > creatures/biped.leg:149:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:151:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:152:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:175:147 > creatures/biped.leg:153:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_r_spring_force = s[3];
@@ -1029,7 +1061,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double short_ = p[19];
     const double k_path = p[22];
     const double turn_limit = p[23];
-    const double predicted_apex = r[7];
+    const double predicted_apex = r[8];
     const double leg_r_spring_rest = leg_min(max_stroke, leg_max(min_stroke, k_height*(height - predicted_apex) + stroke));
     const double t1 = leg_div(act_leg_r_spring_force, leg_right_length);
     const double hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x);
@@ -1064,44 +1096,46 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
 /* The records on entering UNLOADING under binding 1 (changed: none). */
 static void entry_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double stance = r[0];
-    const double landed = r[1];
-    const double step_speed = r[2];
-    const double speed_trim = r[3];
-    const double lifted = r[4];
-    const double lifted_x = r[5];
-    const double lifted_y = r[6];
-    const double predicted_apex = r[7];
-    out[0] = stance;
-    out[1] = landed;
-    out[2] = step_speed;
-    out[3] = speed_trim;
-    out[4] = lifted;
-    out[5] = lifted_x;
-    out[6] = lifted_y;
-    out[7] = predicted_apex;
+    const double speed_aim = r[0];
+    const double stance = r[1];
+    const double landed = r[2];
+    const double step_speed = r[3];
+    const double speed_trim = r[4];
+    const double lifted = r[5];
+    const double lifted_x = r[6];
+    const double lifted_y = r[7];
+    const double predicted_apex = r[8];
+    out[0] = speed_aim;
+    out[1] = stance;
+    out[2] = landed;
+    out[3] = step_speed;
+    out[4] = speed_trim;
+    out[5] = lifted;
+    out[6] = lifted_x;
+    out[7] = lifted_y;
+    out[8] = predicted_apex;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint. */
-/*   leg_r_spring.rest: creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3 */
-/*   hip_r_pitch.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_r_pitch.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_r_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_r_roll.kp: creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3 */
-/*   hip_r_roll.kv: creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3 */
-/*   hip_r_roll_motor.force: creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3 */
-/*   leg_l_spring.rest: creatures/biped.leg:162:48 > creatures/biped.leg:135:5 */
-/*   hip_l_pitch.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_l_pitch.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_l_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_l_roll.kp: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3 */
-/*   hip_l_roll.kv: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3 */
-/*   hip_l_roll_motor.force: creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3 */
-/*   hip_l_pitch.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:137:5 */
-/*   hip_l_roll.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:138:5 */
-/*   hip_l_yaw.setpoint: creatures/biped.leg:162:48 > creatures/biped.leg:139:5 */
+/*   leg_r_spring.rest: creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3 */
+/*   hip_r_pitch.kp: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_r_pitch.kv: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_r_motor.force: creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_r_roll.kp: creatures/biped.leg:177:27 > stdlib/raibert.leg:167:3 */
+/*   hip_r_roll.kv: creatures/biped.leg:177:27 > stdlib/raibert.leg:168:3 */
+/*   hip_r_roll_motor.force: creatures/biped.leg:177:27 > stdlib/raibert.leg:169:3 */
+/*   leg_l_spring.rest: creatures/biped.leg:177:48 > creatures/biped.leg:149:5 */
+/*   hip_l_pitch.kp: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_l_pitch.kv: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_l_motor.force: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_l_roll.kp: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3 */
+/*   hip_l_roll.kv: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3 */
+/*   hip_l_roll_motor.force: creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3 */
+/*   hip_l_pitch.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:151:5 */
+/*   hip_l_roll.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:152:5 */
+/*   hip_l_yaw.setpoint: creatures/biped.leg:177:48 > creatures/biped.leg:153:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_r_x_value = s[20];
@@ -1172,7 +1206,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 46, 4, 8, 21,
+    5, 2, 46, 4, 9, 21,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

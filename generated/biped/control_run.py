@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "run"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "5c2aca69a7c1f173"
+FINGERPRINT = "231b98c4f8c6b06a"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_l_spring.force', 'act.leg_l_spring.k', 'act.leg_l_spring.rest', 'act.leg_r_spring.force', 'act.leg_r_spring.k', 'act.leg_r_spring.rest', 'body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.x', 'com.y', 'com.z', 'coord.hip_l_x.value', 'coord.hip_l_y.value', 'coord.hip_l_z.value', 'coord.hip_r_x.value', 'coord.hip_r_y.value', 'coord.hip_r_z.value', 'integral.turn_rate', 'leg.left.foot_x', 'leg.left.foot_y', 'leg.left.foot_z', 'leg.left.hip_x', 'leg.left.hip_y', 'leg.left.hip_z', 'leg.left.length', 'leg.left.rate', 'leg.left.touching', 'leg.right.foot_x', 'leg.right.foot_y', 'leg.right.foot_z', 'leg.right.hip_x', 'leg.right.hip_y', 'leg.right.hip_z', 'leg.right.length', 'leg.right.rate', 'leg.right.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -68,8 +68,10 @@ PARAMS = {
     "slew": 2.0,
     "k_path": 1.0,
     "turn_limit": 0.3490658503988659,
+    "max_step": 2.5,
+    "moving_step": 0.5,
 }
-RECORDS = ('stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex')
+RECORDS = ('speed_aim', 'stance', 'landed', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'predicted_apex')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -89,7 +91,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:150:5
+        event  creatures/biped.leg:164:5
     """
     leg_left_touching = s[32]
     return (leg_left_touching < 0.5)
@@ -99,7 +101,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:158:5
+        event  creatures/biped.leg:173:5
     """
     leg_left_touching = s[32]
     return (leg_left_touching > 0.5)
@@ -109,7 +111,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:159:5
+        event  creatures/biped.leg:174:5
     """
     leg_left_rate = s[31]
     return (leg_left_rate < 0.0)
@@ -119,7 +121,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:160:5
+        event  creatures/biped.leg:175:5
     """
     leg_left_rate = s[31]
     return (leg_left_rate > 0.0)
@@ -129,7 +131,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:161:5
+        event  creatures/biped.leg:176:5
     """
     act_leg_l_spring_rest = s[2]
     leg_left_length = s[30]
@@ -141,7 +143,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:150:5
+        event  creatures/biped.leg:164:5
     """
     leg_right_touching = s[41]
     return (leg_right_touching < 0.5)
@@ -151,7 +153,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:158:5
+        event  creatures/biped.leg:173:5
     """
     leg_right_touching = s[41]
     return (leg_right_touching > 0.5)
@@ -161,7 +163,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:159:5
+        event  creatures/biped.leg:174:5
     """
     leg_right_rate = s[40]
     return (leg_right_rate < 0.0)
@@ -171,7 +173,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:160:5
+        event  creatures/biped.leg:175:5
     """
     leg_right_rate = s[40]
     return (leg_right_rate > 0.0)
@@ -181,7 +183,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:161:5
+        event  creatures/biped.leg:176:5
     """
     act_leg_r_spring_rest = s[5]
     leg_right_length = s[39]
@@ -190,15 +192,16 @@ def event_UNLOADING_1(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 0 (changed: speed_aim, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record step_speed  creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3
-        record stance      creatures/biped.leg:155:7
+        record speed_aim   creatures/biped.leg:168:7
+        record step_speed  creatures/biped.leg:169:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:169:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:169:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:169:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:169:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:170:7
     """
     body_trunk_yaw = s[10]
     com_x = s[14]
@@ -208,43 +211,60 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
+    max_step = p[24]
+    moving_step = p[25]
+    speed_aim = r[0]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    t1 = (abs(speed_aim) < 0.001)
+    t2 = ((max_step) if t1 else (moving_step))
+    t3 = ((step_speed) if t1 else (speed_aim))
+    new_speed_aim = ((speed) if (((max_step >= abs(speed - step_speed))) if t1 else ((moving_step >= abs(speed - speed_aim)))) else (t3 + minimum(t2, maximum(-t2, speed - t3))))
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
-    return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (new_speed_aim))
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, -step_speed + new_speed_aim)) + speed_trim
+    return [
+        new_speed_aim,
+        new_stance,
+        landed,
+        new_step_speed,
+        new_speed_trim,
+        time,
+        com_x,
+        com_y,
+        predicted_apex,
+    ]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_yaw.setpoint, hip_l_yaw.kp, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint, place left (x, y).
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_l_yaw.setpoint      creatures/biped.leg:153:7 > creatures/biped.leg:103:5
-        hip_l_yaw.kp            creatures/biped.leg:153:7 > creatures/biped.leg:104:5
-        leg_r_spring.rest       creatures/biped.leg:157:7 > creatures/biped.leg:135:5
-        hip_r_pitch.kp          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:157:7 > creatures/biped.leg:137:5
-        hip_r_roll.setpoint     creatures/biped.leg:157:7 > creatures/biped.leg:138:5
-        hip_r_yaw.setpoint      creatures/biped.leg:157:7 > creatures/biped.leg:139:5
-        place left (x, y)       creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3
+        leg_l_spring.rest       creatures/biped.leg:166:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_l_yaw.setpoint      creatures/biped.leg:167:7 > creatures/biped.leg:103:5
+        hip_l_yaw.kp            creatures/biped.leg:167:7 > creatures/biped.leg:104:5
+        leg_r_spring.rest       creatures/biped.leg:172:7 > creatures/biped.leg:149:5
+        hip_r_pitch.kp          creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:172:7 > creatures/biped.leg:151:5
+        hip_r_roll.setpoint     creatures/biped.leg:172:7 > creatures/biped.leg:152:5
+        hip_r_yaw.setpoint      creatures/biped.leg:172:7 > creatures/biped.leg:153:5
+        place left (x, y)       creatures/biped.leg:171:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -257,7 +277,6 @@ def action_FLIGHT_0(s, u, p, r, tis):
     coord_hip_l_y_value = s[18]
     leg_left_hip_x = s[27]
     leg_left_hip_y = s[28]
-    speed = u[0]
     k_speed = p[0]
     swing_kp = p[10]
     swing_kv = p[11]
@@ -266,8 +285,9 @@ def action_FLIGHT_0(s, u, p, r, tis):
     mirror = p[18]
     short = p[19]
     slew = p[21]
-    stance = r[0]
-    speed_trim = r[3]
+    speed_aim = r[0]
+    stance = r[1]
+    speed_trim = r[4]
     t1 = slew*tis
     leg_l_spring_rest = minimum(0.0, short + t1)
     leg_r_spring_rest = maximum(short, -t1)
@@ -276,7 +296,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     t2 = math.cos(body_trunk_yaw)
     t3 = math.sin(body_trunk_yaw)
     t4 = com_vx*t2 + com_vy*t3
-    left_x_goal = k_speed*(-speed - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4
+    left_x_goal = k_speed*(-speed_aim - speed_trim + t4) - leg_left_hip_x + 0.5*stance*t4
     t5 = -com_vx*t3 + com_vy*t2
     left_y_goal = k_speed*t5 - leg_left_hip_y + 0.5*stance*t5
     return [
@@ -308,39 +328,50 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed).
 
     From the .leg file:
-        record landed  creatures/biped.leg:158:48
+        record landed  creatures/biped.leg:173:48
     """
     time = s[45]
-    stance = r[0]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, time, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        time,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        hip_l_pitch.kp          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_l_pitch.kv          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_l_motor.force       creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_l_roll.kp           creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3
-        hip_l_roll.kv           creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3
-        hip_l_roll_motor.force  creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3
-        leg_r_spring.rest       creatures/biped.leg:158:91 > creatures/biped.leg:135:5
-        hip_r_pitch.kp          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:158:91 > creatures/biped.leg:137:5
-        hip_r_roll.setpoint     creatures/biped.leg:158:91 > creatures/biped.leg:138:5
-        hip_r_yaw.setpoint      creatures/biped.leg:158:91 > creatures/biped.leg:139:5
+        hip_l_pitch.kp          creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:173:70 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:173:70 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:173:70 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:173:91 > creatures/biped.leg:149:5
+        hip_r_pitch.kp          creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:173:91 > creatures/biped.leg:151:5
+        hip_r_roll.setpoint     creatures/biped.leg:173:91 > creatures/biped.leg:152:5
+        hip_r_yaw.setpoint      creatures/biped.leg:173:91 > creatures/biped.leg:153:5
     """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
@@ -371,39 +402,50 @@ def action_LOADING_0(s, u, p, r, tis):
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        hip_l_pitch.kp          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:159:48 > creatures/biped.leg:145:5
-        hip_l_yaw.setpoint      creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:159:65 > creatures/biped.leg:135:5
-        hip_r_pitch.kp          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:159:65 > creatures/biped.leg:137:5
-        hip_r_roll.setpoint     creatures/biped.leg:159:65 > creatures/biped.leg:138:5
-        hip_r_yaw.setpoint      creatures/biped.leg:159:65 > creatures/biped.leg:139:5
+        hip_l_pitch.kp          creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:174:48 > creatures/biped.leg:159:5
+        hip_l_yaw.setpoint      creatures/biped.leg:174:48 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:174:65 > creatures/biped.leg:149:5
+        hip_r_pitch.kp          creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:174:65 > creatures/biped.leg:151:5
+        hip_r_roll.setpoint     creatures/biped.leg:174:65 > creatures/biped.leg:152:5
+        hip_r_yaw.setpoint      creatures/biped.leg:174:65 > creatures/biped.leg:153:5
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
@@ -472,45 +514,56 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3
+        record predicted_apex  creatures/biped.leg:175:48 > stdlib/raibert.leg:191:3
     """
     act_leg_l_spring_force = s[0]
     act_leg_l_spring_k = s[1]
     com_z = s[16]
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     new_predicted_apex = 0.0018752170563742752*act_leg_l_spring_force*act_leg_l_spring_force/act_leg_l_spring_k + com_z
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, new_predicted_apex]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        new_predicted_apex,
+    ]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_roll.kp, hip_l_roll.kv, hip_l_motor.force, hip_l_roll_motor.force, hip_l_yaw.kp, hip_l_yaw.setpoint, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3
-        hip_l_pitch.kp          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
-        hip_l_pitch.kv          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
-        hip_l_roll.kp           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
-        hip_l_roll.kv           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
-        hip_l_motor.force       creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
-        hip_l_roll_motor.force  creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
-        hip_l_yaw.kp            creatures/biped.leg:160:130 > creatures/biped.leg:145:5
-        hip_l_yaw.setpoint      creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_r_spring.rest       creatures/biped.leg:160:147 > creatures/biped.leg:135:5
-        hip_r_pitch.kp          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:160:147 > creatures/biped.leg:137:5
-        hip_r_roll.setpoint     creatures/biped.leg:160:147 > creatures/biped.leg:138:5
-        hip_r_yaw.setpoint      creatures/biped.leg:160:147 > creatures/biped.leg:139:5
+        leg_l_spring.rest       creatures/biped.leg:175:48 > stdlib/raibert.leg:192:3
+        hip_l_pitch.kp          creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3
+        hip_l_pitch.kv          creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3
+        hip_l_roll.kp           creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3
+        hip_l_roll.kv           creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3
+        hip_l_motor.force       creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3
+        hip_l_roll_motor.force  creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3
+        hip_l_yaw.kp            creatures/biped.leg:175:130 > creatures/biped.leg:159:5
+        hip_l_yaw.setpoint      creatures/biped.leg:175:130 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_r_spring.rest       creatures/biped.leg:175:147 > creatures/biped.leg:149:5
+        hip_r_pitch.kp          creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:175:147 > creatures/biped.leg:151:5
+        hip_r_roll.setpoint     creatures/biped.leg:175:147 > creatures/biped.leg:152:5
+        hip_r_yaw.setpoint      creatures/biped.leg:175:147 > creatures/biped.leg:153:5
     """
     act_leg_l_spring_force = s[0]
     body_trunk_pitch = s[6]
@@ -551,7 +604,7 @@ def action_THRUST_0(s, u, p, r, tis):
     short = p[19]
     k_path = p[22]
     turn_limit = p[23]
-    predicted_apex = r[7]
+    predicted_apex = r[8]
     leg_l_spring_rest = minimum(max_stroke, maximum(min_stroke, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_l_spring_force/leg_left_length
     hip_l_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_left_foot_x*leg_left_hip_z + leg_left_foot_z*leg_left_hip_x)
@@ -585,38 +638,49 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_pitch.setpoint, hip_r_roll.setpoint, hip_r_yaw.setpoint.
 
     From the .leg file:
-        leg_l_spring.rest       creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3
-        hip_l_pitch.kp          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_l_pitch.kv          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_l_motor.force       creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_l_roll.kp           creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3
-        hip_l_roll.kv           creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3
-        hip_l_roll_motor.force  creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3
-        leg_r_spring.rest       creatures/biped.leg:162:48 > creatures/biped.leg:135:5
-        hip_r_pitch.kp          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_r_pitch.setpoint    creatures/biped.leg:162:48 > creatures/biped.leg:137:5
-        hip_r_roll.setpoint     creatures/biped.leg:162:48 > creatures/biped.leg:138:5
-        hip_r_yaw.setpoint      creatures/biped.leg:162:48 > creatures/biped.leg:139:5
+        leg_l_spring.rest       creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3
+        hip_l_pitch.kp          creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_l_pitch.kv          creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_l_motor.force       creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_l_roll.kp           creatures/biped.leg:177:27 > stdlib/raibert.leg:167:3
+        hip_l_roll.kv           creatures/biped.leg:177:27 > stdlib/raibert.leg:168:3
+        hip_l_roll_motor.force  creatures/biped.leg:177:27 > stdlib/raibert.leg:169:3
+        leg_r_spring.rest       creatures/biped.leg:177:48 > creatures/biped.leg:149:5
+        hip_r_pitch.kp          creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_r_pitch.setpoint    creatures/biped.leg:177:48 > creatures/biped.leg:151:5
+        hip_r_roll.setpoint     creatures/biped.leg:177:48 > creatures/biped.leg:152:5
+        hip_r_yaw.setpoint      creatures/biped.leg:177:48 > creatures/biped.leg:153:5
     """
     coord_hip_l_x_value = s[17]
     coord_hip_l_y_value = s[18]
@@ -647,15 +711,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 1 (changed: speed_aim, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record step_speed  creatures/biped.leg:154:7 > stdlib/raibert.leg:72:3
-        record speed_trim  creatures/biped.leg:154:7 > stdlib/raibert.leg:73:3
-        record lifted      creatures/biped.leg:154:7 > stdlib/raibert.leg:74:3
-        record lifted_x    creatures/biped.leg:154:7 > stdlib/raibert.leg:75:3
-        record lifted_y    creatures/biped.leg:154:7 > stdlib/raibert.leg:76:3
-        record stance      creatures/biped.leg:155:7
+        record speed_aim   creatures/biped.leg:168:7
+        record step_speed  creatures/biped.leg:169:7 > stdlib/raibert.leg:72:3
+        record speed_trim  creatures/biped.leg:169:7 > stdlib/raibert.leg:73:3
+        record lifted      creatures/biped.leg:169:7 > stdlib/raibert.leg:74:3
+        record lifted_x    creatures/biped.leg:169:7 > stdlib/raibert.leg:75:3
+        record lifted_y    creatures/biped.leg:169:7 > stdlib/raibert.leg:76:3
+        record stance      creatures/biped.leg:170:7
     """
     body_trunk_yaw = s[10]
     com_x = s[14]
@@ -665,43 +730,60 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     k_trim = p[1]
     trim_band = p[2]
     stance_guess = p[3]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
+    max_step = p[24]
+    moving_step = p[25]
+    speed_aim = r[0]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    t1 = (abs(speed_aim) < 0.001)
+    t2 = ((max_step) if t1 else (moving_step))
+    t3 = ((step_speed) if t1 else (speed_aim))
+    new_speed_aim = ((speed) if (((max_step >= abs(speed - step_speed))) if t1 else ((moving_step >= abs(speed - speed_aim)))) else (t3 + minimum(t2, maximum(-t2, speed - t3))))
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
-    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (speed))
-    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, speed - step_speed)) + speed_trim
-    return [new_stance, landed, new_step_speed, new_speed_trim, time, com_x, com_y, predicted_apex]
+    new_step_speed = ((((com_x - lifted_x)*math.cos(body_trunk_yaw) + (com_y - lifted_y)*math.sin(body_trunk_yaw))/(-lifted + time)) if (lifted > 0.0) else (new_speed_aim))
+    new_speed_trim = k_trim*minimum(trim_band, maximum(-trim_band, -step_speed + new_speed_aim)) + speed_trim
+    return [
+        new_speed_aim,
+        new_stance,
+        landed,
+        new_step_speed,
+        new_speed_trim,
+        time,
+        com_x,
+        com_y,
+        predicted_apex,
+    ]
 
 
 def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, hip_r_yaw.setpoint, hip_r_yaw.kp, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint, place right (x, y).
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:152:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_r_pitch.kv          creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_r_motor.force       creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_r_roll.kp           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
-        hip_r_roll.kv           creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
-        hip_r_roll_motor.force  creatures/biped.leg:153:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
-        hip_r_yaw.setpoint      creatures/biped.leg:153:7 > creatures/biped.leg:103:5
-        hip_r_yaw.kp            creatures/biped.leg:153:7 > creatures/biped.leg:104:5
-        leg_l_spring.rest       creatures/biped.leg:157:7 > creatures/biped.leg:135:5
-        hip_l_pitch.kp          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:157:7 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:157:7 > creatures/biped.leg:137:5
-        hip_l_roll.setpoint     creatures/biped.leg:157:7 > creatures/biped.leg:138:5
-        hip_l_yaw.setpoint      creatures/biped.leg:157:7 > creatures/biped.leg:139:5
-        place right (x, y)      creatures/biped.leg:156:7 > stdlib/raibert.leg:57:3
+        leg_r_spring.rest       creatures/biped.leg:166:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_r_pitch.kv          creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_r_motor.force       creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_r_roll.kp           creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:153:3
+        hip_r_roll.kv           creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:154:3
+        hip_r_roll_motor.force  creatures/biped.leg:167:7 > creatures/biped.leg:102:5 > stdlib/raibert.leg:155:3
+        hip_r_yaw.setpoint      creatures/biped.leg:167:7 > creatures/biped.leg:103:5
+        hip_r_yaw.kp            creatures/biped.leg:167:7 > creatures/biped.leg:104:5
+        leg_l_spring.rest       creatures/biped.leg:172:7 > creatures/biped.leg:149:5
+        hip_l_pitch.kp          creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:172:7 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:172:7 > creatures/biped.leg:151:5
+        hip_l_roll.setpoint     creatures/biped.leg:172:7 > creatures/biped.leg:152:5
+        hip_l_yaw.setpoint      creatures/biped.leg:172:7 > creatures/biped.leg:153:5
+        place right (x, y)      creatures/biped.leg:171:7 > stdlib/raibert.leg:57:3
     """
     body_trunk_pitch = s[6]
     body_trunk_pitch_rate = s[7]
@@ -714,7 +796,6 @@ def action_FLIGHT_1(s, u, p, r, tis):
     coord_hip_r_y_value = s[21]
     leg_right_hip_x = s[36]
     leg_right_hip_y = s[37]
-    speed = u[0]
     k_speed = p[0]
     swing_kp = p[10]
     swing_kv = p[11]
@@ -723,8 +804,9 @@ def action_FLIGHT_1(s, u, p, r, tis):
     mirror = p[18]
     short = p[19]
     slew = p[21]
-    stance = r[0]
-    speed_trim = r[3]
+    speed_aim = r[0]
+    stance = r[1]
+    speed_trim = r[4]
     t1 = slew*tis
     leg_r_spring_rest = minimum(0.0, short + t1)
     leg_l_spring_rest = maximum(short, -t1)
@@ -733,7 +815,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     t2 = math.cos(body_trunk_yaw)
     t3 = math.sin(body_trunk_yaw)
     t4 = com_vx*t2 + com_vy*t3
-    right_x_goal = k_speed*(-speed - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4
+    right_x_goal = k_speed*(-speed_aim - speed_trim + t4) - leg_right_hip_x + 0.5*stance*t4
     t5 = -com_vx*t3 + com_vy*t2
     right_y_goal = k_speed*t5 - leg_right_hip_y + 0.5*stance*t5
     return [
@@ -765,39 +847,50 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed).
 
     From the .leg file:
-        record landed  creatures/biped.leg:158:48
+        record landed  creatures/biped.leg:173:48
     """
     time = s[45]
-    stance = r[0]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, time, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        time,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        hip_r_pitch.kp          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_r_pitch.kv          creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_r_motor.force       creatures/biped.leg:158:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_r_roll.kp           creatures/biped.leg:158:70 > stdlib/raibert.leg:167:3
-        hip_r_roll.kv           creatures/biped.leg:158:70 > stdlib/raibert.leg:168:3
-        hip_r_roll_motor.force  creatures/biped.leg:158:70 > stdlib/raibert.leg:169:3
-        leg_l_spring.rest       creatures/biped.leg:158:91 > creatures/biped.leg:135:5
-        hip_l_pitch.kp          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:158:91 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:158:91 > creatures/biped.leg:137:5
-        hip_l_roll.setpoint     creatures/biped.leg:158:91 > creatures/biped.leg:138:5
-        hip_l_yaw.setpoint      creatures/biped.leg:158:91 > creatures/biped.leg:139:5
+        hip_r_pitch.kp          creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:173:70 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:173:70 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:173:70 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:173:70 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:173:91 > creatures/biped.leg:149:5
+        hip_l_pitch.kp          creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:173:91 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:173:91 > creatures/biped.leg:151:5
+        hip_l_roll.setpoint     creatures/biped.leg:173:91 > creatures/biped.leg:152:5
+        hip_l_yaw.setpoint      creatures/biped.leg:173:91 > creatures/biped.leg:153:5
     """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
@@ -828,39 +921,50 @@ def action_LOADING_1(s, u, p, r, tis):
 
 def entry_COMPRESSION_1(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 1 (changed: none)."""
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        hip_r_pitch.kp          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:159:48 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:159:48 > creatures/biped.leg:145:5
-        hip_r_yaw.setpoint      creatures/biped.leg:159:48 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:159:65 > creatures/biped.leg:135:5
-        hip_l_pitch.kp          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:159:65 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:159:65 > creatures/biped.leg:137:5
-        hip_l_roll.setpoint     creatures/biped.leg:159:65 > creatures/biped.leg:138:5
-        hip_l_yaw.setpoint      creatures/biped.leg:159:65 > creatures/biped.leg:139:5
+        hip_r_pitch.kp          creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:174:48 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:174:48 > creatures/biped.leg:159:5
+        hip_r_yaw.setpoint      creatures/biped.leg:174:48 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:174:65 > creatures/biped.leg:149:5
+        hip_l_pitch.kp          creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:174:65 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:174:65 > creatures/biped.leg:151:5
+        hip_l_roll.setpoint     creatures/biped.leg:174:65 > creatures/biped.leg:152:5
+        hip_l_yaw.setpoint      creatures/biped.leg:174:65 > creatures/biped.leg:153:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
@@ -929,45 +1033,56 @@ def entry_THRUST_1(s, u, p, r, tis):
     """The records on entering THRUST under binding 1 (changed: predicted_apex).
 
     From the .leg file:
-        record predicted_apex  creatures/biped.leg:160:48 > stdlib/raibert.leg:191:3
+        record predicted_apex  creatures/biped.leg:175:48 > stdlib/raibert.leg:191:3
     """
     act_leg_r_spring_force = s[3]
     act_leg_r_spring_k = s[4]
     com_z = s[16]
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
     new_predicted_apex = 0.0018752170563742752*act_leg_r_spring_force*act_leg_r_spring_force/act_leg_r_spring_k + com_z
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, new_predicted_apex]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        new_predicted_apex,
+    ]
 
 
 def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_roll.kp, hip_r_roll.kv, hip_r_motor.force, hip_r_roll_motor.force, hip_r_yaw.kp, hip_r_yaw.setpoint, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:160:48 > stdlib/raibert.leg:192:3
-        hip_r_pitch.kp          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:107:3
-        hip_r_pitch.kv          creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:108:3
-        hip_r_roll.kp           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:109:3
-        hip_r_roll.kv           creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:110:3
-        hip_r_motor.force       creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:111:3
-        hip_r_roll_motor.force  creatures/biped.leg:160:130 > creatures/biped.leg:144:5 > stdlib/raibert.leg:112:3
-        hip_r_yaw.kp            creatures/biped.leg:160:130 > creatures/biped.leg:145:5
-        hip_r_yaw.setpoint      creatures/biped.leg:160:130 > creatures/biped.leg:146:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
-        leg_l_spring.rest       creatures/biped.leg:160:147 > creatures/biped.leg:135:5
-        hip_l_pitch.kp          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:160:147 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:160:147 > creatures/biped.leg:137:5
-        hip_l_roll.setpoint     creatures/biped.leg:160:147 > creatures/biped.leg:138:5
-        hip_l_yaw.setpoint      creatures/biped.leg:160:147 > creatures/biped.leg:139:5
+        leg_r_spring.rest       creatures/biped.leg:175:48 > stdlib/raibert.leg:192:3
+        hip_r_pitch.kp          creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:107:3
+        hip_r_pitch.kv          creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:108:3
+        hip_r_roll.kp           creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:109:3
+        hip_r_roll.kv           creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:110:3
+        hip_r_motor.force       creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:111:3
+        hip_r_roll_motor.force  creatures/biped.leg:175:130 > creatures/biped.leg:158:5 > stdlib/raibert.leg:112:3
+        hip_r_yaw.kp            creatures/biped.leg:175:130 > creatures/biped.leg:159:5
+        hip_r_yaw.setpoint      creatures/biped.leg:175:130 > creatures/biped.leg:160:5 > stdlib/raibert.leg:138:3 > stdlib/raibert.leg:125:3
+        leg_l_spring.rest       creatures/biped.leg:175:147 > creatures/biped.leg:149:5
+        hip_l_pitch.kp          creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:175:147 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:175:147 > creatures/biped.leg:151:5
+        hip_l_roll.setpoint     creatures/biped.leg:175:147 > creatures/biped.leg:152:5
+        hip_l_yaw.setpoint      creatures/biped.leg:175:147 > creatures/biped.leg:153:5
     """
     act_leg_r_spring_force = s[3]
     body_trunk_pitch = s[6]
@@ -1008,7 +1123,7 @@ def action_THRUST_1(s, u, p, r, tis):
     short = p[19]
     k_path = p[22]
     turn_limit = p[23]
-    predicted_apex = r[7]
+    predicted_apex = r[8]
     leg_r_spring_rest = minimum(max_stroke, maximum(min_stroke, k_height*(height - predicted_apex) + stroke))
     t1 = act_leg_r_spring_force/leg_right_length
     hip_r_motor_force = body_trunk_pitch*kp + body_trunk_pitch_rate*kv + t1*(-leg_right_foot_x*leg_right_hip_z + leg_right_foot_z*leg_right_hip_x)
@@ -1042,38 +1157,49 @@ def action_THRUST_1(s, u, p, r, tis):
 
 def entry_UNLOADING_1(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 1 (changed: none)."""
-    stance = r[0]
-    landed = r[1]
-    step_speed = r[2]
-    speed_trim = r[3]
-    lifted = r[4]
-    lifted_x = r[5]
-    lifted_y = r[6]
-    predicted_apex = r[7]
-    return [stance, landed, step_speed, speed_trim, lifted, lifted_x, lifted_y, predicted_apex]
+    speed_aim = r[0]
+    stance = r[1]
+    landed = r[2]
+    step_speed = r[3]
+    speed_trim = r[4]
+    lifted = r[5]
+    lifted_x = r[6]
+    lifted_y = r[7]
+    predicted_apex = r[8]
+    return [
+        speed_aim,
+        stance,
+        landed,
+        step_speed,
+        speed_trim,
+        lifted,
+        lifted_x,
+        lifted_y,
+        predicted_apex,
+    ]
 
 
 def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_r_spring.rest, hip_r_pitch.kp, hip_r_pitch.kv, hip_r_motor.force, hip_r_roll.kp, hip_r_roll.kv, hip_r_roll_motor.force, leg_l_spring.rest, hip_l_pitch.kp, hip_l_pitch.kv, hip_l_motor.force, hip_l_roll.kp, hip_l_roll.kv, hip_l_roll_motor.force, hip_l_pitch.setpoint, hip_l_roll.setpoint, hip_l_yaw.setpoint.
 
     From the .leg file:
-        leg_r_spring.rest       creatures/biped.leg:162:7 > stdlib/raibert.leg:196:3
-        hip_r_pitch.kp          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_r_pitch.kv          creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_r_motor.force       creatures/biped.leg:162:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_r_roll.kp           creatures/biped.leg:162:27 > stdlib/raibert.leg:167:3
-        hip_r_roll.kv           creatures/biped.leg:162:27 > stdlib/raibert.leg:168:3
-        hip_r_roll_motor.force  creatures/biped.leg:162:27 > stdlib/raibert.leg:169:3
-        leg_l_spring.rest       creatures/biped.leg:162:48 > creatures/biped.leg:135:5
-        hip_l_pitch.kp          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_l_pitch.kv          creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_l_motor.force       creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_l_roll.kp           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:153:3
-        hip_l_roll.kv           creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:154:3
-        hip_l_roll_motor.force  creatures/biped.leg:162:48 > creatures/biped.leg:136:5 > stdlib/raibert.leg:155:3
-        hip_l_pitch.setpoint    creatures/biped.leg:162:48 > creatures/biped.leg:137:5
-        hip_l_roll.setpoint     creatures/biped.leg:162:48 > creatures/biped.leg:138:5
-        hip_l_yaw.setpoint      creatures/biped.leg:162:48 > creatures/biped.leg:139:5
+        leg_r_spring.rest       creatures/biped.leg:177:7 > stdlib/raibert.leg:196:3
+        hip_r_pitch.kp          creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_r_pitch.kv          creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_r_motor.force       creatures/biped.leg:177:27 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_r_roll.kp           creatures/biped.leg:177:27 > stdlib/raibert.leg:167:3
+        hip_r_roll.kv           creatures/biped.leg:177:27 > stdlib/raibert.leg:168:3
+        hip_r_roll_motor.force  creatures/biped.leg:177:27 > stdlib/raibert.leg:169:3
+        leg_l_spring.rest       creatures/biped.leg:177:48 > creatures/biped.leg:149:5
+        hip_l_pitch.kp          creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_l_pitch.kv          creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_l_motor.force       creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_l_roll.kp           creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:153:3
+        hip_l_roll.kv           creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:154:3
+        hip_l_roll_motor.force  creatures/biped.leg:177:48 > creatures/biped.leg:150:5 > stdlib/raibert.leg:155:3
+        hip_l_pitch.setpoint    creatures/biped.leg:177:48 > creatures/biped.leg:151:5
+        hip_l_roll.setpoint     creatures/biped.leg:177:48 > creatures/biped.leg:152:5
+        hip_l_yaw.setpoint      creatures/biped.leg:177:48 > creatures/biped.leg:153:5
     """
     coord_hip_r_x_value = s[20]
     coord_hip_r_y_value = s[21]
