@@ -64,6 +64,13 @@ def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return target
 
 
+def hopper_modules(generated: Path) -> None:
+    """The checked-in hopper modules copied into ``generated``, so that a test that hands a
+    fresh folder to a command (sweep, tune) finds them there instead of compiling them again
+    (the folder then holds what a first compile would have written)."""
+    shutil.copytree(GENERATED / "hopper", generated / "hopper", dirs_exist_ok=True)
+
+
 @pytest.fixture
 def creatures_dir() -> Path:
     return CREATURES

@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
+from conftest import hopper_modules
 
 from legdsl.api.tune_journal import JOURNAL, Journal
 from legdsl.cli import main
@@ -14,6 +15,11 @@ ROOT = Path(__file__).resolve().parents[2]
 PLAN = {"creature": "c1", "controller": "k1", "bounds": [[0, 1]], "objective": {"speeds": [1.5]},
         "popsize": 8, "seed": 1}  # fmt: skip
 RUN = {"outcome": "ok", "simulated": 1.0}
+
+
+@pytest.fixture(autouse=True)
+def _hopper_modules(tmp_path: Path) -> None:
+    hopper_modules(tmp_path / "generated")
 
 
 def stopped(out: Path, plan: dict[str, object]) -> None:

@@ -6,12 +6,18 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import hopper_modules
 
 import legdsl.api.tune_cli as tune_cli
 from legdsl.cli import main
 from legdsl.sim.run_loop import Interrupted
 
 ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(autouse=True)
+def _hopper_modules(tmp_path: Path) -> None:
+    hopper_modules(tmp_path / "generated")
 
 
 @pytest.mark.parametrize(("stop", "status"), [(KeyboardInterrupt, 130), (Interrupted, 143)])

@@ -10,11 +10,17 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import hopper_modules
 
 import legdsl.api.tune_cli as tune_cli
 from legdsl.cli import main
 
 HOPPER = Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg"
+
+
+@pytest.fixture(autouse=True)
+def _hopper_modules(tmp_path: Path) -> None:
+    hopper_modules(tmp_path / "generated")
 
 
 def _tune(out: Path, generated: Path) -> int:
