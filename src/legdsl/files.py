@@ -59,6 +59,16 @@ REFUSED_WRITES = {
 }
 
 
+def cache_dir() -> Path:
+    """Where legdsl keeps what it can always build again (compiled C, the parser's tables):
+    ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``."""
+    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
+    if os.environ.get("LEGDSL_CACHE"):
+        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base).expanduser() / "legdsl"
+
+
 def refused(e: OSError, path: str | Path) -> OSError:
     """``e``, a write of ``path`` the disk refused, as an ``OSError`` naming ``path`` that says
     why and what to free; other errors (a permission, a missing folder) as they are."""

@@ -482,9 +482,10 @@ def test_a_c_library_builds_with_tmpdir_unwritable(tmp_path: Path) -> None:
     assert done.code == 0 and "Traceback" not in done.err, done.err
     cache = scratch / "cache"
     assert "built" in done.err and sorted(p.name for p in cache.iterdir()) == sorted(
-        [*(p.name for p in cache.glob("hopper-*.so")), "objects"]
-    )  # the library and its units' objects, and no temporary file left
+        [*(p.name for p in cache.glob("hopper-*.so")), "objects", "grammar"]
+    )  # the library, its units' objects and the parser's tables, and no temporary file left
     assert all(p.suffix == ".o" for p in (cache / "objects").iterdir())
+    assert all(p.suffix == ".lark-tables" for p in (cache / "grammar").iterdir())
 
 
 def test_a_compile_into_a_linked_module_directory_keeps_the_link(tmp_path: Path) -> None:

@@ -179,7 +179,7 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """LEGDSL_CACHE=~/x from a settings file no shell expanded: not a folder '~' here."""
-    from legdsl.codegen.c.cache import cache_dir
+    from legdsl.files import cache_dir
 
     monkeypatch.setenv("HOME", str(tmp_path))
     monkeypatch.setenv("LEGDSL_CACHE", "~/legdsl-cache")

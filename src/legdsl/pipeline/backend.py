@@ -17,7 +17,7 @@ from types import ModuleType
 from typing import Any
 
 from legdsl.codegen.c.build import DYNAMICS_FILES
-from legdsl.codegen.c.cache import cache_dir
+from legdsl.files import cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import InternalError, UsageError

@@ -31,8 +31,7 @@ from legdsl.codegen.c.build import (
     no_compiler,
     sources,
 )
-from legdsl.codegen.c.cache import cache_dir
-from legdsl.files import free_bytes, refused_in
+from legdsl.files import cache_dir, free_bytes, refused_in
 from legdsl.ir.model import Model
 
 # Every pointer of the struct is a c_void_p on the Python side (the same layout as a typed

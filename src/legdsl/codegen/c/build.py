@@ -48,13 +48,13 @@ from pathlib import Path
 
 from legdsl.codegen.c.cache import (
     OBJECTS,
-    cache_dir,
     keep_object,
     reuse_object,
     seal,
     sealed,
     trim,
 )
+from legdsl.files import cache_dir
 
 RUNTIME = Path(__file__).parent / "runtime"
 RUNTIME_FILES = (

@@ -1,6 +1,6 @@
 """The cache of compiled C: libraries and the objects of their translation units.
 
-The cache: ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``.
+The cache: ``legdsl.files.cache_dir()`` (``$LEGDSL_CACHE`` if set, else ``~/.cache/legdsl``).
 A library is named by the hash of its sources, the compiler's path and version, the flags and
 the processor's features,
 so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
@@ -31,14 +31,6 @@ SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 OBJECTS = "objects"  # the cache's folder of compiled translation units
 LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
-
-
-def cache_dir() -> Path:
-    # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
-    if os.environ.get("LEGDSL_CACHE"):
-        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base).expanduser() / "legdsl"
 
 
 def reuse_object(kept: Path, obj: Path) -> bool:
