@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "4fa16949d9377d56";
+const char legdsl_control_fingerprint[] = "469ea536ba42a126";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -29,7 +29,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/hopper.leg:81:5 */
+/*   event: creatures/hopper.leg:82:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -38,7 +38,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/hopper.leg:82:5 */
+/*   event: creatures/hopper.leg:83:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[11];
@@ -47,7 +47,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/hopper.leg:83:5 */
+/*   event: creatures/hopper.leg:84:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -56,7 +56,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 */
-/*   event: creatures/hopper.leg:84:5 */
+/*   event: creatures/hopper.leg:85:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_rate = s[9];
@@ -65,7 +65,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full */
-/*   event: creatures/hopper.leg:85:5 */
+/*   event: creatures/hopper.leg:86:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_length = s[8];
@@ -74,11 +74,11 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
     return (leg_main_length > full);
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: aim, speed_trim, apex_seen, apex_trim). */
-/*   record aim: creatures/hopper.leg:81:104 */
-/*   record speed_trim: creatures/hopper.leg:81:135 > stdlib/raibert.leg:44:3 */
-/*   record apex_seen: creatures/hopper.leg:81:173 > stdlib/raibert.leg:359:3 */
-/*   record apex_trim: creatures/hopper.leg:81:173 > stdlib/raibert.leg:360:3 */
+/* The records on entering FLIGHT under binding 0 (changed: speed_aim, speed_trim, apex_seen, apex_trim). */
+/*   record speed_aim: creatures/hopper.leg:82:104 */
+/*   record speed_trim: creatures/hopper.leg:82:133 > stdlib/raibert.leg:44:3 */
+/*   record apex_seen: creatures/hopper.leg:82:163 > stdlib/raibert.leg:359:3 */
+/*   record apex_trim: creatures/hopper.leg:82:163 > stdlib/raibert.leg:360:3 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
@@ -91,20 +91,20 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double k_trim = p[10];
     const double max_step = p[12];
     const double moving_step = p[13];
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
     const double predicted_apex = r[2];
     const double thrust_stroke = r[3];
     const double apex_trim = r[5];
-    const double t1 = (fabs(aim) < 0.001);
-    const double t2 = aim - speed;
+    const double t1 = (fabs(speed_aim) < 0.001);
+    const double t2 = speed - speed_aim;
     const double t3 = fabs(t2);
     const double t4 = ((t1) ? (max_step) : (moving_step));
-    const double new_aim = speed + ((((t1) ? ((max_step >= t3)) : ((moving_step >= t3)))) ? (0.0) : (t2 + leg_min(t4, leg_max(-t2, -t4))));
-    const double new_speed_trim = k_trim*(-com_vx + new_aim) + speed_trim;
+    const double new_speed_aim = ((((t1) ? ((max_step >= t3)) : ((moving_step >= t3)))) ? (speed) : (speed_aim + leg_min(t4, leg_max(t2, -t4))));
+    const double new_speed_trim = k_trim*(-com_vx + new_speed_aim) + speed_trim;
     const double new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z;
     const double new_apex_trim = leg_min(apex_limit, leg_max(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)));
-    out[0] = new_aim;
+    out[0] = new_speed_aim;
     out[1] = new_speed_trim;
     out[2] = predicted_apex;
     out[3] = thrust_stroke;
@@ -115,30 +115,23 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x). */
-/*   leg_spring.rest: creatures/hopper.leg:81:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:81:69 > stdlib/raibert.leg:144:3 */
-/*   hip_servo.kv: creatures/hopper.leg:81:69 > stdlib/raibert.leg:145:3 */
-/*   hip_motor.force: creatures/hopper.leg:81:69 > stdlib/raibert.leg:146:3 */
-/*   place main (x): creatures/hopper.leg:81:213 > stdlib/raibert.leg:20:3 */
+/*   leg_spring.rest: creatures/hopper.leg:82:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:82:69 > stdlib/raibert.leg:144:3 */
+/*   hip_servo.kv: creatures/hopper.leg:82:69 > stdlib/raibert.leg:145:3 */
+/*   hip_motor.force: creatures/hopper.leg:82:69 > stdlib/raibert.leg:146:3 */
+/*   place main (x): creatures/hopper.leg:82:203 > stdlib/raibert.leg:20:3 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vx = s[4];
     const double leg_main_hip_x = s[7];
     const double leg_main_stance_time = s[10];
-    const double speed = u[0];
     const double k_speed = p[0];
     const double stance_guess = p[1];
     const double swing_kp = p[4];
     const double swing_kv = p[5];
-    const double max_step = p[12];
-    const double moving_step = p[13];
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
-    const double t1 = (fabs(aim) < 0.001);
-    const double t2 = aim - speed;
-    const double t3 = fabs(t2);
-    const double t4 = ((t1) ? (max_step) : (moving_step));
-    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed - speed_trim - ((((t1) ? ((max_step >= t3)) : ((moving_step >= t3)))) ? (0.0) : (t2 + leg_min(t4, leg_max(-t2, -t4))))) - leg_main_hip_x;
+    const double main_x_goal = 0.5*com_vx*(((leg_main_stance_time > 0.0)) ? (leg_main_stance_time) : (stance_guess)) + k_speed*(com_vx - speed_aim - speed_trim) - leg_main_hip_x;
     out[0] = 0.0;
     out[1] = swing_kp;
     out[2] = swing_kv;
@@ -151,13 +144,13 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 /* The records on entering LOADING under binding 0 (changed: none). */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
     const double predicted_apex = r[2];
     const double thrust_stroke = r[3];
     const double apex_seen = r[4];
     const double apex_trim = r[5];
-    out[0] = aim;
+    out[0] = speed_aim;
     out[1] = speed_trim;
     out[2] = predicted_apex;
     out[3] = thrust_stroke;
@@ -168,9 +161,9 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
 }
 
 /* Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:82:49 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:82:49 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:82:49 > stdlib/raibert.leg:162:3 */
+/*   hip_servo.kp: creatures/hopper.leg:83:49 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:83:49 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:83:49 > stdlib/raibert.leg:162:3 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;
@@ -183,13 +176,13 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
 /* The records on entering COMPRESSION under binding 0 (changed: none). */
 static void entry_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
     const double predicted_apex = r[2];
     const double thrust_stroke = r[3];
     const double apex_seen = r[4];
     const double apex_trim = r[5];
-    out[0] = aim;
+    out[0] = speed_aim;
     out[1] = speed_trim;
     out[2] = predicted_apex;
     out[3] = thrust_stroke;
@@ -200,9 +193,9 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   hip_servo.kp: creatures/hopper.leg:83:49 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:83:49 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:83:49 > stdlib/raibert.leg:86:3 */
+/*   hip_servo.kp: creatures/hopper.leg:84:49 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:84:49 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:84:49 > stdlib/raibert.leg:86:3 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -218,8 +211,8 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
 }
 
 /* The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke). */
-/*   record predicted_apex: creatures/hopper.leg:84:49 > stdlib/raibert.leg:343:3 */
-/*   record thrust_stroke: creatures/hopper.leg:84:49 > stdlib/raibert.leg:344:3 */
+/*   record predicted_apex: creatures/hopper.leg:85:49 > stdlib/raibert.leg:343:3 */
+/*   record thrust_stroke: creatures/hopper.leg:85:49 > stdlib/raibert.leg:344:3 */
 static void entry_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double act_leg_spring_force = s[0];
@@ -228,7 +221,7 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double com_z = s[6];
     const double height = u[1];
     const double stroke = p[6];
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
     const double apex_seen = r[4];
     const double apex_trim = r[5];
@@ -238,7 +231,7 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double t4 = t2*t3;
     const double new_predicted_apex = com_z + 0.0509683995922528*t1 + 0.004591747711013765*t4;
     const double new_thrust_stroke = leg_min(3.0*stroke, leg_max(0.0, -act_leg_spring_force*t3 + leg_sqrt(leg_max(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + leg_div(t2, act_leg_spring_k*act_leg_spring_k)))));
-    out[0] = aim;
+    out[0] = speed_aim;
     out[1] = speed_trim;
     out[2] = new_predicted_apex;
     out[3] = new_thrust_stroke;
@@ -249,10 +242,10 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
 }
 
 /* Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:84:49 > stdlib/raibert.leg:345:3 */
-/*   hip_servo.kp: creatures/hopper.leg:84:112 > stdlib/raibert.leg:84:3 */
-/*   hip_servo.kv: creatures/hopper.leg:84:112 > stdlib/raibert.leg:85:3 */
-/*   hip_motor.force: creatures/hopper.leg:84:112 > stdlib/raibert.leg:86:3 */
+/*   leg_spring.rest: creatures/hopper.leg:85:49 > stdlib/raibert.leg:345:3 */
+/*   hip_servo.kp: creatures/hopper.leg:85:112 > stdlib/raibert.leg:84:3 */
+/*   hip_servo.kv: creatures/hopper.leg:85:112 > stdlib/raibert.leg:85:3 */
+/*   hip_motor.force: creatures/hopper.leg:85:112 > stdlib/raibert.leg:86:3 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_body_pitch = s[2];
@@ -272,13 +265,13 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
 /* The records on entering UNLOADING under binding 0 (changed: none). */
 static void entry_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
-    const double aim = r[0];
+    const double speed_aim = r[0];
     const double speed_trim = r[1];
     const double predicted_apex = r[2];
     const double thrust_stroke = r[3];
     const double apex_seen = r[4];
     const double apex_trim = r[5];
-    out[0] = aim;
+    out[0] = speed_aim;
     out[1] = speed_trim;
     out[2] = predicted_apex;
     out[3] = thrust_stroke;
@@ -289,10 +282,10 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
 }
 
 /* Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force. */
-/*   leg_spring.rest: creatures/hopper.leg:85:49 > stdlib/raibert.leg:196:3 */
-/*   hip_servo.kp: creatures/hopper.leg:85:69 > stdlib/raibert.leg:160:3 */
-/*   hip_servo.kv: creatures/hopper.leg:85:69 > stdlib/raibert.leg:161:3 */
-/*   hip_motor.force: creatures/hopper.leg:85:69 > stdlib/raibert.leg:162:3 */
+/*   leg_spring.rest: creatures/hopper.leg:86:49 > stdlib/raibert.leg:196:3 */
+/*   hip_servo.kp: creatures/hopper.leg:86:69 > stdlib/raibert.leg:160:3 */
+/*   hip_servo.kv: creatures/hopper.leg:86:69 > stdlib/raibert.leg:161:3 */
+/*   hip_motor.force: creatures/hopper.leg:86:69 > stdlib/raibert.leg:162:3 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     out[0] = 0.0;

@@ -32,7 +32,7 @@ def maximum(*values):
 
 CONTROLLER = "hop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "4fa16949d9377d56"
+FINGERPRINT = "469ea536ba42a126"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('act.leg_spring.force', 'act.leg_spring.k', 'body.body.pitch', 'body.body.pitch_rate', 'com.vx', 'com.vz', 'com.z', 'leg.main.hip_x', 'leg.main.length', 'leg.main.rate', 'leg.main.stance_time', 'leg.main.touching')
@@ -56,7 +56,7 @@ PARAMS = {
     "max_step": 1.5,
     "moving_step": 0.3,
 }
-RECORDS = ('aim', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'apex_seen', 'apex_trim')
+RECORDS = ('speed_aim', 'speed_trim', 'predicted_apex', 'thrust_stroke', 'apex_seen', 'apex_trim')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 0,
@@ -71,7 +71,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:81:5
+        event  creatures/hopper.leg:82:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching < 0.5)
@@ -81,7 +81,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:82:5
+        event  creatures/hopper.leg:83:5
     """
     leg_main_touching = s[11]
     return (leg_main_touching > 0.5)
@@ -91,7 +91,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/hopper.leg:83:5
+        event  creatures/hopper.leg:84:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate < 0.0)
@@ -101,7 +101,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/hopper.leg:84:5
+        event  creatures/hopper.leg:85:5
     """
     leg_main_rate = s[9]
     return (leg_main_rate > 0.0)
@@ -111,7 +111,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full
 
     From the .leg file:
-        event  creatures/hopper.leg:85:5
+        event  creatures/hopper.leg:86:5
     """
     leg_main_length = s[8]
     full = p[11]
@@ -119,13 +119,13 @@ def event_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: aim, speed_trim, apex_seen, apex_trim).
+    """The records on entering FLIGHT under binding 0 (changed: speed_aim, speed_trim, apex_seen, apex_trim).
 
     From the .leg file:
-        record aim         creatures/hopper.leg:81:104
-        record speed_trim  creatures/hopper.leg:81:135 > stdlib/raibert.leg:44:3
-        record apex_seen   creatures/hopper.leg:81:173 > stdlib/raibert.leg:359:3
-        record apex_trim   creatures/hopper.leg:81:173 > stdlib/raibert.leg:360:3
+        record speed_aim   creatures/hopper.leg:82:104
+        record speed_trim  creatures/hopper.leg:82:133 > stdlib/raibert.leg:44:3
+        record apex_seen   creatures/hopper.leg:82:163 > stdlib/raibert.leg:359:3
+        record apex_trim   creatures/hopper.leg:82:163 > stdlib/raibert.leg:360:3
     """
     com_vx = s[4]
     com_vz = s[5]
@@ -137,92 +137,92 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     k_trim = p[10]
     max_step = p[12]
     moving_step = p[13]
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
     predicted_apex = r[2]
     thrust_stroke = r[3]
     apex_trim = r[5]
-    t1 = (abs(aim) < 0.001)
-    t2 = aim - speed
+    t1 = (abs(speed_aim) < 0.001)
+    t2 = speed - speed_aim
     t3 = abs(t2)
     t4 = ((max_step) if t1 else (moving_step))
-    new_aim = speed + ((0.0) if (((max_step >= t3)) if t1 else ((moving_step >= t3))) else (t2 + minimum(t4, maximum(-t2, -t4))))
-    new_speed_trim = k_trim*(-com_vx + new_aim) + speed_trim
+    new_speed_aim = ((speed) if (((max_step >= t3)) if t1 else ((moving_step >= t3))) else (speed_aim + minimum(t4, maximum(t2, -t4))))
+    new_speed_trim = k_trim*(-com_vx + new_speed_aim) + speed_trim
     new_apex_seen = 0.0509683995922528*com_vz*com_vz + com_z
     new_apex_trim = minimum(apex_limit, maximum(-apex_limit, apex_trim + k_apex*(height - new_apex_seen)))
-    return [new_aim, new_speed_trim, predicted_apex, thrust_stroke, new_apex_seen, new_apex_trim]
+    return [
+        new_speed_aim,
+        new_speed_trim,
+        predicted_apex,
+        thrust_stroke,
+        new_apex_seen,
+        new_apex_trim,
+    ]
 
 
 def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force, place main (x).
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:81:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:81:69 > stdlib/raibert.leg:144:3
-        hip_servo.kv     creatures/hopper.leg:81:69 > stdlib/raibert.leg:145:3
-        hip_motor.force  creatures/hopper.leg:81:69 > stdlib/raibert.leg:146:3
-        place main (x)   creatures/hopper.leg:81:213 > stdlib/raibert.leg:20:3
+        leg_spring.rest  creatures/hopper.leg:82:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:82:69 > stdlib/raibert.leg:144:3
+        hip_servo.kv     creatures/hopper.leg:82:69 > stdlib/raibert.leg:145:3
+        hip_motor.force  creatures/hopper.leg:82:69 > stdlib/raibert.leg:146:3
+        place main (x)   creatures/hopper.leg:82:203 > stdlib/raibert.leg:20:3
     """
     com_vx = s[4]
     leg_main_hip_x = s[7]
     leg_main_stance_time = s[10]
-    speed = u[0]
     k_speed = p[0]
     stance_guess = p[1]
     swing_kp = p[4]
     swing_kv = p[5]
-    max_step = p[12]
-    moving_step = p[13]
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
-    t1 = (abs(aim) < 0.001)
-    t2 = aim - speed
-    t3 = abs(t2)
-    t4 = ((max_step) if t1 else (moving_step))
-    main_x_goal = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed - speed_trim - ((0.0) if (((max_step >= t3)) if t1 else ((moving_step >= t3))) else (t2 + minimum(t4, maximum(-t2, -t4))))) - leg_main_hip_x
+    main_x_goal = 0.5*com_vx*((leg_main_stance_time) if (leg_main_stance_time > 0.0) else (stance_guess)) + k_speed*(com_vx - speed_aim - speed_trim) - leg_main_hip_x
     return [0.0, swing_kp, swing_kv, 0.0, main_x_goal]
 
 
 def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: none)."""
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
     predicted_apex = r[2]
     thrust_stroke = r[3]
     apex_seen = r[4]
     apex_trim = r[5]
-    return [aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
+    return [speed_aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:82:49 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:82:49 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:82:49 > stdlib/raibert.leg:162:3
+        hip_servo.kp     creatures/hopper.leg:83:49 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:83:49 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:83:49 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0]
 
 
 def entry_COMPRESSION_0(s, u, p, r, tis):
     """The records on entering COMPRESSION under binding 0 (changed: none)."""
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
     predicted_apex = r[2]
     thrust_stroke = r[3]
     apex_seen = r[4]
     apex_trim = r[5]
-    return [aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
+    return [speed_aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        hip_servo.kp     creatures/hopper.leg:83:49 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:83:49 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:83:49 > stdlib/raibert.leg:86:3
+        hip_servo.kp     creatures/hopper.leg:84:49 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:84:49 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:84:49 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -236,8 +236,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     """The records on entering THRUST under binding 0 (changed: predicted_apex, thrust_stroke).
 
     From the .leg file:
-        record predicted_apex  creatures/hopper.leg:84:49 > stdlib/raibert.leg:343:3
-        record thrust_stroke   creatures/hopper.leg:84:49 > stdlib/raibert.leg:344:3
+        record predicted_apex  creatures/hopper.leg:85:49 > stdlib/raibert.leg:343:3
+        record thrust_stroke   creatures/hopper.leg:85:49 > stdlib/raibert.leg:344:3
     """
     act_leg_spring_force = s[0]
     act_leg_spring_k = s[1]
@@ -245,7 +245,7 @@ def entry_THRUST_0(s, u, p, r, tis):
     com_z = s[6]
     height = u[1]
     stroke = p[6]
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
     apex_seen = r[4]
     apex_trim = r[5]
@@ -255,17 +255,17 @@ def entry_THRUST_0(s, u, p, r, tis):
     t4 = t2*t3
     new_predicted_apex = com_z + 0.0509683995922528*t1 + 0.004591747711013765*t4
     new_thrust_stroke = minimum(3.0*stroke, maximum(0.0, -act_leg_spring_force*t3 + math.sqrt(maximum(0.0, t3*(217.78200000000004*apex_trim - 217.78200000000004*com_z + 217.78200000000004*height - 11.100000000000001*t1 - t4) + t2/(act_leg_spring_k*act_leg_spring_k)))))
-    return [aim, speed_trim, new_predicted_apex, new_thrust_stroke, apex_seen, apex_trim]
+    return [speed_aim, speed_trim, new_predicted_apex, new_thrust_stroke, apex_seen, apex_trim]
 
 
 def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:84:49 > stdlib/raibert.leg:345:3
-        hip_servo.kp     creatures/hopper.leg:84:112 > stdlib/raibert.leg:84:3
-        hip_servo.kv     creatures/hopper.leg:84:112 > stdlib/raibert.leg:85:3
-        hip_motor.force  creatures/hopper.leg:84:112 > stdlib/raibert.leg:86:3
+        leg_spring.rest  creatures/hopper.leg:85:49 > stdlib/raibert.leg:345:3
+        hip_servo.kp     creatures/hopper.leg:85:112 > stdlib/raibert.leg:84:3
+        hip_servo.kv     creatures/hopper.leg:85:112 > stdlib/raibert.leg:85:3
+        hip_motor.force  creatures/hopper.leg:85:112 > stdlib/raibert.leg:86:3
     """
     body_body_pitch = s[2]
     body_body_pitch_rate = s[3]
@@ -278,23 +278,23 @@ def action_THRUST_0(s, u, p, r, tis):
 
 def entry_UNLOADING_0(s, u, p, r, tis):
     """The records on entering UNLOADING under binding 0 (changed: none)."""
-    aim = r[0]
+    speed_aim = r[0]
     speed_trim = r[1]
     predicted_apex = r[2]
     thrust_stroke = r[3]
     apex_seen = r[4]
     apex_trim = r[5]
-    return [aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
+    return [speed_aim, speed_trim, predicted_apex, thrust_stroke, apex_seen, apex_trim]
 
 
 def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_spring.rest, hip_servo.kp, hip_servo.kv, hip_motor.force.
 
     From the .leg file:
-        leg_spring.rest  creatures/hopper.leg:85:49 > stdlib/raibert.leg:196:3
-        hip_servo.kp     creatures/hopper.leg:85:69 > stdlib/raibert.leg:160:3
-        hip_servo.kv     creatures/hopper.leg:85:69 > stdlib/raibert.leg:161:3
-        hip_motor.force  creatures/hopper.leg:85:69 > stdlib/raibert.leg:162:3
+        leg_spring.rest  creatures/hopper.leg:86:49 > stdlib/raibert.leg:196:3
+        hip_servo.kp     creatures/hopper.leg:86:69 > stdlib/raibert.leg:160:3
+        hip_servo.kv     creatures/hopper.leg:86:69 > stdlib/raibert.leg:161:3
+        hip_motor.force  creatures/hopper.leg:86:69 > stdlib/raibert.leg:162:3
     """
     return [0.0, 0.0, 0.0, 0.0]
 

@@ -21,7 +21,9 @@ from legdsl.sim.run_loop import RunOptions
 def _hopper_with(tmp_path: Path, signals: list[str], aim: str) -> Path:
     text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
     text = text.replace("  table {", "\n".join(signals) + "\n  table {", 1)
-    text = text.replace("record aim = speed + catch_up", f"record aim = {aim} + catch_up")
+    within_reach = "<= reach, speed,"  # the stride's aim when the command is within reach
+    assert within_reach in text
+    text = text.replace(within_reach, f"<= reach, {aim},")
     path = tmp_path / "hopper.leg"
     path.write_text(text, encoding="utf-8")
     return path

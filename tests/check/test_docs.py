@@ -64,7 +64,7 @@ def test_the_action_example_checks_in_the_hopper(tmp_path: Path) -> None:
     hopper = (ROOT / "creatures" / "hopper.leg").read_text(encoding="utf-8")
     hopper = hopper.replace("hip_motor = hip_motor\n", "hip_motor = hip_motor, hip = hip_servo\n")
     hopper = hopper.replace("  roles active = main\n", "  roles active = main\n" + action)
-    placed = "place_foot(active, speed + speed_trim + catch_up, k_speed, stance_guess)"
+    placed = "place_foot(active, speed_aim + speed_trim, k_speed, stance_guess)"
     hopper = hopper.replace(placed, "place_foot_doc(active)")
     assert "place_foot_doc(active)" in hopper and "hip = hip_servo" in hopper
     path = tmp_path / "hopper.leg"
