@@ -73,3 +73,19 @@ def test_plot_writes_the_format_its_name_says(run: legdsl.api.Run, tmp_path: Pat
     assert run.plot(tmp_path / "f.svg").read_text().lstrip().startswith("<?xml")
     with pytest.raises(UsageError, match="PNG, SVG or PDF; give a name ending in .png"):
         run.plot(tmp_path / "f")
+
+
+def test_a_batchs_copies_go_through_pickle_as_their_runs(generated: Path) -> None:
+    """``run_copies``' result held the batch's C structs, and pickle refused it ("cannot pickle
+    'module' object"): multiprocessing could not send it back. It now goes as its runs."""
+    hopper = legdsl.load(CREATURES / "hopper.leg", generated=generated)
+    copies = hopper.run_copies(3, "hop", vary={"speed": ([0.5, 1.0, 1.5], "m/s")}, time=0.5)
+    again = pickle.loads(pickle.dumps(copies))
+    assert again.copies is None and len(again) == 3 and repr(again) == repr(copies)
+    assert np.array_equal(again.status, copies.status)
+    assert np.array_equal(again.sim_time, copies.sim_time)
+    for k in range(3):
+        assert again[k].info == copies[k].info
+        assert np.array_equal(again[k]["com.x"], copies[k]["com.x"])
+    assert again[2].metrics(start=0.1).table() == copies[2].metrics(start=0.1).table()
+    assert pickle.loads(pickle.dumps(again))[1].info == copies[1].info  # and again

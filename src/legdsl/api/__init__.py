@@ -228,22 +228,39 @@ class Creature:
 
 class Copies:
     """A batch's copies (``Creature.run_copies``): ``status`` and ``sim_time`` over them, and
-    each copy's ``Run`` by its index."""
+    each copy's ``Run`` by its index. Through pickle it goes as its runs, every copy's ``Run``
+    made then: the batch's memory (``copies``, C structs that point into this process) cannot
+    travel, and is None on arrival."""
 
     def __init__(self, creature: Creature, copies: Any):
         self._creature, self.copies = creature, copies
         self.status, self.sim_time = copies.status, copies.sim_time
+        self._runs: list[Run] | None = None  # a Copies that came through pickle: its runs
 
     def __len__(self) -> int:
-        return len(self.copies)
+        return len(self.copies) if self._runs is None else len(self._runs)
 
     def __getitem__(self, k: int) -> Run:
+        if self._runs is not None:
+            return self._runs[k]
         return self._creature._wrap(self.copies.run(k))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        runs = [self[k] for k in range(len(self))]
+        return (_arrived_copies, (self._creature, runs, self.status, self.sim_time))
 
     def __repr__(self) -> str:
         counts = {s: int((self.status == s).sum()) for s in dict.fromkeys(self.status.tolist())}
         how = ", ".join(f"{s} {k}" for s, k in counts.items())
         return f"<legdsl copies of '{self._creature.name}': {len(self)} ({how})>"
+
+
+def _arrived_copies(creature: Creature, runs: list[Run], status: Any, sim_time: Any) -> Copies:
+    """A ``Copies`` as pickle brings it: its runs, with no batch behind them."""
+    copies = Copies.__new__(Copies)
+    copies._creature, copies.copies, copies._runs = creature, None, runs
+    copies.status, copies.sim_time = status, sim_time
+    return copies
 
 
 class Run:
