@@ -18,6 +18,9 @@ A target that is a device or a pipe (``/dev/null``, a FIFO) is written in place 
 as is one of this process's open files (``/dev/stdout`` with stdout sent to a file: through
 the descriptor, so that what is printed after it follows it); a symbolic link to a file has
 that file replaced, and stays a link.
+
+``cache_dir`` is where legdsl keeps what it can always build again (the compiled C libraries,
+the parser's tables), for every stage that keeps something there.
 """
 
 from __future__ import annotations
