@@ -66,10 +66,16 @@ def cache_dir() -> Path:
     """Where legdsl keeps what it can always build again (compiled C, the parser's tables):
     ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``."""
     # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
-    if os.environ.get("LEGDSL_CACHE"):
-        return Path(os.environ["LEGDSL_CACHE"]).expanduser()
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base).expanduser() / "legdsl"
+    try:
+        if os.environ.get("LEGDSL_CACHE"):
+            return Path(os.environ["LEGDSL_CACHE"]).expanduser()
+        base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+        return Path(base).expanduser() / "legdsl"
+    except RuntimeError:  # no HOME, and a user the system does not know (a container's bare uid)
+        raise FileNotFoundError(errno.ENOENT, NO_CACHE) from None
+
+
+NO_CACHE = "no cache directory: HOME is not set and this user has no home directory"
 
 
 def refused(e: OSError, path: str | Path) -> OSError:

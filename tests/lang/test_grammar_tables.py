@@ -90,3 +90,17 @@ def test_an_edited_grammar_never_loads_the_old_tables(tmp_path: Path) -> None:
     edited = GRAMMAR + "\n// an edit\n"
     lalr.kept_parser(edited, tmp_path)
     assert len(_kept(tmp_path)) == 2
+
+
+def test_with_no_home_to_keep_them_in_the_parser_is_built(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No HOME and a user the system does not know (a container's bare uid): ``Path.home()``
+    raises RuntimeError, which the first parse must not pass on as a traceback."""
+    monkeypatch.delenv("LEGDSL_CACHE", raising=False)
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+
+    def no_home() -> Path:
+        raise RuntimeError("Could not determine home directory.")
+
+    monkeypatch.setattr(Path, "home", staticmethod(no_home))
+    parser = lalr.lark_parser.__wrapped__()
+    assert parser.parse("creature c {}", start="start") is not None

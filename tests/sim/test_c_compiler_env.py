@@ -189,6 +189,26 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     assert cache_dir() == tmp_path / ".cache" / "legdsl"
 
 
+def test_with_no_home_the_run_says_where_to_keep_the_library(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], fresh: None
+) -> None:
+    """No HOME and a user the system does not know (a container's bare uid): ``Path.home()``
+    raises RuntimeError, which was "internal error (RuntimeError: Could not determine home
+    directory.)". Now ``auto`` runs in Python with the notice and ``c`` says what to set."""
+
+    def no_home() -> Path:
+        raise RuntimeError("Could not determine home directory.")
+
+    monkeypatch.delenv("LEGDSL_CACHE")
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+    monkeypatch.setattr(Path, "home", staticmethod(no_home))
+    err = _falls_back(tmp_path, capsys)
+    assert "no cache directory: HOME is not set and this user has no home directory" in err, err
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert "set LEGDSL_CACHE (or HOME) to a directory you can write, or use --backend python" in err
+
+
 def test_the_sources_of_a_killed_build_are_removed_in_time(tmp_path: Path) -> None:
     import os
 

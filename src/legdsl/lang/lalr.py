@@ -52,7 +52,11 @@ def lark_parser() -> Lark:
     so the friendly syntax errors, matched by state, mean the same in both.
     """
     text = (grammar_dir() / "legdsl.lark").read_text(encoding="utf-8")
-    return kept_parser(text, cache_dir())
+    try:
+        cache = cache_dir()
+    except OSError:  # no HOME and no home in the user database: nowhere to keep them
+        return Lark(text, **OPTIONS)
+    return kept_parser(text, cache)
 
 
 def kept_parser(text: str, cache: Path) -> Lark:

@@ -118,7 +118,7 @@ def make_simulation(
             if "undefined symbol" in str(e):  # built, but calls a function nobody defines
                 return refused(folder, name, e)
             return python_instead(
-                f"cannot build or load the C library in {cache_dir()} ({e.strerror or e})",
+                f"cannot build or load the C library in {_cache_name()} ({e.strerror or e})",
                 _cache_fix(e),
             )
         if log is not None and not library.built.cached:
@@ -127,11 +127,22 @@ def make_simulation(
     return CSimulation(model, dynamics, options, controller, libraries)
 
 
+def _cache_name() -> str:
+    """The cache's directory, or what stands for it where there is none."""
+    try:
+        return str(cache_dir())
+    except OSError:
+        return "legdsl's cache"
+
+
 def _cache_fix(e: OSError) -> str:
     """What to do about a cache the C library cannot be built or loaded in."""
     if e.errno in (errno.ENOSPC, errno.EDQUOT):
         return "free space there, set LEGDSL_CACHE to another directory, "
-    folder = cache_dir()
+    try:
+        folder = cache_dir()
+    except OSError:  # no HOME and no home in the user database
+        return "set LEGDSL_CACHE (or HOME) to a directory you can write, "
     in_way = next((p for p in (folder, *folder.parents) if p.exists() and not p.is_dir()), None)
     if in_way is not None:  # a file where a directory should be
         return f"move {in_way} (a file, not a directory) away, set LEGDSL_CACHE to a directory, "
