@@ -16,7 +16,7 @@ from conftest import CREATURES
 from runtime_helpers import needs_c_compiler
 
 from legdsl.pipeline.session import RunSession
-from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.run_loop import RunOptions, RunResult
 from legdsl.sim.trajectory import ARRAYS
 
 pytestmark = needs_c_compiler
@@ -24,7 +24,9 @@ pytestmark = needs_c_compiler
 UNLIMITED = ["max_step=100m/s", "moving_step=100m/s"]
 
 
-def _run(generated: Path, settings: list[str], time: float, switches: tuple[str, ...] = ()):  # type: ignore[no-untyped-def]
+def _run(
+    generated: Path, settings: list[str], time: float, switches: tuple[str, ...] = ()
+) -> RunResult:
     session = RunSession.from_file(CREATURES / "biped.leg", generated=generated)
     options = RunOptions(duration=time)
     return session.run("run", settings, options=options, switches=switches, backend="c").result
