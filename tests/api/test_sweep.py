@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import re
@@ -279,6 +280,26 @@ def test_workers_left_by_an_exception_leave_no_pool_thread_for_the_exit_to_wake(
             raise KeyboardInterrupt
     threads = list(process._threads_wakeups)  # what the exit hook would wake
     assert not any(thread.is_alive() for thread in threads)
+
+
+@pytest.mark.parametrize("interrupted", [False, True])
+def test_the_pools_processes_are_closed_when_it_is_left(interrupted: bool) -> None:
+    """Each process's finalizer (it closes the process's own pipes) was left to the garbage
+    collector: a Ctrl-C landing in it was "Exception ignored in: <Finalize object, dead>", a
+    traceback, and lost. They are run as the pool is left, with the signals held."""
+    import time
+
+    from legdsl.api.workers import Workers
+
+    pool = Workers(2)
+    with contextlib.suppress(KeyboardInterrupt), pool:
+        for _ in pool.as_completed(time.sleep, [0.05] * 4):
+            if interrupted:
+                raise KeyboardInterrupt
+    assert pool._started
+    for process in pool._started:
+        with pytest.raises(ValueError, match="process object is closed"):
+            process.is_alive()
 
 
 def test_a_sweep_starts_no_more_processes_than_it_has_runs(

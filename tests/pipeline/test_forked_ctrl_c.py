@@ -55,6 +55,10 @@ def test_ctrl_c_held_back_under_a_handler_of_its_own_is_given_to_it_after() -> N
         signal.signal(signal.SIGINT, handler)
 
 
+def _answer_now(item: int) -> bytes:
+    return str(item).encode()
+
+
 def sleepy(item: object) -> bytes:
     time.sleep(30)
     return b""
@@ -79,3 +83,31 @@ def test_ctrl_c_as_processes_start_leaves_none_behind(monkeypatch: pytest.Monkey
     with pytest.raises(KeyboardInterrupt):
         Forked(sleepy, [1, 2], 2)
     assert child_pids() - before == set()
+
+
+def test_ctrl_c_while_closing_comes_after_every_process_is_reaped_and_closed(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A Ctrl-C landing in ``close``: in ``join`` it was swallowed (the join tried again), and
+    between a child's reaping and its note it left the process "still running" to
+    multiprocessing; in the finalizer that closes a process's own pipes, which the garbage
+    collector ran later, it was "Exception ignored in: <Finalize object, dead>" and lost
+    (random API interrupts, seed 17400). Now it comes after all is closed."""
+    work = Forked(_answer_now, range(2), 2)
+    assert [work.result(k) for k in range(2)] == [b"0", b"1"]
+    join = type(work._processes[0]).join
+
+    sent: list[int] = []
+
+    def interrupted_join(self: object, timeout: float | None = None) -> None:
+        if not sent:  # one Ctrl-C, in the first join
+            sent.append(signal.SIGINT)
+            os.kill(os.getpid(), signal.SIGINT)
+        join(self, timeout)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(type(work._processes[0]), "join", interrupted_join)
+    with pytest.raises(KeyboardInterrupt):
+        work.close()
+    for process in work._processes:
+        with pytest.raises(ValueError, match="process object is closed"):
+            process.is_alive()  # closed: its finalizer ran inside close(), held

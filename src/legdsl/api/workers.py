@@ -103,6 +103,12 @@ class Workers:
                 self._pool.shutdown()
             else:  # Ctrl-C, SIGTERM or an error: stop the runs under way, never wait for them
                 self._stop_processes()
+            # each process's finalizer closes its own pipes: left to the garbage collector, a
+            # Ctrl-C that landed in it was "Exception ignored in: <Finalize object, dead>"
+            with signals_held():
+                for process in self._started:
+                    with contextlib.suppress(ValueError):  # one not reaped: left as it was
+                        process.close()
         dask = [part for part in (self._client, self._cluster) if part is not None]
         if dask:
             with _ctrl_c_ignored():  # a Ctrl-C held down: closed, not half closed

@@ -79,20 +79,22 @@ class Forked:
         return self.work(self.items[k])
 
     def close(self) -> None:
-        """Stop the processes (those still working after an error here) and close the pipes."""
-        for process in self._processes:
-            if process.is_alive():  # SIGKILL: one forked with a handler that notes SIGTERM
-                process.kill()  # (a run writing its files) would not stop, nor say so
-        for process in self._processes:
-            while True:  # every one reaped, also under a Ctrl-C held down
-                try:
-                    process.join()
-                    break
-                except KeyboardInterrupt:  # the first is already unwinding
-                    continue
-        for pipe in self._pipes:
-            if pipe is not None:
-                pipe.close()
+        """Stop the processes (those still working after an error here), reap them and close
+        the pipes, with Ctrl-C and the ending signals held (they come after; a killed process
+        is reaped at once). A Ctrl-C that landed in ``join`` between the child's reaping and
+        its note left it "still running" to multiprocessing for good; one that landed in the
+        finalizer that closes a process's own pipes, which the garbage collector ran whenever
+        it came, was "Exception ignored in: <Finalize object, dead>", a traceback, and lost."""
+        with signals_held():
+            for process in self._processes:
+                if process.is_alive():  # SIGKILL: one forked with a handler that notes SIGTERM
+                    process.kill()  # (a run writing its files) would not stop, nor say so
+            for process in self._processes:
+                process.join()
+                process.close()  # its finalizer, now
+            for pipe in self._pipes:
+                if pipe is not None:
+                    pipe.close()
 
 
 def _answer(
