@@ -3,6 +3,11 @@ in C in one call per thread; every copy must equal the single run with its value
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
+import types
+
 import numpy as np
 import pytest
 from conftest import CREATURES, GENERATED
@@ -147,6 +152,54 @@ def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(
         assert kept.q.tobytes() == whole.q[: len(kept)].tobytes()
     for k in np.flatnonzero(copies.sim_time == 0.0):
         assert copies.status[k] == "interrupted" and len(copies.trajectory(int(k))) == 0
+
+
+class _Started(threading.Thread):
+    """A batch's thread that is kept, and whose first start is followed by a Ctrl-C."""
+
+    made: list[threading.Thread] = []
+    ctrl_c = True
+
+    def start(self) -> None:
+        super().start()
+        first = not _Started.made
+        _Started.made.append(self)
+        if first and _Started.ctrl_c:
+            os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_ctrl_c_among_the_thread_starts_stops_the_copies_before_their_memory_goes(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A Ctrl-C landing as the batch started its threads escaped before the threads were
+    known: the copies ran on in C while Python freed the arrays they wrote (a segfault,
+    random API interrupts seed 20013). It now stops them as any Ctrl-C does."""
+    monkeypatch.setattr(_Started, "made", [])
+    monkeypatch.setattr(batch_module, "threading", types.SimpleNamespace(Thread=_Started))
+    monkeypatch.setattr(batch_module, "STEP_BUDGET", 1000)
+    batch = Batch(roo, 4, "hop", options=RunOptions(duration=200.0))
+    copies = batch.run(threads=2)
+    assert copies.interrupted == "SIGINT (Ctrl-C)" and "interrupted" in set(copies.status)
+    assert len(_Started.made) == 2 and not any(t.is_alive() for t in _Started.made)
+
+
+def test_an_error_in_the_progress_report_stops_and_joins_the_copies(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Any exception out of the run, not only Ctrl-C, stops the C threads and joins them
+    before it goes on (they would write into freed arrays)."""
+
+    def broken(done: int, n: int, left: float) -> None:
+        raise ValueError("a progress bar's own bug")
+
+    monkeypatch.setattr(_Started, "made", [])
+    monkeypatch.setattr(_Started, "ctrl_c", False)
+    monkeypatch.setattr(batch_module, "threading", types.SimpleNamespace(Thread=_Started))
+    monkeypatch.setattr(batch_module, "STEP_BUDGET", 1000)
+    batch = Batch(roo, 4, "hop", options=RunOptions(duration=200.0))
+    with pytest.raises(ValueError, match="a progress bar's own bug"):
+        batch.run(threads=2, progress=broken)
+    assert len(_Started.made) == 2 and not any(t.is_alive() for t in _Started.made)
 
 
 @pytest.mark.parametrize(

@@ -42,6 +42,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.batch_memory import check_copies_memory, check_recordings, lined_up
 from legdsl.pipeline.session import Plan, Run, RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
+from legdsl.signals import signals_held
 from legdsl.sim.c_backend import (
     CHECK,
     CONTROL,
@@ -214,9 +215,10 @@ class Batch:
         start, interrupted = time.perf_counter(), ""
         workers = [threading.Thread(target=lib.lib.leg_run_copies, args=args)
                    for _ in range(max(1, threads or os.cpu_count() or 1))]  # fmt: skip
-        for w in workers:
-            w.start()
         try:
+            with signals_held():  # every thread started and known, or none
+                for w in workers:
+                    w.start()
             while any(w.is_alive() for w in workers):
                 workers[0].join(0.2)
                 if progress is not None:
@@ -224,10 +226,17 @@ class Batch:
                     spent = time.perf_counter() - start
                     progress(done, n, spent / done * (n - done) if done else math.nan)
         except (KeyboardInterrupt, Interrupted) as sig:  # the copies stop; what ran is kept
-            stop[0] = 1
             interrupted = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
-        for w in workers:
-            w.join()
+        finally:
+            # Whatever ends this (Ctrl-C, a progress callback's error), the C threads stop and
+            # are joined before the arrays they write can go: a Ctrl-C among the starts, past
+            # this, left them running on freed memory (a segfault; random API interrupts, seed
+            # 20013). Held, so that a second Ctrl-C cannot cut the joins short.
+            stop[0] = 1  # read by C between budgets; the copies already done are unaffected
+            with signals_held():
+                for w in workers:
+                    if w.ident is not None:  # started
+                        w.join()
         wall = time.perf_counter() - start
         return Copies(self, loop.capacity, traj, blocks, structs, codes, wall, interrupted)
 
