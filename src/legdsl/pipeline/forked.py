@@ -10,6 +10,7 @@ would not start, or it died) is done here instead: the result is the same, only 
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import pickle
 import signal
@@ -91,7 +92,8 @@ class Forked:
                     process.kill()  # (a run writing its files) would not stop, nor say so
             for process in self._processes:
                 process.join()
-                process.close()  # its finalizer, now
+                with contextlib.suppress(ValueError):  # one reaped by another (SIGCHLD ignored)
+                    process.close()  # its finalizer, now
             for pipe in self._pipes:
                 if pipe is not None:
                     pipe.close()
