@@ -249,6 +249,10 @@ def _check_stopped(d: Draw, scratch: Path, reference: Path, stopped: bool) -> No
         if info["status"] == "incomplete":
             assert stopped
             return
+        if stopped and info["status"] == "ok":  # the signal came once the run was written
+            whole = Trajectory.load(reference / "out")  # (seed 30017: SIGTERM at 0.96)
+            assert np.array_equal(Trajectory.load(out).q, whole.q), "an 'ok' run cut short"
+            return
         assert info["status"] == ("interrupted" if stopped else "ok"), info
         assert info["samples"] == len(Trajectory.load(out))
         if stopped:
@@ -303,6 +307,19 @@ def _check_again(d: Draw, scratch: Path, reference: Path) -> None:
         assert not (out / ".tune-journal.json").exists()
 
 
+def _in_pythons_own_start(code: int, sig: int, err: str) -> bool:
+    """A Ctrl-C in the interpreter's own start-up, as ``site`` runs the ``.pth`` files of the
+    installed packages (seed 30041, at 2 ms), before the first line of legdsl: Python itself
+    stops with "Fatal Python error: init_import_site" and exit 1, which no program can
+    change."""
+    return (
+        code == 1
+        and sig == signal.SIGINT
+        and err.startswith("Fatal Python error: init_import_site")
+        and err.rstrip().endswith("KeyboardInterrupt")
+    )
+
+
 # ------------------------------------------------------------------------ the draws
 @pytest.mark.parametrize("seed", range(FIRST, FIRST + COUNT))
 def test_a_signal_at_a_random_moment(seed: int, tmp_path_factory: pytest.TempPathFactory) -> None:
@@ -326,9 +343,10 @@ def test_a_signal_at_a_random_moment(seed: int, tmp_path_factory: pytest.TempPat
         _, err = _finish(proc, str(d))
         code = proc.returncode
         sig = d.signals[0]
-        assert code in (0, 128 + sig, -sig), f"{d}: exit {code}\n{err}"
-        assert "Traceback" not in err and "internal error" not in err, f"{d}\n{err}"
-        assert "Exception ignored" not in err, f"{d}\n{err}"
+        if not _in_pythons_own_start(code, sig, err):
+            assert code in (0, 128 + sig, -sig), f"{d}: exit {code}\n{err}"
+            assert "Traceback" not in err and "internal error" not in err, f"{d}\n{err}"
+            assert "Exception ignored" not in err, f"{d}\n{err}"
         leftovers = _hidden_leftovers(scratch, workers="--jobs" in d.argv)
         assert not leftovers, f"{d}: left {leftovers}\n{err}"
         _check_stopped(d, scratch, reference, stopped=code != 0)

@@ -174,8 +174,15 @@ def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
     try:
         yield
     finally:
-        for sig, before in previous.items():
-            signal.signal(sig, before)
+        # blocked meanwhile: one landing here ran ``handler``, whose exception cut the loop
+        # short and left the rest of them installed, to raise again after the command had
+        # ended (SIGTERM held down: "legdsl: terminated", then a traceback at the exit)
+        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, set(previous))
+        try:
+            for sig, before in previous.items():
+                signal.signal(sig, before)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
 
 
 @contextlib.contextmanager
