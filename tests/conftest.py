@@ -64,11 +64,13 @@ def generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return target
 
 
-def hopper_modules(generated: Path) -> None:
-    """The checked-in hopper modules copied into ``generated``, so that a test that hands a
-    fresh folder to a command (sweep, tune) finds them there instead of compiling them again
-    (the folder then holds what a first compile would have written)."""
-    shutil.copytree(GENERATED / "hopper", generated / "hopper", dirs_exist_ok=True)
+@pytest.fixture
+def hopper_modules(tmp_path: Path) -> None:
+    """The checked-in hopper modules copied into ``tmp_path / "generated"``, so that a test
+    that hands that fresh folder to a command (sweep, tune) finds them there instead of
+    compiling them again (the folder then holds what a first compile would have written).
+    A file takes it with ``pytestmark = pytest.mark.usefixtures("hopper_modules")``."""
+    shutil.copytree(GENERATED / "hopper", tmp_path / "generated" / "hopper", dirs_exist_ok=True)
 
 
 @pytest.fixture

@@ -10,7 +10,7 @@ import importlib
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from types import ModuleType
 
 # What a command takes as an order to stop: Ctrl-C and the signals that end it as SIGTERM does
@@ -42,8 +42,22 @@ def signals_held() -> Iterator[None]:
     swapped = handler if main and callable(handler) else None  # not SIG_IGN, SIG_DFL
     if swapped is not None:
         signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
+    try:
+        with blocked(STOPPING):
+            yield
+    finally:
+        if swapped is not None:
+            signal.signal(signal.SIGINT, swapped)
+            if noted:
+                swapped(signal.SIGINT, None)
+
+
+@contextlib.contextmanager
+def blocked(signals: Iterable[int]) -> Iterator[None]:
+    """``signals`` kept out of this thread meanwhile (its signal mask): one that comes is
+    delivered once this is over, to whatever handler is then in place."""
     before = (
-        signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
+        signal.pthread_sigmask(signal.SIG_BLOCK, set(signals))
         if hasattr(signal, "pthread_sigmask")
         else None
     )
@@ -52,10 +66,6 @@ def signals_held() -> Iterator[None]:
     finally:
         if before is not None:
             signal.pthread_sigmask(signal.SIG_SETMASK, before)
-        if swapped is not None:
-            signal.signal(signal.SIGINT, swapped)
-            if noted:
-                swapped(signal.SIGINT, None)
 
 
 def unblock_stopping() -> None:

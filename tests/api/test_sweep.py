@@ -9,7 +9,6 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import hopper_modules
 
 from legdsl.api.sweep import Axis, parse_axis, points
 from legdsl.cli import main
@@ -19,10 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
 DIMS = {"speed": (0, 1, -1, 0), "k_speed": (0, 0, 1, 0), "k_trim": (0, 0, 0, 0)}
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def sweep(out: Path, generated: Path, *extra: str) -> int:

@@ -7,7 +7,6 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import hopper_modules
 
 from legdsl.api.tune import Bound, Objective, pairs_apart, report, score
 from legdsl.api.tuned_file import write_tuned
@@ -17,10 +16,7 @@ from legdsl.cli import main
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def tune(out: Path, generated: Path) -> int:

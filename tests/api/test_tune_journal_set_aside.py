@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 
 import pytest
-from conftest import hopper_modules
 
 from legdsl.api.tune_journal import JOURNAL, Journal
 from legdsl.cli import main
@@ -16,10 +15,7 @@ PLAN = {"creature": "c1", "controller": "k1", "bounds": [[0, 1]], "objective": {
         "popsize": 8, "seed": 1}  # fmt: skip
 RUN = {"outcome": "ok", "simulated": 1.0}
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def stopped(out: Path, plan: dict[str, object]) -> None:

@@ -10,7 +10,6 @@ import math
 from pathlib import Path
 
 import pytest
-from conftest import hopper_modules
 
 from legdsl.api.tune import Objective, report, score, tune_pitch
 from legdsl.cli import main
@@ -24,10 +23,7 @@ ROCKING = {"outcome": "ok", "running_speed": 2.0, "running_speed_std": 0.02,
            "pitch_magnitude": 13.5, "simulated": 10.0, "by_label": {}}  # fmt: skip
 LEVEL = {**ROCKING, "running_speed": 1.98, "pitch_magnitude": 1.6}
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def test_the_pitch_weight_adds_the_pitch_magnitude_in_radians() -> None:

@@ -8,17 +8,13 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import hopper_modules
 
 import legdsl
 from legdsl.lang.errors import UsageError
 
 HOPPER = Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg"
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def test_a_change_in_a_used_file_is_told_as_such(tmp_path: Path) -> None:

@@ -10,17 +10,13 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import hopper_modules
 
 import legdsl.api.tune_cli as tune_cli
 from legdsl.cli import main
 
 HOPPER = Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg"
 
-
-@pytest.fixture(autouse=True)
-def _hopper_modules(tmp_path: Path) -> None:
-    hopper_modules(tmp_path / "generated")
+pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def _tune(out: Path, generated: Path) -> int:

@@ -11,6 +11,8 @@ import sys
 from collections.abc import Iterator
 from typing import Any, TextIO
 
+from legdsl.signals import blocked
+
 OUT_OF_MEMORY = (
     "out of memory: raise the memory limit (ulimit -v) or ask for less "
     "(a shorter --time, a lower --record-rate)"
@@ -177,12 +179,9 @@ def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
         # blocked meanwhile: one landing here ran ``handler``, whose exception cut the loop
         # short and left the rest of them installed, to raise again after the command had
         # ended (SIGTERM held down: "legdsl: terminated", then a traceback at the exit)
-        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, set(previous))
-        try:
+        with blocked(previous):
             for sig, before in previous.items():
                 signal.signal(sig, before)
-        finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
 
 
 @contextlib.contextmanager

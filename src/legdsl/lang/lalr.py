@@ -77,7 +77,9 @@ def kept_parser(text: str, cache: Path) -> Lark:
         part = temp_sibling(kept)
         try:
             part.write_bytes(tables.getvalue())
-            os.replace(part, kept)  # whole or not at all: two processes each rename a whole file
+            # whole or not at all: two processes each rename a whole file (not write_atomic,
+            # whose kill-test instants would then count differently by the cache's state)
+            os.replace(part, kept)
         finally:
             remove(part)
     return parser
