@@ -20,7 +20,8 @@ the descriptor, so that what is printed after it follows it); a symbolic link to
 that file replaced, and stays a link.
 
 ``cache_dir`` is where legdsl keeps what it can always build again (the compiled C libraries,
-the parser's tables), for every stage that keeps something there.
+the generated modules of the creatures compiled, the parser's tables), for every stage that
+keeps something there.
 """
 
 from __future__ import annotations
@@ -63,7 +64,8 @@ REFUSED_WRITES = {
 
 
 def cache_dir() -> Path:
-    """Where legdsl keeps what it can always build again (compiled C, the parser's tables):
+    """Where legdsl keeps what it can always build again (compiled C, generated modules, the
+    parser's tables):
     ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``."""
     # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
     try:

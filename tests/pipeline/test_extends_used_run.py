@@ -9,8 +9,9 @@ from pathlib import Path
 from conftest import OUTSIDE, outside_session
 
 from legdsl.check.source import check_model
+from legdsl.codegen.manifest import source_label
 from legdsl.ir.model import Model
-from legdsl.pipeline.compile import controller_files, source_label
+from legdsl.pipeline.compile import controller_files
 from legdsl.sim.run_loop import RunOptions
 
 

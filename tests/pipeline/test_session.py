@@ -85,8 +85,9 @@ def test_the_driver_returns_every_stage_and_parses_each_file_once(
 
 
 def test_a_session_compiles_what_is_missing_parsing_once_and_then_reuses_it(
-    parses: Counter[str], tmp_path: Path
+    parses: Counter[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))  # not copied from another test's
     log = io.StringIO()
     session = RunSession.from_file(HOPPER, generated=tmp_path / "gen", log=log)
     assert parses[str(HOPPER.resolve())] == 1

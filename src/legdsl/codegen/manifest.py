@@ -1,14 +1,28 @@
 """The files of ``generated/NAME/`` beside its modules, the same for every target: the package's
-``__init__.py`` and ``SHA256SUMS``, each file's digest, which loading checks.
+``__init__.py`` and ``SHA256SUMS``, each file's digest, which loading checks; and the path of
+the ``.leg`` file their headers name.
 """
 
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 
 from legdsl.ir.model import Model
 
 SUMS = "SHA256SUMS"  # in generated/NAME/: each file's digest, as ``sha256sum`` lists them
+
+
+def source_label(path: str | Path) -> str:
+    """The path to print in generated headers: relative to the working directory when it can be,
+    else its last two parts (``creatures/NAME.leg``), never absolute."""
+    p = Path(path)
+    if p.is_absolute():
+        try:
+            p = p.relative_to(Path.cwd())
+        except ValueError:
+            p = Path(*p.parts[-2:])
+    return p.as_posix()
 
 
 def sha256_sums(files: tuple[tuple[str, str], ...]) -> str:

@@ -23,7 +23,7 @@ from legdsl.check.source import check_tree, choose
 from legdsl.codegen.c.control import render_control_c
 from legdsl.codegen.c.dynamics import render_header, render_some_source, render_source
 from legdsl.codegen.fingerprints import controller_fingerprint
-from legdsl.codegen.manifest import SUMS, render_init, sha256_sums
+from legdsl.codegen.manifest import SUMS, render_init, sha256_sums, source_label
 from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import render_dynamics
 from legdsl.ir.model import Controller, Model
@@ -64,18 +64,6 @@ class Compiled:
 
     def text(self, file_name: str) -> str:
         return dict(self.files)[file_name]
-
-
-def source_label(path: str | Path) -> str:
-    """The path to print in generated headers: relative to the working directory when it can be,
-    else its last two parts (``creatures/NAME.leg``), never absolute."""
-    p = Path(path)
-    if p.is_absolute():
-        try:
-            p = p.relative_to(Path.cwd())
-        except ValueError:
-            p = Path(*p.parts[-2:])
-    return p.as_posix()
 
 
 def compile_file(

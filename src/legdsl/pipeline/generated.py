@@ -24,7 +24,8 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from legdsl.codegen.fingerprints import controller_fingerprint, model_fingerprint
-from legdsl.codegen.manifest import SUMS, render_init, sha256_sums
+from legdsl.codegen.kept import keep_files, kept_files
+from legdsl.codegen.manifest import SUMS, render_init, sha256_sums, source_label
 from legdsl.files import (
     REFUSED_WRITES,
     instant,
@@ -106,9 +107,7 @@ def _load(
             if getattr(module, stamp[0], None) == stamp[1]:
                 return module
             reason = "stale"
-    if log is not None:
-        print(f"legdsl: {path} is {reason}; compiling {source}", file=log)
-    _recompile(model, source, generated, syntax, log)
+    _recompile(model, source, generated, syntax, log, f"{path} is {reason}")
     return import_module_file(path, label + "_new")
 
 
@@ -136,10 +135,8 @@ def c_sources(
         if why is None and line not in (folder / file).read_text(encoding="utf-8"):
             why = f"{file} is stale"
     if why:
-        if log is not None:
-            listed = ", ".join(names)
-            print(f"legdsl: {folder}/{{{listed}}}: {why}; compiling {source}", file=log)
-        _recompile(model, source, generated, syntax, log)
+        listed = ", ".join(names)
+        _recompile(model, source, generated, syntax, log, f"{folder}/{{{listed}}}: {why}")
     return folder
 
 
@@ -179,15 +176,29 @@ def _compiler() -> ModuleType:
 
 
 def _recompile(
-    model: Model, source: Path, generated: Path, syntax: ast.SourceFile | None, log: Any = None
+    model: Model,
+    source: Path,
+    generated: Path,
+    syntax: ast.SourceFile | None,
+    log: Any,
+    why: str,
 ) -> None:
-    """Compile the creature again into ``generated/NAME/``, with a bar and the time left on a
-    terminal's standard error (``log``); a tree that cannot be written (a read-only checkout,
-    a shared install) is the user's to fix, and the message says how."""
-    done = CompileProgress().done if log is sys.stderr else None
-    files = _controllers_recompiled(model, generated / model.name)
+    """Write ``generated/NAME/`` again (``why``: which file is missing or stale, for ``log``):
+    copied from legdsl's cache when this creature was compiled before, else compiled, with a
+    bar and the time left on a terminal's standard error, and kept there. A tree that cannot
+    be written (a read-only checkout, a shared install) is the user's to fix, and the message
+    says how."""
+    label = source_label(model.source)
+    files = kept_files(model, label)
+    if log is not None:
+        copied = f"{source} was compiled before: its modules are copied from legdsl's cache"
+        print(f"legdsl: {why}; {copied if files else f'compiling {source}'}", file=log)
     if files is None:
-        files = _compiled(model, source, syntax, done).files
+        files = _controllers_recompiled(model, generated / model.name)
+        if files is None:
+            progress = CompileProgress().done if log is sys.stderr else None
+            files = _compiled(model, source, syntax, progress).files
+        keep_files(model, label, files)
     try:
         write_module_dir(generated, model.name, files)
     except OSError as e:
@@ -242,9 +253,8 @@ def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str]
     for controller in model.controllers:
         texts = _fresh(folder, _controller_stamps(model, controller.name))
         if texts is None:
-            compiler = _compiler()
-            label = compiler.source_label(model.source)
-            _, text, c_text = compiler.controller_files(model, controller, label)
+            label = source_label(model.source)
+            _, text, c_text = _compiler().controller_files(model, controller, label)
             texts = {f"control_{controller.name}.py": text, f"control_{controller.name}.c": c_text}
             printed.append((text, c_text))
         files += texts.items()

@@ -30,6 +30,7 @@ from pathlib import Path
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 OBJECTS = "objects"  # the cache's folder of compiled translation units
+MODULES = "modules"  # the cache's folder of generated modules (legdsl.codegen.kept)
 LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
 
 
@@ -82,17 +83,20 @@ def unsealed(path: Path) -> bytes | None:
 
 
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
-    """Remove the least recently used libraries and objects while the cache holds more than
-    ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
+    """Remove the least recently used libraries, objects and kept modules while the cache holds
+    more than ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
     until closed); one about to load it builds it again (``legdsl.sim.c_library.load_library``).
     The sources of a build killed outright (SIGKILL, a power cut) are removed after
     ``LEFTOVER_SECONDS``."""
-    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*")]:
+    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*"), *root.glob(f"{MODULES}/.*")]:
         with contextlib.suppress(OSError):  # another process's, just removed
             if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
-                shutil.rmtree(work, ignore_errors=True)
+                if work.is_dir():
+                    shutil.rmtree(work, ignore_errors=True)
+                else:  # a kept module's entry whose writer was killed
+                    work.unlink()
     found = []
-    for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o")]:
+    for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o"), *root.glob(f"{MODULES}/*.z")]:
         try:
             info = path.stat()
         except OSError:  # removed by another process meanwhile
