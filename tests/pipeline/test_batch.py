@@ -7,6 +7,8 @@ import os
 import signal
 import threading
 import types
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -333,3 +335,36 @@ def test_a_copys_run_keeps_the_state_machine_its_single_run_ends_with(roo: RunSe
 
 def _clocks(m: StateMachine) -> list[dict[str, object]]:
     return [vars(c) for c in (*m.sensors.clocks.values(), *m.sensors.leg_clocks.values())]
+
+
+def test_a_threaded_run_batch_builds_its_c_libraries_in_the_calling_thread(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Seed 21055 of tests/api/test_random_api_interrupts.py: run_many in 2 threads with an
+    empty cache, Ctrl-C held down. The libraries were built by the worker threads, which a
+    Ctrl-C never reaches: the second one cut the pool's wait short, and the compilers ran on
+    after the call. They are built first in the calling thread, which stops them on Ctrl-C."""
+    from legdsl.pipeline.backend import run_batch
+    from legdsl.sim import c_library
+
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(c_library, "_BY_STAT", {})  # this process may hold it from another test
+    monkeypatch.setattr(c_library, "_TRUSTED", {})
+    building = []
+    build = c_library._build
+
+    def noted(*args: Any, **kwargs: Any) -> Any:
+        building.append(threading.current_thread())
+        return build(*args, **kwargs)
+
+    monkeypatch.setattr(c_library, "_build", noted)
+    hopper = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
+    options = RunOptions(duration=0.05)
+    jobs = [
+        {"controller": "hop", "settings": [f"speed={v}m/s"], "options": options, "backend": "c"}
+        for v in (0.5, 1.0, 1.5, 2.0)
+    ]
+    runs = run_batch(hopper, [*jobs, {"options": options, "backend": "c"}], threads=2)
+    assert [r.status for r in runs] == ["ok"] * 5
+    assert len(building) == 2  # the hop's library, and the one of no controller
+    assert all(thread is threading.main_thread() for thread in building)

@@ -294,6 +294,12 @@ def iter_batch(
         if name is not None:
             session.control(name)  # compiled and loaded here, not by two threads at once
     workers = (threads or os.cpu_count() or 1) if batches_in_c() else 1
+    if workers > 1:
+        # Each C library built here first: a Ctrl-C comes to this thread, which stops and reaps
+        # the compiler processes; a worker thread's build went on, and a Ctrl-C held down cut
+        # short the pool's wait for it, leaving them running after the call (seed 21055).
+        for job in _one_per_library(jobs):
+            session.prepare(**{k: v for k, v in job.items() if k != "progress"})
     _BATCH[0] += 1
     try:
         if workers == 1:
@@ -310,3 +316,12 @@ def iter_batch(
             pool.shutdown(wait=True, cancel_futures=True)
     finally:
         _BATCH[0] -= 1
+
+
+def _one_per_library(jobs: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    """The first job of each controller, switches and backend: those name the C libraries."""
+    first: dict[str, Mapping[str, Any]] = {}
+    for job in jobs:
+        named = repr([job.get(k) for k in ("controller", "switches", "backend")])
+        first.setdefault(named, job)
+    return list(first.values())
