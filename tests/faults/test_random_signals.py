@@ -308,16 +308,14 @@ def _check_again(d: Draw, scratch: Path, reference: Path) -> None:
 
 
 def _in_pythons_own_start(code: int, sig: int, err: str) -> bool:
-    """A Ctrl-C in the interpreter's own start-up, as ``site`` runs the ``.pth`` files of the
-    installed packages (seed 30041, at 2 ms), before the first line of legdsl: Python itself
-    stops with "Fatal Python error: init_import_site" and exit 1, which no program can
-    change."""
-    return (
-        code == 1
-        and sig == signal.SIGINT
-        and err.startswith("Fatal Python error: init_import_site")
-        and err.rstrip().endswith("KeyboardInterrupt")
-    )
+    """A Ctrl-C in the interpreter's own start-up, before the first line of legdsl: as ``site``
+    runs the ``.pth`` files of the installed packages (seed 30041, at 2 ms), Python itself stops
+    with "Fatal Python error: init_import_site" and exit 1; as ``-m`` imports ``runpy`` (seed
+    31048), with "Could not import runpy module" and a traceback of its own importer alone.
+    No program can change either."""
+    site = code == 1 and err.startswith("Fatal Python error: init_import_site")
+    runpy = err.startswith("Could not import runpy module") and "legdsl" not in err
+    return sig == signal.SIGINT and (site or runpy) and err.rstrip().endswith("KeyboardInterrupt")
 
 
 # ------------------------------------------------------------------------ the draws
