@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import pytest
 
+import legdsl  # noqa: F401  before any test module imports sympy: its cache size (legdsl/__init__.py)
+
 if TYPE_CHECKING:
     from legdsl.ir.model import Model
     from legdsl.pipeline.compile import Compiled

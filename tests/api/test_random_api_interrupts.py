@@ -165,7 +165,8 @@ def children():
         if pid.isdigit():
             try:
                 with open(f"/proc/{pid}/stat") as f:
-                    fields = f.read().rsplit(")", 1)[1].split()
+                    name, _, rest = f.read().partition(" (")[2].rpartition(")")
+                    fields = rest.split()
             except OSError:
                 continue
             if fields[1] == me and fields[0] != "X":
@@ -175,7 +176,7 @@ def children():
                 except OSError:
                     command = ""
                 if "multiprocessing.resource_tracker" not in command:  # Python's, for good
-                    found.append(f"{pid} {fields[0]} {command}")
+                    found.append(f"{pid} {fields[0]} ({name}) {command}")  # a zombie: its name
     return found
 
 sent = threading.Event()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ctypes
 from pathlib import Path
+from typing import Any
 
 import pytest
 from runtime_helpers import needs_c_compiler
@@ -20,10 +21,10 @@ def compiled_units(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     units: list[str] = []
     start = build._start
 
-    def noted(command: list[str], compiler: build.Compiler, work: str) -> object:
+    def noted(command: list[str], compiler: build.Compiler, work: str, started: list[Any]) -> Any:
         if "-c" in command:
             units.append(Path(command[-1]).name)
-        return start(command, compiler, work)
+        return start(command, compiler, work, started)
 
     monkeypatch.setattr(build, "_start", noted)
     return units

@@ -3,9 +3,12 @@ started are ended and reaped, not left compiling into a removed directory, then 
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import time
 from pathlib import Path
+from typing import Any
 
 import pytest
 from runtime_helpers import child_pids, needs_c_compiler
@@ -53,3 +56,32 @@ def test_ctrl_c_during_a_build_leaves_no_compiler_behind(
         time.sleep(0.05)
     assert compiling_in(tmp_path) == []  # nor gcc's passes (cc1), which wrote on into it
     assert list(tmp_path.iterdir()) == []  # and nothing half-built kept
+
+
+@needs_c_compiler
+@pytest.mark.parametrize("when", ["a unit", "the probe"])
+def test_ctrl_c_as_a_compiler_starts_leaves_none_behind(
+    when: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A Ctrl-C landing inside ``Popen``, once the compiler is started but before it is known
+    (random API interrupts, seed 21090): the compiler ran on, then stayed a zombie after the
+    call. A process is now started and noted with the signals held, the Ctrl-C coming after."""
+    compiler = build.find_compiler()
+    assert compiler is not None
+    files = build.sources(ROOT / "generated" / "hopper", "hop")
+    build.flags(compiler)  # its probe of the machine, before the interrupted start
+    before = child_pids()
+    start = subprocess.Popen.__init__
+
+    def interrupted(self: subprocess.Popen[str], *args: Any, **kwargs: Any) -> None:
+        start(self, *args, **kwargs)
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, as Popen returns
+
+    monkeypatch.setattr(subprocess.Popen, "__init__", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        if when == "a unit":
+            build._compile("hopper", files, compiler, tmp_path, tmp_path / "hopper.so")
+        else:
+            build.probe(compiler, tmp_path)
+    monkeypatch.undo()
+    assert child_pids() - before == set()  # none running, none a zombie

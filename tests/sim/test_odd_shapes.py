@@ -69,7 +69,9 @@ def test_a_long_unit_compiles_at_o1_and_runs_bit_for_bit(
     commands: list[list[str]] = []
     start = build._start
     monkeypatch.setattr(
-        build, "_start", lambda c, cc, work: commands.append(c) or start(c, cc, work)
+        build,
+        "_start",
+        lambda c, cc, work, started: commands.append(c) or start(c, cc, work, started),
     )
     sess = RunSession.from_file(CREATURES / "hopper.leg", generated=GENERATED)
     opts = RunOptions(duration=0.3)

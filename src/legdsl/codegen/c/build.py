@@ -55,6 +55,7 @@ from legdsl.codegen.c.cache import (
     trim,
 )
 from legdsl.files import cache_dir
+from legdsl.signals import signals_held
 
 RUNTIME = Path(__file__).parent / "runtime"
 RUNTIME_FILES = (
@@ -132,9 +133,10 @@ def _compiler(wanted: str | None) -> Compiler | None:
         if path is None:
             continue
         try:
-            out = subprocess.run(
-                [path, "--version"], capture_output=True, text=True, timeout=30, check=True
-            ).stdout
+            done = _probe_run([path, "--version"], timeout=30)
+            if done.returncode != 0:
+                continue
+            out = done.stdout
         except OSError as e:
             if e.errno in (errno.EMFILE, errno.ENFILE):  # the process's limit, not the compiler
                 raise
@@ -196,10 +198,7 @@ def native(compiler: Compiler) -> tuple[str, str]:
     """(``-march=native``, a digest of what it means on this processor: the macros it defines,
     ``__AVX2__`` and the like) where ``compiler`` takes it, else two empty strings."""
     try:
-        out = subprocess.run(
-            [compiler.path, "-march=native", "-dM", "-E", "-x", "c", os.devnull],
-            capture_output=True, text=True, timeout=30,
-        )  # fmt: skip
+        out = _probe_run([compiler.path, "-march=native", "-dM", "-E", "-x", "c", os.devnull], 30)
     except (OSError, subprocess.SubprocessError):
         return "", ""
     if out.returncode != 0:
@@ -345,7 +344,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                     source,
                 ]
                 commands.append(command)
-                started.append(_start(command, compiler, work))
+                _start(command, compiler, work, started)
             errors = [process.communicate()[1] for process in started]  # all, failed or not
             for command, process, err in zip(commands, started, errors, strict=True):
                 _check(process.returncode, command, err, name, compiler)
@@ -353,8 +352,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-            done = _start(command, compiler, work)
-            started.append(done)
+            done = _start(command, compiler, work, started)
             err = done.communicate()[1]
             _check(done.returncode, command, err, name, compiler)
             if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
@@ -381,9 +379,7 @@ def probe(compiler: Compiler, root: Path) -> str | None:
         source.write_text(PROBE)
         command = [compiler.path, "-std=c99", "-fPIC", "-shared", "-o", str(out), str(source)]
         try:
-            done = subprocess.run(
-                command, capture_output=True, text=True, timeout=60, env=_temporaries_in(work)
-            )
+            done = _probe_run(command, 60, env=_temporaries_in(work))
         except (OSError, subprocess.SubprocessError) as e:
             said = str(e)
         else:
@@ -418,11 +414,46 @@ def _stop(processes: list[subprocess.Popen[str]]) -> None:
                 continue
 
 
-def _start(command: list[str], compiler: Compiler, work: str) -> subprocess.Popen[str]:
+def _probe_run(
+    command: list[str], timeout: float, env: dict[str, str] | None = None
+) -> subprocess.CompletedProcess[str]:
+    """``subprocess.run`` of a short look at the compiler (its version, what ``-march=native``
+    means, the probe's tiny build), its process reaped whatever ends the wait: on a Ctrl-C
+    ``subprocess.run`` waits for it a quarter of a second at most, and a compiler still
+    starting stayed a zombie after the call (random API interrupts, seed 21090)."""
+    started: list[subprocess.Popen[str]] = []
     try:
-        return subprocess.Popen(
-            command, stderr=subprocess.PIPE, text=True, env=_temporaries_in(work), process_group=0
-        )  # a group of its own, its compiler passes with it: _stop ends them all
+        with signals_held():  # started and known, or not started (see _start)
+            started.append(subprocess.Popen(
+                command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                process_group=0,
+            ))  # fmt: skip
+        out, err = started[0].communicate(timeout=timeout)
+    except BaseException:  # the timeout, a Ctrl-C: ended and reaped, then raised
+        _stop(started)
+        raise
+    process = started[0]
+    return subprocess.CompletedProcess(command, process.returncode, out, err)
+
+
+def _start(
+    command: list[str], compiler: Compiler, work: str, started: list[subprocess.Popen[str]]
+) -> subprocess.Popen[str]:
+    """Start a compiler process and note it in ``started`` (which ``_stop`` ends), with the
+    signals held: a Ctrl-C inside ``Popen`` left a compiler running that nobody knew of, a
+    zombie after the call (random API interrupts, seed 21090). It starts with them blocked,
+    which it keeps: ``_stop`` ends it with SIGKILL, and its group is never the terminal's."""
+    try:
+        with signals_held():
+            process = subprocess.Popen(
+                command,
+                stderr=subprocess.PIPE,
+                text=True,
+                env=_temporaries_in(work),
+                process_group=0,
+            )  # fmt: skip  (a group of its own, its compiler passes with it: _stop ends them all)
+            started.append(process)
+            return process
     except OSError as e:  # removed or made unrunnable since it was found
         limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
         raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
