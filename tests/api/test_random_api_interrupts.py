@@ -148,11 +148,11 @@ def call():
         base = Job(index=0, source=SOURCE, creature=None, controller=CONTROLLER, values={},
                    units={"k_speed": "s"}, fixed=(), duration=spec["time"], start=spec["time"] / 3,
                    generated=GEN, keep=None)
-        said = []
+        said = []  # CMA-ES's seed is not the draw's: the undisturbed reference is one for all
         result = tune(base, [Bound("k_speed", 0.02, 0.2, 0.06)],
                       Objective(speeds=(float(spec["speed"].split()[0]),), duration=spec["time"],
                                 start=spec["time"] / 3),
-                      generations=1, popsize=2, seed=spec["seed"], workers=spec["threads"],
+                      generations=1, popsize=2, seed=3, workers=spec["threads"],
                       say=said.append)
         if result["ended"] != "finished":
             return "ended " + result["ended"]
