@@ -9,7 +9,8 @@ the creature is compiled and its directory replaced as a whole:
 so a failure leaves the previous directory untouched and never half-written. When only
 controllers are stale (a gain edited) and the dynamics are the ones this legdsl and sympy
 printed from the same file, only those controllers are lowered again: the same files, byte for
-byte, as a whole compile, in a second rather than the seconds of the dynamics.
+byte, as a whole compile, in a second rather than the seconds of the dynamics. A creature
+compiled before, anywhere, is copied from legdsl's cache instead (``legdsl.codegen.kept``).
 """
 
 from __future__ import annotations

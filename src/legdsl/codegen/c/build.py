@@ -45,6 +45,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 from legdsl.codegen.c.cache import (
     OBJECTS,
@@ -423,40 +424,37 @@ def _probe_run(
     starting stayed a zombie after the call (random API interrupts, seed 21090)."""
     started: list[subprocess.Popen[str]] = []
     try:
-        with signals_held():  # started and known, or not started (see _start)
-            started.append(subprocess.Popen(
-                command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                process_group=0,
-            ))  # fmt: skip
+        _spawn(command, started, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
         out, err = started[0].communicate(timeout=timeout)
     except BaseException:  # the timeout, a Ctrl-C: ended and reaped, then raised
         _stop(started)
         raise
-    process = started[0]
-    return subprocess.CompletedProcess(command, process.returncode, out, err)
+    return subprocess.CompletedProcess(command, started[0].returncode, out, err)
 
 
 def _start(
     command: list[str], compiler: Compiler, work: str, started: list[subprocess.Popen[str]]
 ) -> subprocess.Popen[str]:
-    """Start a compiler process and note it in ``started`` (which ``_stop`` ends), with the
-    signals held: a Ctrl-C inside ``Popen`` left a compiler running that nobody knew of, a
-    zombie after the call (random API interrupts, seed 21090). It starts with them blocked,
-    which it keeps: ``_stop`` ends it with SIGKILL, and its group is never the terminal's."""
+    """A compiler process of the build, noted in ``started``."""
     try:
-        with signals_held():
-            process = subprocess.Popen(
-                command,
-                stderr=subprocess.PIPE,
-                text=True,
-                env=_temporaries_in(work),
-                process_group=0,
-            )  # fmt: skip  (a group of its own, its compiler passes with it: _stop ends them all)
-            started.append(process)
-            return process
+        return _spawn(command, started, stderr=subprocess.PIPE, env=_temporaries_in(work))
     except OSError as e:  # removed or made unrunnable since it was found
         limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
         raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
+
+
+def _spawn(
+    command: list[str], started: list[subprocess.Popen[str]], **streams: Any
+) -> subprocess.Popen[str]:
+    """``command`` started in a process group of its own (its compiler's passes with it:
+    ``_stop`` ends them all) and noted in ``started``, with the signals held: a Ctrl-C inside
+    ``Popen`` left a compiler running that nobody knew of, a zombie after the call (random API
+    interrupts, seed 21090). It starts with them blocked, and keeps them so: ``_stop`` ends it
+    with SIGKILL, and its group is never the terminal's."""
+    with signals_held():
+        process = subprocess.Popen(command, text=True, process_group=0, **streams)
+        started.append(process)
+        return process
 
 
 def _is_elf(path: Path) -> bool:
