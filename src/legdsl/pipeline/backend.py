@@ -298,8 +298,13 @@ def iter_batch(
         # Each C library built here first: a Ctrl-C comes to this thread, which stops and reaps
         # the compiler processes; a worker thread's build went on, and a Ctrl-C held down cut
         # short the pool's wait for it, leaving them running after the call (seed 21055).
-        for job in _one_per_library(jobs):
-            session.prepare(**{k: v for k, v in job.items() if k != "progress"})
+        told = session.log, session.note
+        session.log = session.note = None  # a run's notes come once, with the run
+        try:
+            for job in _one_per_library(jobs):
+                session.prepare(**{k: v for k, v in job.items() if k != "progress"})
+        finally:
+            session.log, session.note = told
     _BATCH[0] += 1
     try:
         if workers == 1:
