@@ -4,6 +4,7 @@ started are ended and reaped, not left compiling into a removed directory, then 
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import time
@@ -85,3 +86,24 @@ def test_ctrl_c_as_a_compiler_starts_leaves_none_behind(
             build.probe(compiler, tmp_path)
     monkeypatch.undo()
     assert child_pids() - before == set()  # none running, none a zombie
+
+
+def test_a_ctrl_c_as_a_compiler_process_is_dropped_is_raised_not_lost(
+    monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Random API interrupts, seed 21182 (Ctrl-C held down through a build): one landed in a
+    finished compiler's ``Popen.__del__``, as the build dropped it: "Exception ignored", a
+    traceback, and the Ctrl-C lost. The processes are dropped with the signals held."""
+    true = shutil.which("true")
+    assert true is not None
+    finalize = subprocess.Popen.__del__
+
+    def interrupted(self: subprocess.Popen[str]) -> None:
+        if self.args == [true]:
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, in the finalizer
+        finalize(self)
+
+    monkeypatch.setattr(subprocess.Popen, "__del__", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        build._probe_run([true], 5)
+    assert "Exception ignored" not in capfd.readouterr().err

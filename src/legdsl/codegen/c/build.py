@@ -347,21 +347,23 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 commands.append(command)
                 _start(command, compiler, work, started)
             errors = [process.communicate()[1] for process in started]  # all, failed or not
-            for command, process, err in zip(commands, started, errors, strict=True):
-                _check(process.returncode, command, err, name, compiler)
+            codes = [process.returncode for process in started]
+            for command, code, err in zip(commands, codes, errors, strict=True):
+                _check(code, command, err, name, compiler)
             for unit in compiled:
                 keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-            done = _start(command, compiler, work, started)
-            err = done.communicate()[1]
-            _check(done.returncode, command, err, name, compiler)
+            err = _start(command, compiler, work, started).communicate()[1]
+            _check(started[-1].returncode, command, err, name, compiler)
             if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
                 _check(1, command, "it wrote no shared library", name, compiler)
             seal(partial)
         except BaseException:  # Ctrl-C in a notebook: the kernel goes on, its compilers must not
             _stop(started)
             raise
+        finally:
+            _forget(started)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
 
@@ -426,10 +428,21 @@ def _probe_run(
     try:
         _spawn(command, started, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
         out, err = started[0].communicate(timeout=timeout)
+        code = started[0].returncode
     except BaseException:  # the timeout, a Ctrl-C: ended and reaped, then raised
         _stop(started)
         raise
-    return subprocess.CompletedProcess(command, started[0].returncode, out, err)
+    finally:
+        _forget(started)
+    return subprocess.CompletedProcess(command, code, out, err)
+
+
+def _forget(processes: list[subprocess.Popen[str]]) -> None:
+    """Drop the (reaped) processes with the signals held, their last references: each one's
+    finalizer runs here, where a Ctrl-C held down cannot land in it ("Exception ignored in
+    Popen.__del__" and a traceback: random API interrupts, seed 21182)."""
+    with signals_held():
+        processes.clear()
 
 
 def _start(
