@@ -8,6 +8,7 @@ from __future__ import annotations
 import io
 import os
 import shutil
+import zlib
 from pathlib import Path
 
 import pytest
@@ -94,7 +95,9 @@ def test_what_a_compile_prints_from_names_the_entry(
     assert moved != (tmp_path / "first" / "hopper" / "control_hop.c").read_text()
 
 
-@pytest.mark.parametrize("damage", ["cut short", "a byte changed", "sealed but not an entry"])
+@pytest.mark.parametrize(
+    "damage", ["cut short", "a byte changed", "sealed but not an entry", "sealed, not files"]
+)
 def test_a_damaged_entry_is_compiled_again_and_kept_whole(
     damage: str, own_cache: Path, hopper: Path, tmp_path: Path
 ) -> None:
@@ -105,8 +108,11 @@ def test_a_damaged_entry_is_compiled_again_and_kept_whole(
         entry.write_bytes(whole[: len(whole) // 2])
     elif damage == "a byte changed":
         entry.write_bytes(whole[:100] + bytes([whole[100] ^ 1]) + whole[101:])
-    else:
+    elif damage == "sealed but not an entry":
         entry.write_bytes(b"not compressed")
+        cache.seal(entry)
+    else:
+        entry.write_bytes(zlib.compress(b'[["dynamics.py", 42], 7]'))
         cache.seal(entry)
     assert "; compiling" in _load(hopper, tmp_path / "second")
     assert entry.read_bytes() == whole

@@ -50,11 +50,16 @@ def kept_files(model: Model, label: str) -> Files | None:
         listed = json.loads(zlib.decompress(body))
     except (zlib.error, ValueError):  # sealed but not ours: compiled again, and kept anew
         return None
-    if not all(isinstance(f, list) and len(f) == 2 for f in listed):
+    if not isinstance(listed, list) or not all(_is_file(f) for f in listed):
         return None
     with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
         os.utime(entry)  # used: the last to go when the cache is trimmed
-    return tuple((str(name), str(text)) for name, text in listed)
+    return tuple((name, text) for name, text in listed)
+
+
+def _is_file(listed: Any) -> bool:
+    """Whether an entry's item is a file as kept: [name, text]."""
+    return isinstance(listed, list) and len(listed) == 2 and all(isinstance(x, str) for x in listed)
 
 
 def keep_files(model: Model, label: str, files: Files) -> None:
