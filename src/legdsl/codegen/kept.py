@@ -21,7 +21,6 @@ import functools
 import hashlib
 import importlib.metadata
 import json
-import os
 import sys
 import zlib
 from dataclasses import fields, is_dataclass
@@ -29,8 +28,8 @@ from pathlib import Path
 from typing import Any
 
 import legdsl
-from legdsl.codegen.c.cache import MODULES, seal, trim, unsealed
-from legdsl.files import cache_dir, temp_sibling
+from legdsl.codegen.c.cache import MODULES, keep_sealed, read_kept, trim
+from legdsl.files import cache_dir
 from legdsl.ir.model import Model
 
 Files = tuple[tuple[str, str], ...]  # (file name, text), as a compile returns them
@@ -40,11 +39,21 @@ class _Unnamed(Exception):
     """A value in the model that the key cannot name exactly: the model is not kept."""
 
 
-def kept_files(model: Model, label: str) -> Files | None:
-    """The files a compile of ``model`` (its headers naming ``label``) printed before, or None."""
-    entry = _entry(model, label)
-    body = None if entry is None else unsealed(entry)
-    if entry is None or body is None:
+def kept_entry(model: Model, label: str) -> Path | None:
+    """Where a compile of ``model`` (its headers naming ``label``) is kept; None when the model
+    cannot be named exactly or there is no cache."""
+    try:
+        named = json.dumps([_exact(model), label, _compiler(), _versions()])
+        folder = cache_dir() / MODULES
+    except (_Unnamed, FileNotFoundError):
+        return None
+    return folder / f"{hashlib.sha256(named.encode()).hexdigest()}.json.z"
+
+
+def kept_files(entry: Path | None) -> Files | None:
+    """The files kept at ``entry`` (``kept_entry``), or None."""
+    body = None if entry is None else read_kept(entry)
+    if body is None:
         return None
     try:
         listed = json.loads(zlib.decompress(body))
@@ -52,8 +61,6 @@ def kept_files(model: Model, label: str) -> Files | None:
         return None
     if not isinstance(listed, list) or not all(_is_file(f) for f in listed):
         return None
-    with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
-        os.utime(entry)  # used: the last to go when the cache is trimmed
     return tuple((name, text) for name, text in listed)
 
 
@@ -62,32 +69,14 @@ def _is_file(listed: Any) -> bool:
     return isinstance(listed, list) and len(listed) == 2 and all(isinstance(x, str) for x in listed)
 
 
-def keep_files(model: Model, label: str, files: Files) -> None:
-    """Keep what a compile of ``model`` printed, if the cache can be written."""
-    entry = _entry(model, label)
+def keep_files(entry: Path | None, files: Files) -> None:
+    """Keep what a compile printed at ``entry`` (``kept_entry``), if the cache can be written."""
     if entry is None:
         return
     body = zlib.compress(json.dumps([list(f) for f in files]).encode())
     with contextlib.suppress(OSError):  # no room, or not ours to write: the next run compiles
-        entry.parent.mkdir(parents=True, exist_ok=True)
-        temporary = temp_sibling(entry, "new")
-        try:
-            temporary.write_bytes(body)
-            seal(temporary)
-            os.replace(temporary, entry)
-        finally:
-            temporary.unlink(missing_ok=True)
+        keep_sealed(body, entry)
         trim(entry.parent.parent, entry)
-
-
-def _entry(model: Model, label: str) -> Path | None:
-    """The entry's path, or None when the model cannot be named or there is no cache."""
-    try:
-        named = json.dumps([_exact(model), label, _compiler(), _versions()])
-        folder = cache_dir() / MODULES
-    except (_Unnamed, FileNotFoundError):
-        return None
-    return folder / f"{hashlib.sha256(named.encode()).hexdigest()}.json.z"
 
 
 def _exact(value: Any) -> Any:

@@ -25,7 +25,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from legdsl.codegen.fingerprints import controller_fingerprint, model_fingerprint
-from legdsl.codegen.kept import keep_files, kept_files
+from legdsl.codegen.kept import keep_files, kept_entry, kept_files
 from legdsl.codegen.manifest import SUMS, render_init, sha256_sums, source_label
 from legdsl.files import (
     REFUSED_WRITES,
@@ -189,8 +189,8 @@ def _recompile(
     bar and the time left on a terminal's standard error, and kept there. A tree that cannot
     be written (a read-only checkout, a shared install) is the user's to fix, and the message
     says how."""
-    label = source_label(model.source)
-    files = kept_files(model, label)
+    entry = kept_entry(model, source_label(model.source))
+    files = kept_files(entry)
     if log is not None:
         copied = f"{source} was compiled before: its modules are copied from legdsl's cache"
         print(f"legdsl: {why}; {copied if files else f'compiling {source}'}", file=log)
@@ -199,7 +199,7 @@ def _recompile(
         if files is None:
             progress = CompileProgress().done if log is sys.stderr else None
             files = _compiled(model, source, syntax, progress).files
-        keep_files(model, label, files)
+        keep_files(entry, files)
     try:
         write_module_dir(generated, model.name, files)
     except OSError as e:

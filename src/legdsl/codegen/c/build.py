@@ -41,7 +41,7 @@ import signal
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -322,7 +322,6 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         # time), then linked: the same objects and the same library as one gcc command
         every = flags(compiler)
         compile_flags = [f for f in every if f != "-shared"]
-        started: list[subprocess.Popen[str]] = []
         commands: list[list[str]] = []
         kept = {
             unit: root / OBJECTS / f"{unit}-{unit_key(unit, files, compiler)}.o" for unit in UNITS
@@ -330,7 +329,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
         compiled = [
             unit for unit in UNITS if not reuse_object(kept[unit], Path(work) / f"{unit}.o")
         ]
-        try:
+        with _processes() as started:  # Ctrl-C in a notebook: the kernel goes on, they must not
             for unit in compiled:
                 source, obj = str(Path(work) / unit), str(Path(work) / f"{unit}.o")
                 command = [
@@ -359,11 +358,6 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
                 _check(1, command, "it wrote no shared library", name, compiler)
             seal(partial)
-        except BaseException:  # Ctrl-C in a notebook: the kernel goes on, its compilers must not
-            _stop(started)
-            raise
-        finally:
-            _forget(started)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
 
@@ -424,25 +418,29 @@ def _probe_run(
     means, the probe's tiny build), its process reaped whatever ends the wait: on a Ctrl-C
     ``subprocess.run`` waits for it a quarter of a second at most, and a compiler still
     starting stayed a zombie after the call (random API interrupts, seed 21090)."""
-    started: list[subprocess.Popen[str]] = []
-    try:
+    with _processes() as started:  # the timeout, a Ctrl-C: ended and reaped, then raised
         _spawn(command, started, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
         out, err = started[0].communicate(timeout=timeout)
         code = started[0].returncode
-    except BaseException:  # the timeout, a Ctrl-C: ended and reaped, then raised
-        _stop(started)
-        raise
-    finally:
-        _forget(started)
     return subprocess.CompletedProcess(command, code, out, err)
 
 
-def _forget(processes: list[subprocess.Popen[str]]) -> None:
-    """Drop the (reaped) processes with the signals held, their last references: each one's
-    finalizer runs here, where a Ctrl-C held down cannot land in it ("Exception ignored in
-    Popen.__del__" and a traceback: random API interrupts, seed 21182)."""
-    with signals_held():
-        processes.clear()
+@contextlib.contextmanager
+def _processes() -> Iterator[list[subprocess.Popen[str]]]:
+    """The list of the processes started meanwhile (``_spawn``): whatever ends this early, they
+    are ended and reaped (``_stop``); in any case they are dropped with the signals held, their
+    last references, so that each one's finalizer runs where a Ctrl-C held down cannot land in
+    it ("Exception ignored in Popen.__del__" and a traceback, the Ctrl-C lost: random API
+    interrupts, seed 21182)."""
+    started: list[subprocess.Popen[str]] = []
+    try:
+        yield started
+    except BaseException:
+        _stop(started)
+        raise
+    finally:
+        with signals_held():
+            started.clear()
 
 
 def _start(

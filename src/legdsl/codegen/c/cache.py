@@ -27,6 +27,8 @@ import shutil
 import time
 from pathlib import Path
 
+from legdsl.files import temp_sibling
+
 SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 OBJECTS = "objects"  # the cache's folder of compiled translation units
@@ -36,27 +38,43 @@ LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed buil
 
 def reuse_object(kept: Path, obj: Path) -> bool:
     """Copy the kept object to ``obj`` (unsealed) if it is whole, and mark it used."""
-    body = unsealed(kept)
+    body = read_kept(kept)
     if body is None:
         return False
     try:
         obj.write_bytes(body)
     except OSError:  # a full disk: the compiler, run instead, says so as for any build
         return False
-    with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
-        os.utime(kept)
     return True
 
 
 def keep_object(obj: Path, kept: Path) -> None:
-    """Keep a copy of a unit's new object, sealed, renamed into place whole (if there is room:
-    the library is what the build is for)."""
-    sealed_copy = obj.with_suffix(".sealed")
+    """Keep a copy of a unit's new object (if there is room: the library is what the build
+    is for)."""
     with contextlib.suppress(OSError):
-        shutil.copyfile(obj, sealed_copy)
-        seal(sealed_copy)
-        kept.parent.mkdir(exist_ok=True)
-        os.replace(sealed_copy, kept)  # the build's directory is in the cache: one file system
+        keep_sealed(obj.read_bytes(), kept)
+
+
+def read_kept(kept: Path) -> bytes | None:
+    """A kept file's bytes before its seal, marked used (the last to go when the cache is
+    trimmed); None if it is missing, cut short or damaged."""
+    body = unsealed(kept)
+    if body is not None:
+        with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
+            os.utime(kept)
+    return body
+
+
+def keep_sealed(data: bytes, kept: Path) -> None:
+    """``data`` kept at ``kept``, sealed with its SHA-256 and renamed into place whole: two
+    processes that keep the same file each rename a whole one."""
+    kept.parent.mkdir(parents=True, exist_ok=True)
+    temporary = temp_sibling(kept, "new")
+    try:
+        temporary.write_bytes(data + SEAL + hashlib.sha256(data).hexdigest().encode())
+        os.replace(temporary, kept)
+    finally:
+        temporary.unlink(missing_ok=True)
 
 
 def seal(path: Path) -> None:
@@ -83,17 +101,19 @@ def unsealed(path: Path) -> bytes | None:
 
 
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
-    """Remove the least recently used libraries, objects and kept modules while the cache holds
-    more than ``most`` bytes. A process that has a removed library loaded keeps it (the file lives on
-    until closed); one about to load it builds it again (``legdsl.sim.c_library.load_library``).
-    The sources of a build killed outright (SIGKILL, a power cut) are removed after
+    """Remove the least recently used libraries, objects and kept modules while the cache
+    holds more than ``most`` bytes. A process that has a removed library loaded keeps it (the
+    file lives on until closed); one about to load it builds it again
+    (``legdsl.sim.c_library.load_library``). The sources of a build killed outright (SIGKILL, a
+    power cut), and a killed ``keep_sealed``'s temporary file, are removed after
     ``LEFTOVER_SECONDS``."""
-    for work in [*root.glob(".*-src-*"), *root.glob(".probe-*"), *root.glob(f"{MODULES}/.*")]:
+    builds = [*root.glob(".*-src-*"), *root.glob(".probe-*")]
+    for work in [*builds, *root.glob(f"{OBJECTS}/.*"), *root.glob(f"{MODULES}/.*")]:
         with contextlib.suppress(OSError):  # another process's, just removed
             if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
                 if work.is_dir():
                     shutil.rmtree(work, ignore_errors=True)
-                else:  # a kept module's entry whose writer was killed
+                else:  # keep_sealed's
                     work.unlink()
     found = []
     for path in [*root.glob("*.so"), *root.glob(f"{OBJECTS}/*.o"), *root.glob(f"{MODULES}/*.z")]:
