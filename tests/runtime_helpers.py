@@ -49,6 +49,12 @@ def legdsl_in_process(argv: list[str]) -> tuple[int, str]:
     return code, err.getvalue()
 
 
+def is_compile_notice(line: str) -> bool:
+    """A line saying that a run's generated code was compiled, or copied from legdsl's cache:
+    which of the two depends on what ran before in the same cache, not on the run."""
+    return "; compiling " in line or "was compiled before: its modules are copied" in line
+
+
 def compile_text(text: str, tmp: Path, name: str) -> RunSession:
     """A session on ``text`` (cached per text, so a module compiles once per test session)."""
     if text in _CACHE:

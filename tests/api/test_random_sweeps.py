@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from runtime_helpers import legdsl_in_process, needs_c_compiler
+from runtime_helpers import is_compile_notice, legdsl_in_process, needs_c_compiler
 from seeded import told_with_seed
 from set_values import in_unit, models, number
 
@@ -240,7 +240,7 @@ def _tune(rng: np.random.Generator, model: Model, controller: str, end: float) -
 def _said(err: str) -> list[str]:
     """The lines a command said but its notes and compile messages."""
     return [x for x in err.splitlines() if x.strip() and not x.startswith("legdsl: note:")
-            and "; compiling " not in x and not x.startswith("legdsl: built ")]  # fmt: skip
+            and not is_compile_notice(x) and not x.startswith("legdsl: built ")]  # fmt: skip
 
 
 def _legdsl(argv: list[str]) -> tuple[int, str]:

@@ -58,11 +58,23 @@ BACKEND = os.environ.get("LEGDSL_RANDOM_SCALING_BACKEND", "python")
 NEAR_DIVERGENCE = DIVERGENCE_SPEED / 2  # m/s or rad/s: half the least divergence limit
 
 
+ENERGIES = ("leg_spring_energy", "kinetic", "potential", "elastic", "work_positive", "work_negative")
+
+
+def _magnitude(*runs: RunResult, names: tuple[str, ...]) -> float:
+    """The largest finite magnitude of the channels ``names`` in ``runs``."""
+    values = [getattr(run.trajectory, name).astype(float) for run in runs for name in names]
+    return max((float(np.abs(x[np.isfinite(x)]).max(initial=0.0)) for x in values), default=0.0)
+
+
 def relative_difference(a: RunResult, b: RunResult) -> float:
     """The largest difference of two runs' recorded values, each relative to the larger of the
-    two (with a floor of 1e-9 of the channel's magnitude, for values that cross zero)."""
+    two (with a floor of 1e-9 of the channel's magnitude, for values that cross zero; for the
+    energies and work, of all of them: a spring that barely moves does work of 1e-24 J in one
+    run and 1e-42 J in the other, rounding both, against a run's joules: seed 700000)."""
     x_traj, y_traj = a.trajectory, b.trajectory
     assert len(x_traj) == len(y_traj) > 0, (len(x_traj), len(y_traj))
+    energy = _magnitude(a, b, names=ENERGIES)
     worst = 0.0
     for name in ARRAYS:
         x, y = getattr(x_traj, name).astype(float), getattr(y_traj, name).astype(float)
@@ -72,7 +84,8 @@ def relative_difference(a: RunResult, b: RunResult) -> float:
         if not both.any():
             continue
         x, y = x[both], y[both]
-        floor = 1e-9 * max(float(np.abs(x).max()), float(np.abs(y).max()), 1e-300)
+        own = max(float(np.abs(x).max()), float(np.abs(y).max()))
+        floor = 1e-9 * max(energy if name in ENERGIES else own, own, 1e-300)
         rel = np.abs(x - y) / np.maximum(np.maximum(np.abs(x), np.abs(y)), floor)
         worst = max(worst, float(rel.max()))
     return worst

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from runtime_helpers import legdsl_in_process, needs_c_compiler
+from runtime_helpers import is_compile_notice, legdsl_in_process, needs_c_compiler
 from seeded import told_with_seed
 from set_values import in_unit, models, number
 
@@ -171,8 +171,8 @@ def draw(seed: int, folder: Path, outside: bool) -> Case:
 
 
 def _said(err: str) -> str:
-    """What a run said but the note that its generated code was (first) compiled."""
-    return "".join(x for x in err.splitlines(True) if "; compiling " not in x)
+    """What a run said but the note that its generated code was (first) compiled or copied."""
+    return "".join(x for x in err.splitlines(True) if not is_compile_notice(x))
 
 
 def _run_json(out: Path) -> dict[str, object]:
