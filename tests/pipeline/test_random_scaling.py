@@ -58,7 +58,8 @@ BACKEND = os.environ.get("LEGDSL_RANDOM_SCALING_BACKEND", "python")
 NEAR_DIVERGENCE = DIVERGENCE_SPEED / 2  # m/s or rad/s: half the least divergence limit
 
 
-ENERGIES = ("leg_spring_energy", "kinetic", "potential", "elastic", "work_positive", "work_negative")
+ENERGIES = ("leg_spring_energy", "kinetic", "potential", "elastic")
+ENERGIES += ("work_positive", "work_negative")
 
 
 def _magnitude(*runs: RunResult, names: tuple[str, ...]) -> float:
