@@ -194,15 +194,22 @@ def _lowest_contact(source: Path) -> float:
     return float(min(heights))
 
 
-def placed_rig(seed: int, folder: Path) -> tuple[Path, float | None]:
+def placed_rig(seed: int, folder: Path, lift: bool = False) -> tuple[Path, float | None]:
     """The rig written to ``folder``: a welded root lowered so that its lowest contact starts
-    1 to 20 mm above the ground; and the drop of a free root."""
+    1 to 20 mm above the ground; and the drop of a free root (with ``lift``, for a command
+    without ``--drop``, such as a sweep: written as its initial height instead, and None)."""
     rng = np.random.default_rng([seed, 8])
     text = rig_text(seed)
     source = folder / f"rig{seed}.leg"
     source.write_text(text)
     if " free {" in text:
-        return source, float(rng.uniform(0.001, 0.05))
+        drop = float(rng.uniform(0.001, 0.05))
+        if not lift:
+            return source, drop
+        assert "initial z = 1 m," in text  # random_creatures.root_head
+        height = f"initial z = {num(1.0 + drop - _lowest_contact(source))} m,"
+        source.write_text(text.replace("initial z = 1 m,", height, 1))
+        return source, None
     lower = _lowest_contact(source) - rng.uniform(0.001, 0.02)
     welded = re.search(r"fixed at \(([^)]*), ([-\d.e]+) m\)", text)
     assert welded is not None and float(welded.group(2)) == WELDED_Z

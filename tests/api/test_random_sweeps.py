@@ -113,7 +113,7 @@ def _law(seed: int, folder: Path, generated: Path) -> Path | None:
 def _rig(seed: int, folder: Path, generated: Path) -> Path:
     from random_rigs import follow_advice, placed_rig
 
-    source, _ = placed_rig(seed, folder)
+    source, _ = placed_rig(seed, folder, lift=True)  # a sweep has no --drop
     source.write_text(source.read_text() + POKE)
     for _ in range(4):
         code, err = legdsl_in_process(["run", str(source), "--controller", "poke", "--time",

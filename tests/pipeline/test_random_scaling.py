@@ -97,24 +97,36 @@ def sample_differences(a: RunResult, b: RunResult) -> np.ndarray:
     return worst
 
 
-def assert_agree(
-    a: RunResult, b: RunResult, twin_of_b: Callable[[], RunResult], tolerance: float, what: str
+def assert_alike(
+    a: RunResult,
+    b: RunResult,
+    twin_of_b: Callable[[], RunResult],
+    tolerance: float,
+    what: str,
+    within: float = 0.0,
 ) -> None:
-    """``a`` and ``b``, two runs of one motion whose arithmetic differs by rounding, agree to
-    ``tolerance`` in the samples both have (``_common``). Where they do not, ``b``'s twin (its
-    run from a start one ulp away) tells how far this rig carries a rounding difference: they
-    are held to agree before the sample where the twin departs from ``b`` by 1e-9 (seed 710005
-    at L = 0.37 doubles a rounding difference every 7 samples, 1.7 ms: 1e-9 at sample 76, 1e-5
-    at 150, then a foot touches in one run and not the other; its twin departs at sample 43).
-    A scaling mistake shows from the first samples (that rig's scaled file with gravity 1e-6
+    """``a`` and ``b``, two runs of one motion whose arithmetic differs by rounding, end alike
+    (``_same_ending``) and agree to ``tolerance`` in the samples both have (``_common``).
+    Where they do not, ``b``'s twin (its run from a start one ulp away) tells how far this rig
+    carries a rounding difference. An ending the twin does not share depends on rounding
+    (seed 720014 at L = 0.37 spins a joint up to the divergence limit at 0.029 s, its twin at
+    0.045 s, the scaled file not in its 0.15 s), so either may come. The samples are held to
+    agree before the one where the twin departs from ``b`` by 1e-9 (seed 710005 at L = 0.37
+    doubles a rounding difference every 7 samples, 1.7 ms: 1e-9 at sample 76, 1e-5 at 150,
+    then a foot touches in one run and not the other; its twin departs at sample 43). A
+    scaling mistake shows from the first samples (that rig's scaled file with gravity 1e-6
     off: 1e-6 at sample 1)."""
+    twin = functools.cache(twin_of_b)
+    differs = _ending_difference(a, b, within)
+    assert differs is None or _ending_difference(twin(), b, within), f"{what}: {differs}"
+    if not (len(a.trajectory) and len(b.trajectory)):
+        return  # one stopped before its first sample
     both = _common(a, b)
     differences = sample_differences(_first(a, both), _first(b, both))
     if differences.max() < tolerance:
         return
-    twin = twin_of_b()
-    both = min(both, _common(twin, b))
-    spread = sample_differences(_first(twin, both), _first(b, both))
+    both = min(both, _common(twin(), b))
+    spread = sample_differences(_first(twin(), both), _first(b, both))
     departs = np.flatnonzero(spread > ROUNDING_HORIZON)
     horizon = int(departs[0]) if departs.size else both
     worst = float(differences[:horizon].max(initial=0.0))
@@ -124,13 +136,20 @@ def assert_agree(
     )
 
 
+def _ending_difference(a: RunResult, b: RunResult, within: float = 0.0) -> str | None:
+    """How two runs' endings differ: their status, or their times by more than ``within`` s
+    (inf: either may end first); None where they do not."""
+    if within < math.inf and a.status != b.status:
+        return f"{a.status} ({a.message}) vs {b.status} ({b.message})"
+    if abs(a.sim_time - b.sim_time) > within + 1e-9 * b.sim_time:
+        return f"ended at {a.sim_time} s and {b.sim_time} s"
+    return None
+
+
 def _same_ending(a: RunResult, b: RunResult, what: str, within: float = 0.0) -> None:
     """The same status, at the same time (within ``within`` s; inf: either may end first)."""
-    if within < math.inf:
-        assert a.status == b.status, f"{what}: {a.status} ({a.message}) vs {b.status} ({b.message})"
-    assert abs(a.sim_time - b.sim_time) <= within + 1e-9 * b.sim_time, (
-        f"{what}: ended at {a.sim_time} s and {b.sim_time} s"
-    )
+    differs = _ending_difference(a, b, within)
+    assert differs is None, f"{what}: {differs}"
 
 
 def _common(a: RunResult, b: RunResult) -> int:
@@ -248,14 +267,13 @@ def check_scalings(
         scaled_run = _run_at(session, controller, scale, given)
         what = f"L = {scale:g}"
         # the --scale run is held to the scaled file's fall and divergence rules: one ending
-        _same_ending(file_run, scaled_run, f"{what}, the scaled file and --scale")
+        twin = functools.partial(_run_at, session, controller, scale, given, nudged=True)
+        assert_alike(file_run, scaled_run, twin, tolerance, f"{what}: the scaled file and --scale")
         if not (file_run.trajectory.t.size or scaled_run.trajectory.t.size):
             # both stopped at their first tick, alike (a law reading a stance time not yet
             # measured: law 9800), before a sample: nothing more to compare, but the rig's run
             _same_ending(file_run, plain, f"{what}, the scaled file and the rig")
             continue
-        twin = functools.partial(_run_at, session, controller, scale, given, nudged=True)
-        assert_agree(file_run, scaled_run, twin, tolerance, f"{what}: the scaled file and --scale")
         # dynamic similarity: the scaled file's run, brought back by 1/L, is the rig's own
         # (a fall or divergence is looked for every CHECK_INTERVAL of each creature's own time,
         # so the two ends may be that far apart; the samples both have must agree)
@@ -264,12 +282,10 @@ def check_scalings(
         back = scale_result(file_run, big.model, 1 / scale)
         blows = "diverged" in (plain.status, file_run.status)
         within = math.inf if blows else CHECK_INTERVAL * max(1.0, 1 / math.sqrt(scale))
-        _same_ending(back, plain, f"{what}, the scaled file brought back and the rig", within)
         unscaled = _given(1.0, drop, falls, record_rate)
         twin = functools.partial(_run_at, session, controller, 1.0, unscaled, nudged=True)
-        assert_agree(
-            back, plain, twin, tolerance, f"{what}: the scaled file brought back and the rig"
-        )
+        brought = f"{what}: the scaled file brought back and the rig"
+        assert_alike(back, plain, twin, tolerance, brought, within)
 
 
 SEEDS = range(FIRST_SEED, FIRST_SEED + COUNT)
