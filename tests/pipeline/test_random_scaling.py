@@ -61,8 +61,9 @@ NEAR_DIVERGENCE = DIVERGENCE_SPEED / 2  # m/s or rad/s: half the least divergenc
 ROUNDING_HORIZON = 1e-9  # a twin run this far off: the rig has carried rounding far enough
 
 
-ENERGIES = ("leg_spring_energy", "kinetic", "potential", "elastic")
-ENERGIES += ("work_positive", "work_negative")
+ENERGIES = (  # J: compared against the largest of them
+    "leg_spring_energy", "kinetic", "potential", "elastic", "work_positive", "work_negative",
+)  # fmt: skip
 
 
 def _magnitude(*runs: RunResult, names: tuple[str, ...]) -> float:
