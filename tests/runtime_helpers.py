@@ -49,10 +49,13 @@ def legdsl_in_process(argv: list[str]) -> tuple[int, str]:
     return code, err.getvalue()
 
 
+COPIED = "was compiled before: its modules are copied from legdsl's cache"
+
+
 def is_compile_notice(line: str) -> bool:
     """A line saying that a run's generated code was compiled, or copied from legdsl's cache:
     which of the two depends on what ran before in the same cache, not on the run."""
-    return "; compiling " in line or "was compiled before: its modules are copied" in line
+    return "; compiling " in line or COPIED in line
 
 
 def compile_text(text: str, tmp: Path, name: str) -> RunSession:

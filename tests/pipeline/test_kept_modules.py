@@ -13,13 +13,12 @@ from pathlib import Path
 
 import pytest
 from conftest import CREATURES, GENERATED
+from runtime_helpers import COPIED
 
 from legdsl.codegen import kept
 from legdsl.codegen.c import cache
 from legdsl.pipeline import generated as generated_modules
 from legdsl.pipeline.session import RunSession
-
-COPIED = "was compiled before: its modules are copied from legdsl's cache"
 
 
 @pytest.fixture

@@ -353,8 +353,9 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
-            err = _start(command, compiler, work, started).communicate()[1]
-            _check(started[-1].returncode, command, err, name, compiler)
+            linker = _start(command, compiler, work, started)
+            err = linker.communicate()[1]
+            _check(linker.returncode, command, err, name, compiler)
             if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
                 _check(1, command, "it wrote no shared library", name, compiler)
             seal(partial)

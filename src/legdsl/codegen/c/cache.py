@@ -71,7 +71,7 @@ def keep_sealed(data: bytes, kept: Path) -> None:
     kept.parent.mkdir(parents=True, exist_ok=True)
     temporary = temp_sibling(kept, "new")
     try:
-        temporary.write_bytes(data + SEAL + hashlib.sha256(data).hexdigest().encode())
+        temporary.write_bytes(data + _seal_of(data))
         os.replace(temporary, kept)
     finally:
         temporary.unlink(missing_ok=True)
@@ -79,9 +79,14 @@ def keep_sealed(data: bytes, kept: Path) -> None:
 
 def seal(path: Path) -> None:
     """Append the library's SHA-256 to it (``sealed`` checks it before a load)."""
-    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    seal = _seal_of(path.read_bytes())
     with open(path, "ab") as out:
-        out.write(SEAL + digest.encode())
+        out.write(seal)
+
+
+def _seal_of(body: bytes) -> bytes:
+    """The seal that ends a file whose bytes before it are ``body`` (``unsealed`` reads it)."""
+    return SEAL + hashlib.sha256(body).hexdigest().encode()
 
 
 def sealed(path: Path) -> bool:
@@ -96,8 +101,7 @@ def unsealed(path: Path) -> bytes | None:
     except OSError:
         return None
     body, mark, digest = data.rpartition(SEAL)
-    whole = bool(mark) and hashlib.sha256(body).hexdigest().encode() == digest
-    return body if whole else None
+    return body if mark and mark + digest == _seal_of(body) else None
 
 
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
