@@ -116,3 +116,41 @@ def test_a_stop_too_stiff_for_the_step_is_warned_of_before_the_run(
     _run(_hopper(tmp_path, HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 2e4 N/m\n"),
                  "ok.leg"), generated, tmp_path / "ok")  # fmt: skip
     assert "warning" not in capsys.readouterr().err
+
+
+MIRRORED_ARMS = """
+creature arms {
+  planar
+  body base fixed { mass 1 kg  inertia 0.01 kg*m^2 }
+  template arm(S) {
+    body link_S on base via revolute j_S at (0.1 m, 0 m) {
+      length 0.2 m  com 0.1 m  mass 0.2 kg  inertia 0.001 kg*m^2
+      initial 30 deg
+      limits 10 deg to 90 deg
+      stop k = 100 N*m/rad, b = 1 N*m*s/rad
+    }
+  }
+  instance a = arm(S = a)
+  instance b = arm(S = b) mirror frontal
+}
+"""
+
+
+def test_a_mirrored_stop_is_at_the_mirrored_limits(tmp_path: Path) -> None:
+    """The mirror negates j_b (a hinge about y under x -> -x): its limits and their stop are
+    [-90, -10] deg, so the arm swings down as the mirror image of j_a and meets its stop at
+    -10 deg (the stop once stayed at [10, 90] deg: j_b started 40 deg past it)."""
+    path = tmp_path / "arms.leg"
+    path.write_text(MIRRORED_ARMS)
+    (model,) = check_file(path)
+    stops = {s.dof: (s.low, s.high) for s in model.stops}
+    assert stops["j_b"] == pytest.approx((-np.radians(90), -np.radians(10)))
+    assert stops["j_b"] == tuple(model.joint("j_b").dofs[0].limits or ())
+    argv = ["run", str(path), "--time", "0.5", "--generated", str(tmp_path / "gen"),
+            "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    q = np.load(tmp_path / "run" / "trajectory.npz")["q"]
+    np.testing.assert_allclose(q[:, 1], -q[:, 0], rtol=0, atol=1e-12)
+    assert q[-1, 0] == pytest.approx(np.radians(10), abs=np.radians(0.1))  # on the stop
+    spent = json.loads((tmp_path / "run" / "run.json").read_text())["time_on_stops"]
+    assert spent["j_a"] == spent["j_b"] > 0.1

@@ -132,7 +132,8 @@ class CreatureChecker(ValueChecker):
             for i in items
             if isinstance(i, ast.LegDecl)
         ]
-        mirror_parts(expansion.mirrors, bodies, joints, contacts, actuators, q0, v0)
+        stops = list(tree.joints.stops)
+        mirror_parts(expansion.mirrors, bodies, joints, contacts, actuators, stops, q0, v0)
 
         if not bodies:
             return None
@@ -152,5 +153,5 @@ class CreatureChecker(ValueChecker):
             v0=tuple(v0),
             span=d.span,
             simulation=simulation or SimulationDefaults(),
-            stops=tuple(tree.joints.stops),
+            stops=tuple(stops),
         )

@@ -6,8 +6,9 @@ centres, link directions, shape centres, contact points) and every inertia ``M I
 A hinge about ``a`` becomes a hinge about ``-M a`` (a reflection turns rotations the
 other way) and a slide along ``d`` one along ``M d``. Where that axis is exactly the
 opposite of the original, the axis is kept and the coordinate negated instead (its
-initial value and rate, its limits ``[lo, hi] -> [-hi, -lo]``, and the rest or setpoint
-of the instance's springs and servos on it), which is how a mirror is written by hand:
+initial value and rate, its limits and their stop ``[lo, hi] -> [-hi, -lo]``, and the rest
+or setpoint of the instance's springs and servos on it), which is how a mirror is written by
+hand:
 the right hip's roll is about +x like the left's, with its angle's sign flipped.
 Reflections keep lengths and angles, so a valid part stays valid. A body or contact
 outside the instance that is placed ``at tip`` of one of its bodies is at the mirrored
@@ -21,7 +22,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from legdsl.check.templates import MirrorPart
-from legdsl.ir.model import Actuator, Body, Contact, Dof, Joint, Mat3, Vec3
+from legdsl.ir.model import Actuator, Body, Contact, Dof, Joint, Mat3, Stop, Vec3
 
 
 def _neg(x: float) -> float:
@@ -102,6 +103,12 @@ class Mirror:
         params = tuple((k, _neg(v) if k in ("rest", "setpoint") else v) for k, v in a.params)
         return replace(a, params=params)
 
+    def stop(self, s: Stop) -> Stop:
+        """A stop on a negated coordinate: at its mirrored limits, ``[-high, -low]``."""
+        if s.dof not in self.negated:
+            return s
+        return replace(s, low=_neg(s.high), high=_neg(s.low))
+
 
 def mirror_parts(
     parts: tuple[MirrorPart, ...],
@@ -109,6 +116,7 @@ def mirror_parts(
     joints: list[Joint],
     contacts: list[Contact],
     actuators: list[Actuator],
+    stops: list[Stop],
     q0: list[float],
     v0: list[float],
 ) -> None:
@@ -119,6 +127,7 @@ def mirror_parts(
         joints[:] = [m.joint(j) for j in joints]
         contacts[:] = [m.contact(c) for c in contacts]
         actuators[:] = [m.actuator(a) for a in actuators]
+        stops[:] = [m.stop(s) for s in stops]
         for d in (d for j in joints for d in j.dofs if d.name in m.negated):
             q0[d.q_index] = d.initial
             v0[d.v_index] = d.initial_rate
