@@ -76,7 +76,7 @@ class LegMotionProbe(ArgumentProbe):
         if stdlib_name(s.span.file) is not None or self.motion_told.intersection(failed):
             return False
         if key not in self.scope.motion_blames:  # the passes that settle records repeat calls
-            self.scope.motion_blames[key] = self.motion_blame(given, check, failed[0], len(failed))
+            self.scope.motion_blames[key] = self.motion_blame(given, check, failed)
         blame = self.scope.motion_blames[key]
         if blame is None:
             return False
@@ -85,10 +85,13 @@ class LegMotionProbe(ArgumentProbe):
         return True
 
     def motion_blame(
-        self, args: list[Value], check: Callable[[list[Value]], object], used_at: Span, count: int
+        self, args: list[Value], check: Callable[[list[Value]], object], failed: list[Span]
     ) -> MotionBlame | None:
         """The one (leg argument, alias) whose actuators, read as the other motion, remove
-        the mistake found at ``used_at`` without adding to the ``count`` mistakes found."""
+        the first of the mistakes found (at ``failed``) and make none where there was none:
+        a reading that moves the mistake elsewhere (a torque now written to a force, which
+        stops the body before its real mistake) does not explain it."""
+        used_at, before = failed[0], set(failed)
         self.motions_read = {}
         self._trial(args, check, frozenset())
         read = dict(self.motions_read)
@@ -104,7 +107,7 @@ class LegMotionProbe(ArgumentProbe):
                         continue  # the same leg given twice (a leg and a role): told at the first
                     for trial in _retyped(args, read[target]) if retyped_too else [args]:
                         spans = self._trial(trial, check, flip)
-                        if used_at not in spans and len(spans) <= count:
+                        if used_at not in spans and before.issuperset(spans):
                             found[flip] = MotionBlame(i, alias, target, read[target])
                             break
             if found:
