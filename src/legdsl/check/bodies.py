@@ -65,6 +65,8 @@ class BodyChecker(CreaturePart):
             if length is not None and length <= 0:
                 self.err(props["length"].value.span, "a link length must be positive")
                 length = None
+            if length is None:  # written, with a mistake told here: not missing elsewhere
+                self.diag.unknown.add(f"{name}.length")
 
         direction: Vec3 = (0.0, 0.0, -1.0)
         if "direction" in props:

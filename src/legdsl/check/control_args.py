@@ -62,7 +62,7 @@ class ArgumentProbe(NameResolver):
     @contextmanager
     def captured(self) -> Iterator[Diagnostics]:
         """Errors go to a fresh ``Diagnostics`` for the duration (replayed or dropped after)."""
-        real, self.diag = self.diag, Diagnostics(self.diag.sources)
+        real, self.diag = self.diag, self.diag.trial()
         try:
             yield self.diag
         finally:

@@ -322,7 +322,8 @@ class NameResolver:
             return ir.Num(coord_constant(self.scope.model, part.name, name), dim)
         value = body_constant(self.scope.model, part.name, name)
         if value is None:
-            self.err(span, f"body '{part.name}' has no length: give it one with 'length ... m'")
+            if f"{part.name}.length" not in self.diag.unknown:
+                self.err(span, f"body '{part.name}' has no length: give it one with 'length ... m'")
             return None
         return ir.Num(value, dim)
 

@@ -282,7 +282,7 @@ class ControllerChecker:
         dimensions; the last one reports.
         """
         for _ in range(_RECORD_PASSES):
-            trial, trial_states = self.elaborate_pass(scope, rows, Diagnostics(self.diag.sources))
+            trial, trial_states = self.elaborate_pass(scope, rows, self.diag.trial())
             settled = self.record_types(trial, records, report=False)
             if settled == scope.records:
                 break

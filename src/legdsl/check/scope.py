@@ -88,7 +88,7 @@ class CreaturePart(ValueChecker):
                 return (0.0, 0.0, 0.0)
             if parent is None:
                 return (0.0, 0.0, 0.0)
-            if parent.length is None:
+            if parent.length is None and f"{parent.name}.length" not in self.diag.unknown:
                 self.err(value.span, f"'at tip' needs a length on the {whose} '{parent.name}'")
             return parent.tip
         return self.point(value, f"the {what}") or (0.0, 0.0, 0.0)

@@ -10,6 +10,7 @@ from typing import Protocol, TypeVar
 from legdsl.check.controller import check_controllers
 from legdsl.check.creature import CreatureChecker
 from legdsl.check.scene import check_scenes
+from legdsl.check.templates import GIVEN_A_VALUE
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import STDLIB, stdlib_name
 from legdsl.ir.model import Model
@@ -60,7 +61,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
     models = check_controllers(tree, models, library, shared, diag, broken, used)
     models = check_scenes(tree, models, diag)
-    diag.items = _once_per_place(_without_echoes(diag.items, tree.pending))
+    diag.items = _once_per_place(_unmade_names(_without_echoes(diag.items, tree.pending)))
     if unread:  # what a used file would have defined is unknown: its absence is no news
         blind = _blind_spans(tree, shared)
         diag.items = [
@@ -139,6 +140,13 @@ def _once_per_place(found: list[Diagnostic]) -> list[Diagnostic]:
             seen.add(key)
         kept.append(d)
     return kept
+
+
+def _unmade_names(found: list[Diagnostic]) -> list[Diagnostic]:
+    """Where a template's name could not be made (``seg_P`` with ``P = 0``, a value), that
+    is the mistake told there: that no body or joint has the name as written is no news."""
+    unmade = {d.span for d in found if GIVEN_A_VALUE in d.message}
+    return [d for d in found if d.span not in unmade or GIVEN_A_VALUE in d.message]
 
 
 def _without_echoes(found: list[Diagnostic], repaired: tuple[Diagnostic, ...]) -> list[Diagnostic]:

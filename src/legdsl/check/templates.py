@@ -276,6 +276,9 @@ def respan(node: Any, within: str) -> Any:
     return node
 
 
+GIVEN_A_VALUE = "is given a value, not a name"
+
+
 class _Substitution:
     """The arguments of one instance put into a copy of its template's items."""
 
@@ -309,8 +312,8 @@ class _Substitution:
             else:
                 self.diag.error(
                     replace(ident.span, within=self.within),
-                    f"parameter '{part}' is given a value, not a name, so it cannot stand in "
-                    f"the name '{ident.name}'",
+                    f"parameter '{part}' {GIVEN_A_VALUE}, so it cannot stand in the name "
+                    f"'{ident.name}'",
                 )
                 out.append(part)
         return "_".join(out)

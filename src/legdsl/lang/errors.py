@@ -118,9 +118,17 @@ def thread_refused(e: BaseException) -> bool:
 class Diagnostics:
     """Collects every mistake found in a pass so that all are reported at once."""
 
-    def __init__(self, sources: dict[str, str]):
+    def __init__(self, sources: dict[str, str], unknown: set[str] | None = None):
         self.sources = sources
         self.items: list[Diagnostic] = []
+        # what a mistake already reported left unknown ("thigh.length": a length written
+        # without its unit): a later check that needs it is quiet, not a second, false error
+        self.unknown: set[str] = set() if unknown is None else unknown
+
+    def trial(self) -> Diagnostics:
+        """Fresh diagnostics for a trial pass (its mistakes dropped or replayed), knowing what
+        these know is unknown."""
+        return Diagnostics(self.sources, self.unknown)
 
     def error(self, span: Span, message: str) -> None:
         self.items.append(Diagnostic(span, message + span.within))
