@@ -246,6 +246,20 @@ def test_a_long_step_without_a_control_interval_runs_the_controller_every_step(
     assert run.info["options"]["control_dt"] == 0.005
 
 
+def test_run_json_gives_the_control_interval_as_run(generated: Path) -> None:
+    """1.1 ms at a 0.4 ms step runs every 3 steps: run.json keeps the option as given and says
+    the interval run, as it does the record rate's (200 Hz: every 13 steps, 5.2 ms)."""
+    run = RunSession.from_file(HOPPER, generated=generated).run(
+        "hop", options=RunOptions(duration=0.05, dt=0.0004, control_dt=0.0011)
+    )
+    info = run.info()
+    assert info["options"]["control_dt"] == 0.0011
+    assert info["control_interval"] == 0.0012
+    assert info["record_interval"] == 0.0052
+    states = [e["t"] for e in run.result.events if e["kind"] == "state"]
+    assert all(round(t / 0.0012, 6).is_integer() for t in states)  # entered at ticks only
+
+
 def test_a_run_that_falls_says_where_its_controller_was(generated: Path) -> None:
     """A table waiting in one state for an event that never comes (a liftoff with the feet
     still down) fell with no word of it: the summary names the state and when it was entered."""

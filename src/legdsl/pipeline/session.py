@@ -42,7 +42,7 @@ from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_sample
+from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_control, steps_per_sample
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.sizes import start_depth
 from legdsl.sim.stability import (
@@ -486,6 +486,8 @@ class Run:
             "samples": len(result.trajectory),
             # one fixed interval, a whole number of steps (legdsl.sim.simulate.steps_per_sample)
             "record_interval": round(steps_per_sample(self.options) * self.options.dt, 12),
+            # the controller's, as run: a whole number of steps (options.control_dt as given)
+            "control_interval": round(steps_per_control(self.options) * self.options.dt, 12),
             "events": result.events,
         }
 

@@ -34,6 +34,12 @@ class RunOptions:
     drop: float | None = None  # start with the lowest contact this high above the ground
 
 
+def steps_per_control(options: RunOptions) -> int:
+    """The controller runs every this many steps: its interval over the step, rounded to the
+    nearest whole number, at least one (1.1 ms at 0.4 ms: every 3 steps, 1.2 ms)."""
+    return max(1, int(round(options.control_dt / options.dt)))
+
+
 def steps_per_sample(options: RunOptions) -> int:
     """Samples are taken every this many steps: one fixed interval, the record rate's
     rounded up to a whole number of steps (at 200 Hz and 0.4 ms, 12.5 steps: every 13, 5.2 ms),

@@ -32,6 +32,7 @@ from legdsl.sim.run_loop import (
     grow_recording,
     run_samples,
     steps_per_check,
+    steps_per_control,
     steps_per_sample,
 )
 from legdsl.sim.sizes import too_fast
@@ -430,7 +431,7 @@ class Simulation:
         opts = self.options
         n_steps, record_every = int(round(opts.duration / opts.dt)), steps_per_sample(opts)
         capacity = run_samples(opts)
-        control_every = max(1, int(round(opts.control_dt / opts.dt)))
+        control_every = steps_per_control(opts)
         return RunLoop(
             n_steps=n_steps,
             record_every=record_every,
