@@ -71,3 +71,14 @@ def test_cli_show_kangaroo(capsys: pytest.CaptureFixture[str]) -> None:
     assert "10 DOF" in out
     assert "via revolute ankle [ankle] (1 DOF)" in out
     assert "main: joints hip, knee, ankle; foot toe" in out
+    # every setting in the unit a .leg file writes it in
+    assert (
+        "ankle_spring: spring on ankle (k = 150 N*m/rad, b = 0.4 N*m*s/rad, rest = -115 deg)" in out
+    )
+    assert "knee_motor: force on knee (value = 0 N*m, max 60 N*m)" in out
+
+
+def test_cli_show_gives_a_sliding_actuators_units(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["show", str(CREATURES / "hopper.leg")]) == 0
+    out = capsys.readouterr().out
+    assert "leg_spring: spring on leg (k = 3000 N/m, b = 5 N*s/m, rest = 0 m)" in out

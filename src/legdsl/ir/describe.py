@@ -5,7 +5,16 @@ from __future__ import annotations
 import math
 
 from legdsl.figures import figure, figures
-from legdsl.ir.model import Model, Pad, Terrain, Vec3
+from legdsl.ir.model import Model, Pad, Terrain, Vec3, setting_kind
+from legdsl.lang.units import KINDS
+
+
+def _setting(key: str, value: float, rotary: bool) -> str:
+    """An actuator's setting in the unit a .leg file writes it in (an angle in degrees)."""
+    kind = setting_kind("force" if key == "value" else key, rotary)
+    if kind == "angle":
+        return f"{math.degrees(value):.4g} deg"
+    return f"{value:.4g} {KINDS[kind][1]}"
 
 
 def _vec(v: Vec3, planar: bool) -> str:
@@ -114,13 +123,8 @@ def describe_model(model: Model) -> str:
     if model.actuators:
         lines += ["", "actuators:"]
         for a in model.actuators:
-            params = ", ".join(
-                f"{k} = {math.degrees(v):.4g} deg"
-                if a.rotary and k in ("rest", "setpoint")
-                else f"{k} = {v:.4g}"
-                for k, v in a.params
-            )
-            limit = f", max {a.max:.4g}" if a.max is not None else ""
+            params = ", ".join(f"{k} = {_setting(k, v, a.rotary)}" for k, v in a.params)
+            limit = f", max {_setting('max', a.max, a.rotary)}" if a.max is not None else ""
             lines.append(f"  {a.name}: {a.kind} on {a.dof} ({params}{limit})")
     if model.ground is not None:
         gr = model.ground
