@@ -46,7 +46,8 @@ pytestmark = needs_c_compiler
 
 
 def _check_exports(source: Path, session: RunSession, folder: Path) -> None:
-    """MJCF and URDF exports MuJoCo loads; the MJCF's contact sites where legdsl puts them."""
+    """MJCF and URDF exports MuJoCo loads; the MJCF's contact sites where legdsl puts them and
+    its joint ranges where legdsl's stops are."""
     model = session.model
     files = {}
     for fmt, extra in (("mjcf", []), ("urdf", ["--link-mass", "1e-6"])):
@@ -64,6 +65,11 @@ def _check_exports(source: Path, session: RunSession, folder: Path) -> None:
         joints = {mj.joint(i).name for i in range(mj.njnt)}
         assert {d.name for d in model.dofs} <= joints, f"{fmt}: coordinates missing"
     mj = mujoco.MjModel.from_xml_path(str(files["mjcf"]))
+    for stop in model.stops:  # the runtime's stop where MuJoCo's joint range is (mirrored too)
+        at = mj.jnt_range[mj.joint(stop.dof).id]
+        assert np.allclose(at, (stop.low, stop.high), rtol=0, atol=1e-12), (
+            f"stop on {stop.dof} at {(stop.low, stop.high)}, the MJCF's range {at}"
+        )
     data = mujoco.MjData(mj)
     mujoco.mj_resetDataKeyframe(mj, data, mj.key("initial").id)
     mujoco.mj_kinematics(mj, data)
