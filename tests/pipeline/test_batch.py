@@ -3,6 +3,7 @@ in C in one call per thread; every copy must equal the single run with its value
 
 from __future__ import annotations
 
+import functools
 import os
 import signal
 import threading
@@ -125,7 +126,66 @@ def test_a_copy_that_needs_python_is_run_again_alone(
     copies = Batch(roo, 2, "hop", options=opts, vary={"speed": ([2, 3], "m/s")}).run()
     assert copies.rerun == 2  # more than 16 touchdowns and liftoffs each: Python drained them
     for k in range(2):
-        assert_same(alone(roo, copies.batch.texts(k), opts), copies.result(k))
+        single = alone(roo, copies.batch.texts(k), opts)
+        assert_same(single, copies.result(k))
+        # the arrays over the copies say the run again's end (they said where C stopped: 0 s)
+        assert copies.sim_time[k] == single.sim_time == 2.0
+        assert copies.steps[k] == single.steps and copies.recorded[k] == len(single.trajectory)
+
+
+def test_a_ctrl_c_in_a_copys_run_again_stops_the_copies_after_it(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The copies C gave back are run again one after another; a Ctrl-C in one (here: asked
+    for at its start) ended that one, and the next ran to its end all the same."""
+    monkeypatch.setattr(batch_module, "EVENTS_PER_SECOND", 0)
+    again: list[int] = []
+
+    def interrupted_again(copies: batch_module.Copies, k: int) -> object:
+        again.append(k)
+        b = copies.batch
+        return b.session.run(b.controller, b.texts(k), options=b.options, backend="c",
+                             stop=lambda: "SIGINT (Ctrl-C)")  # fmt: skip
+
+    monkeypatch.setattr(batch_module.Copies, "_run_in_python", interrupted_again)
+    copies = Batch(roo, 3, "hop", options=RunOptions(duration=2.0)).run()
+    assert again == [0] and copies.interrupted == "SIGINT (Ctrl-C)"
+    assert list(copies.status) == ["interrupted"] * 3
+    assert copies.result(0).sim_time == copies.sim_time[0] == 0.0
+    assert "interrupted by SIGINT (Ctrl-C)" in copies.result(2).message
+
+
+def test_ctrl_c_stops_the_runs_of_a_batch_in_threads(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """run_batch's runs in two threads: the Ctrl-C comes to this thread, waiting for them (here
+    sent as the first run starts); both runs stop at their next report and say so, as a
+    single run does, and the third never starts. They ran on to their ends before."""
+    from legdsl.pipeline.backend import iter_batch
+
+    run, sent, once = roo.run, [], threading.Lock()
+
+    @functools.wraps(run)  # its parameters, which run_batch checks the jobs against
+    def ctrl_c_at_a_start(**job: Any) -> object:
+        asked = job.pop("stop")
+
+        def stop() -> str:
+            with once:  # both threads start at once: one Ctrl-C
+                if not sent:
+                    sent.append(os.kill(os.getpid(), signal.SIGINT))
+            return asked()
+
+        return run(**job, stop=stop)
+
+    monkeypatch.setattr(roo, "run", ctrl_c_at_a_start)
+    long = RunOptions(duration=5000.0)  # some 20 s of the C backend each
+    jobs = [{"controller": "hop", "options": long} for _ in range(3)]
+    done = dict(iter_batch(roo, jobs, threads=2))
+    assert sorted(done) == [0, 1]
+    for k in (0, 1):
+        result = done[k].result
+        assert result.status == "interrupted" and result.cause == "SIGINT (Ctrl-C)"
+        assert result.sim_time < 1000.0
 
 
 def test_an_interrupted_batch_stops_its_copies_and_keeps_what_they_recorded(

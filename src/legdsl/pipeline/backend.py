@@ -22,7 +22,8 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import InternalError, UsageError
 from legdsl.pipeline.generated import c_sources, edited_by_hand
-from legdsl.sim.run_loop import RunOptions
+from legdsl.signals import signals_held
+from legdsl.sim.run_loop import Interrupted, RunOptions
 from legdsl.sim.simulate import Controller, Simulation
 
 BACKENDS = ("python", "c", "auto")
@@ -257,7 +258,7 @@ def _check_jobs(session: Any, jobs: object, threads: object) -> None:
     if isinstance(jobs, str | bytes | Mapping) or not isinstance(jobs, Sequence):
         raise UsageError(f"run_batch: jobs is a list of RunSession.run's keyword arguments, "
                          f"not {jobs!r}")  # fmt: skip
-    known = [k for k in inspect.signature(session.run).parameters if k != "progress"]
+    known = [k for k in inspect.signature(session.run).parameters if k not in ("progress", "stop")]
     for i, job in enumerate(jobs):
         if not isinstance(job, Mapping):
             raise UsageError(f"run_batch: job {i} is a dict of RunSession.run's keyword "
@@ -285,10 +286,10 @@ def iter_batch(
     first run are not looked at again. A run that raises stops the batch: the runs not yet
     started are cancelled, and the error is raised here. Without the C backend
     (``batches_in_c``) the runs go one after another in this thread (threads would only take
-    turns at the GIL).
+    turns at the GIL). At Ctrl-C (or the CLI's SIGTERM) the runs going on stop where they are
+    and come back ``interrupted``, as a single run does, and no other run starts: the
+    iterator ends after them.
     """
-    from concurrent.futures import ThreadPoolExecutor, as_completed
-
     _check_jobs(session, jobs, threads)
     for name in dict.fromkeys(j.get("controller") for j in jobs):
         if name is not None:
@@ -307,20 +308,52 @@ def iter_batch(
             session.log, session.note = told
     _BATCH[0] += 1
     try:
-        if workers == 1:
+        if workers == 1:  # a Ctrl-C lands in the run going on, which says so
             for i, job in enumerate(jobs):
-                yield i, session.run(**job)
+                done = session.run(**job)
+                yield i, done
+                if done.result.status == "interrupted":
+                    return
             return
-        pool = ThreadPoolExecutor(max_workers=workers)
-        try:
-            futures = {pool.submit(lambda job: session.run(**job), job): i
-                       for i, job in enumerate(jobs)}  # fmt: skip
-            for future in as_completed(futures):
-                yield futures[future], future.result()
-        finally:  # a run that raised, or a caller that stopped: start no more
-            pool.shutdown(wait=True, cancel_futures=True)
+        yield from _in_threads(session, jobs, workers)
     finally:
         _BATCH[0] -= 1
+
+
+def _in_threads(
+    session: Any, jobs: Sequence[Mapping[str, Any]], workers: int
+) -> Iterator[tuple[int, Any]]:
+    """``iter_batch`` in ``workers`` threads. A signal comes to this thread, waiting for the
+    runs; each run asks for it as it reports its progress (at least every 20000 steps in C)
+    and ends there as a run Ctrl-C stops in the main thread (``Simulation.run``)."""
+    from concurrent.futures import Future, ThreadPoolExecutor, as_completed
+
+    stop: list[str] = []  # the signal, once one came
+
+    def asked() -> str:
+        return stop[0] if stop else ""
+
+    pool = ThreadPoolExecutor(max_workers=workers)
+    futures: dict[Future[Any], int] = {}
+    told: set[int] = set()
+    try:
+        try:
+            with signals_held():  # each run known once started: a Ctrl-C finds them all
+                for i, job in enumerate(jobs):
+                    futures[pool.submit(lambda job: session.run(**job, stop=asked), job)] = i
+            for future in as_completed(futures):
+                told.add(futures[future])
+                yield futures[future], future.result()
+        except (KeyboardInterrupt, Interrupted) as sig:
+            stop.append(sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)")
+            for future in futures:
+                future.cancel()  # those not started
+            going = [f for f in futures if not f.cancelled() and futures[f] not in told]
+            for future in as_completed(going):
+                yield futures[future], future.result()
+    finally:  # a run that raised, or a caller that stopped: start no more, stop the others
+        stop.append("the caller stopped")
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _one_per_library(jobs: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:

@@ -22,7 +22,8 @@ A copy that needs Python on the way (a controller with no C twin, a tick the C s
 hands over, more contact events than its buffer holds) stops in C and is run again through
 ``RunSession.prepare`` with its own values, on the C backend with Python's help, after the
 others (``Copies.rerun`` counts them). Ctrl-C stops the copies where they are: each keeps
-what it recorded and says ``interrupted``.
+what it recorded and says ``interrupted`` (a Ctrl-C in a copy's run again leaves the copies
+after it where C left them, interrupted too).
 """
 
 from __future__ import annotations
@@ -345,7 +346,17 @@ class Copies:
         needs_python = np.isin(codes, [CONTROL, FULL, YIELD]) & (not interrupted)
         self.rerun = int(np.count_nonzero(needs_python))
         for index in np.flatnonzero(needs_python):
-            self._reruns[int(index)] = self._run_in_python(int(index))
+            k = int(index)
+            try:
+                done = self._reruns[k] = self._run_in_python(k)
+            except (KeyboardInterrupt, Interrupted) as sig:  # in its setup: as in a run
+                self.interrupted = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+                break
+            self.steps[k], self.sim_time[k] = done.result.steps, done.result.sim_time
+            self.recorded[k] = len(done.result.trajectory)
+            if done.status == "interrupted":  # a Ctrl-C: the copies left stay where C left them
+                self.interrupted = done.result.cause
+                break
         status = np.full(n, "ok", dtype=object)
         for k in range(n):
             if k in self._reruns:

@@ -141,10 +141,12 @@ class RunSession:
         scale: float | None = None,
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
+        stop: Callable[[], str] | None = None,
     ) -> Run:
-        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes)."""
+        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes and
+        ``stop``, as often, asked for a signal that ends it: ``Simulation.run``)."""
         plan = self.prepare(controller, settings, paths, options, scale, switches, backend)
-        return plan.finish(plan.sim.run(progress))
+        return plan.finish(plan.sim.run(progress, stop))
 
     def prepare(
         self,

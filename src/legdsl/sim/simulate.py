@@ -381,17 +381,25 @@ class Simulation:
         return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff)
 
     # ------------------------------------------------------------ running
-    def run(self, progress: Callable[[float, float], None] | None = None) -> RunResult:
+    def run(
+        self,
+        progress: Callable[[float, float], None] | None = None,
+        stop: Callable[[], str] | None = None,
+    ) -> RunResult:
+        """The run, to its end, a fall, a divergence or a signal; ``progress(t, duration)``
+        is called as it goes, and ``stop()`` as often: a signal's name there stops it as the
+        signal does (another thread's Ctrl-C, ``legdsl.pipeline.backend.iter_batch``)."""
         opts = self.options
         loop = self.new_loop(INITIAL_ROWS)
         self.message = ""
         cause = ""
         wall0 = time.perf_counter()
+        report = progress if stop is None else _stopping(progress, stop)
         self._begin()
         try:
-            if progress is not None:  # at the start: the time left is told from the pace since
-                progress(self.t, opts.duration)
-            self._loop(loop, progress)
+            if report is not None:  # at the start: the time left is told from the pace since
+                report(self.t, opts.duration)
+            self._loop(loop, report)
         except ControlFault as fault:
             loop.status = "diverged"
             cause = str(fault)
@@ -491,3 +499,18 @@ class Simulation:
         events = [{"t": round(e.t, 9), "kind": e.kind, "contact": e.contact} for e in self.events]
         events += list(getattr(self.controller, "events", []))
         return sorted(events, key=lambda e: e["t"])
+
+
+def _stopping(
+    progress: Callable[[float, float], None] | None, stop: Callable[[], str]
+) -> Callable[[float, float], None]:
+    """``progress``, after ``stop()`` is asked whether the run must end (a signal's name)."""
+
+    def report(t: float, duration: float) -> None:
+        signal = stop()
+        if signal:
+            raise Interrupted(signal)
+        if progress is not None:
+            progress(t, duration)
+
+    return report
