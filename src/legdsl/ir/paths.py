@@ -159,8 +159,8 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
                 )
             points.append(point)
         except ValueError:
-            if first:
-                continue  # a header
+            if first and not all(_number(p) for p in parts):
+                continue  # a header (a line of numbers only is a point written wrong)
             raise UsageError(
                 f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
             ) from None
@@ -170,3 +170,11 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
             "give one 'x,y' line (metres) per point"
         )
     return PathSpec(name=name, shape="polyline", points=tuple(points))
+
+
+def _number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
