@@ -122,7 +122,10 @@ class ExprChecker(NameResolver):
         if isinstance(e, ast.EName):
             return self.lookup(e.ident, local)
         if isinstance(e, ast.EAttr):
-            base = self.expr(e.base, local)
+            if isinstance(e.base, ast.EName):  # an unknown name is told with what it reads
+                base = self.lookup(e.base.ident, local, read=e.attr.name)
+            else:
+                base = self.expr(e.base, local)
             return None if base is None else self.member(base, e.attr)
         if isinstance(e, ast.EUnary):
             if e.op == "not":

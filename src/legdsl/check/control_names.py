@@ -185,8 +185,9 @@ class NameResolver:
 
     # ------------------------------------------------------------ things and members
     def lookup(
-        self, ident: ast.Ident, local: dict[str, Value], report: bool = True
+        self, ident: ast.Ident, local: dict[str, Value], report: bool = True, read: str = ""
     ) -> Value | None:
+        """What ``ident`` names (``read``: the member read of it here, if any)."""
         if ident.name in local:
             return local[ident.name]
         if ident.name in self.scope.signals:
@@ -194,18 +195,20 @@ class NameResolver:
         found = self.scope.names.get(ident.name)
         if found is None:
             if report:
-                self.err(ident.span, self.unknown_name(ident.name, local))
+                self.err(ident.span, self.unknown_name(ident.name, local, read))
             return None
         if isinstance(found, ir.Named) and found.kind == "record":
             return ir.Named("record", found.name, self.scope.records.get(found.name))
         return found
 
-    def unknown_name(self, name: str, local: dict[str, Value]) -> str:
+    def unknown_name(self, name: str, local: dict[str, Value], read: str = "") -> str:
         """An unknown name, with the declaration its use asks for: a path's members ask for
-        'path NAME', a body's or a contact's for one of the creature, anything else for a param."""
+        'path NAME', a body's or a contact's for one of the creature, anything else for a param.
+        ``read``: the member read of it here, quoted if it is a path's."""
         members = self.scope.dotted.get(name, set())
         if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):
-            member = sorted(set(members) - set(ir.BODY_MEMBERS))[0]
+            own = set(members) - set(ir.BODY_MEMBERS)
+            member = read if read in own else sorted(own)[0]
             return (
                 f"unknown name '{name}': '{name}.{member}' reads a path, declared with "
                 f"'path {name}'"
