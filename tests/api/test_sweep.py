@@ -194,6 +194,24 @@ def test_options_that_would_give_nothing_are_refused(
     assert not (tmp_path / "out" / "sweep.csv").exists()
 
 
+@pytest.mark.parametrize(
+    ("under", "message"),
+    [("", "this is a file, not a directory; give a directory"),
+     ("sub", "is a file, so nothing can be made under it; give a directory")],
+)  # fmt: skip
+def test_an_out_that_cannot_be_a_folder_is_refused_as_run_refuses_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], under: str, message: str
+) -> None:
+    """They came out as the OS says them: "File exists (out); check the path and its
+    permissions", "Not a directory (...)"."""
+    (tmp_path / "out").write_text("mine\n")
+    out = tmp_path / "out" / under
+    assert sweep(out, tmp_path / "generated") == 2
+    err = capsys.readouterr().err
+    assert f"--out {out}: " in err and message in err
+    assert (tmp_path / "out").read_text() == "mine\n"
+
+
 def test_an_interrupted_run_is_no_row_and_stops_the_sweep(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

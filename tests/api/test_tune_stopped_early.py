@@ -87,5 +87,7 @@ def test_an_out_that_is_a_file_is_refused_saying_so(
                  "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
                  "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
     assert code == 2
-    assert f"--out {out}: that is a file; give a folder" in capsys.readouterr().err
+    assert (
+        f"--out {out}: this is a file, not a directory; give a directory" in capsys.readouterr().err
+    )
     assert out.read_text() == "mine\n"

@@ -34,6 +34,7 @@ from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerp
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
+from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
@@ -131,6 +132,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # would be refused as another sweep), not by every run
     refuse_repeated(args.set)
     sort_settings(args.set, model, args.controller)
+    check_output_dir(args.out, "--out")
     # compile once here, so that the workers never race to write generated/NAME/
     from legdsl.api import load
 

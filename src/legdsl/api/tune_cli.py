@@ -37,6 +37,7 @@ from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerp
 from legdsl.ir.controller import Constant, Controller
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import plain_number, require_controller
 from legdsl.sim.run_loop import Interrupted
@@ -109,9 +110,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
             f"--out {args.out}: the tuned {source.name} would replace {source} itself (and its "
             "own values with it); choose another --out"
         )
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out {args.out}: that is a file; give a folder for the tuned file, "
-                         "tune.json and tune.png")  # fmt: skip
+    check_output_dir(out, "--out", args.out)  # a folder for the tuned file, tune.json, tune.png
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
