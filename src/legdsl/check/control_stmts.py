@@ -39,7 +39,13 @@ class Elaborator(ExprChecker, LegMotionProbe):
                     out.append(ir.Record(s.name.name, value, s.span))
             elif isinstance(s, ast.SwapStmt):
                 roles = [self.role(ident, local) for ident in (s.first, s.second)]
-                if roles[0] is not None and roles[1] is not None:
+                if s.first.name == s.second.name and roles[0] is not None:
+                    self.err(
+                        s.second.span,
+                        f"'swap {s.first.name} {s.second.name}' exchanges a role with itself, "
+                        "which does nothing; name the two roles to exchange",
+                    )
+                elif roles[0] is not None and roles[1] is not None:
                     out.append(ir.Swap(roles[0], roles[1], s.span))
             elif isinstance(s, ast.InvokeStmt):
                 done = self.invoke(s, local)
@@ -143,9 +149,11 @@ class Elaborator(ExprChecker, LegMotionProbe):
             self.err(s.action.span, defined_by_both(what, action.files, action.distance))
             return None
         if len(s.args) != len(action.params):
+            n, params = len(action.params), ", ".join(p.name for p in action.params)
             self.err(
                 s.span,
-                f"action '{s.action.name}' takes {len(action.params)} argument(s), got {len(s.args)}",
+                f"action '{s.action.name}' takes {n} argument{'' if n == 1 else 's'}, got "
+                f"{len(s.args)}: write {s.action.name}({params})",
             )
             return None
         if any(a is action for _, a in self.calls):

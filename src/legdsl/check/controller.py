@@ -107,6 +107,13 @@ class ControllerChecker:
                     f"'{ident.name}' is defined twice in controller '{d.name.name}' (first at {own[ident.name]})",
                 )
                 return False
+            if ident.name in ir.BUILTIN_VALUES:
+                self.err(
+                    ident.span,
+                    f"'{ident.name}' is a built-in value of every controller "
+                    f"({', '.join(ir.BUILTIN_VALUES)}); choose another name",
+                )
+                return False
             if ident.name in names:
                 self.err(
                     ident.span,
