@@ -151,6 +151,20 @@ def test_misuse_is_a_usage_error(monkeypatch: pytest.MonkeyPatch, call, message:
         call(hopper)
 
 
+def test_a_switch_time_takes_seconds_as_time_does(monkeypatch: pytest.MonkeyPatch) -> None:
+    """{0.5: "hop"} was refused (switch= took texts only), though time=0.5 is seconds."""
+    from legdsl.lang.errors import UsageError
+
+    monkeypatch.chdir(ROOT)
+    hopper = legdsl.load("creatures/hopper.leg")
+    bare = hopper.run(controller="hop", time=1.5, switch={0.5: "hop"})
+    said = hopper.run(controller="hop", time=1.5, switch={"500 ms": "hop"})
+    assert bare.info["switches"] == said.info["switches"] != []
+    assert bare.trajectory.q.tobytes() == said.trajectory.q.tobytes()
+    with pytest.raises(UsageError, match="switch= maps times"):
+        hopper.run(controller="hop", time=1.5, switch={True: "hop"})
+
+
 def test_a_metrics_window_takes_a_unit(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(ROOT)
     run = legdsl.load("creatures/hopper.leg").run(controller="hop", time=2)

@@ -5,6 +5,7 @@ one's finer step)."""
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any
@@ -77,15 +78,15 @@ def session_args(
         if value is not None and not isinstance(value, str):
             raise UsageError(f"run(): {name}= takes a text, not {value!r}")
     if switch is not None and (
-        not isinstance(switch, Mapping) or not all(isinstance(k, str) for k in switch)
+        not isinstance(switch, Mapping) or not all(_a_time(k) for k in switch)
     ):
         raise UsageError(f"run(): switch= maps times to controllers, e.g. {{'6 s': "
-                         f"'gallop'}}, not {switch!r}")  # fmt: skip
+                         f"'gallop'}} or {{6: 'gallop'}} (seconds), not {switch!r}")  # fmt: skip
     if set is not None and not isinstance(set, Mapping):
         raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
                          f"not {set!r}")  # fmt: skip
     settings = [setting_text(name, value) for name, value in (set or {}).items()]
-    switches = [f"{when.replace(' ', '')}={name}" for when, name in (switch or {}).items()]
+    switches = [f"{_seconds_text(when)}={name}" for when, name in (switch or {}).items()]
     unreached: list[str] = []  # settings for gait bands the run never reaches
     if scene is not None:
         from legdsl.pipeline.scenes import find_scene, scene_plan
@@ -105,3 +106,13 @@ def session_args(
         "switches": switches,
         "unreached": unreached,
     }
+
+
+def _a_time(key: object) -> bool:
+    """A switch's time: a text with its unit, or a number of seconds (as ``time=`` takes)."""
+    return isinstance(key, str | numbers.Real) and not isinstance(key, bool)
+
+
+def _seconds_text(when: str | float) -> str:
+    """A switch's time as ``--switch`` takes it: ``"6 s"`` -> ``6s``, ``0.5`` -> ``0.5s``."""
+    return when.replace(" ", "") if isinstance(when, str) else f"{float(when)!r}s"
