@@ -149,6 +149,21 @@ def test_frame_rates_no_video_can_show_are_refused(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_video_too_short_for_two_frames_names_its_own_rate(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A GIF of a 5 ms run at its default 30 fps said "--fps 60 gives one frame": the rate its
+    frames are read at, not the video's."""
+    (tmp_path / "arm.leg").write_text(ARM)
+    run, generated = tmp_path / "run", tmp_path / "generated"
+    assert main(["run", str(tmp_path / "arm.leg"), "--time", "5ms", "--record-rate", "1000",
+                 "--out", str(run), "--generated", str(generated), "--backend", "python"]) == 0  # fmt: skip
+    capsys.readouterr()
+    gif = tmp_path / "v.gif"
+    assert main(["animate", str(run), "--video", str(gif), "--generated", str(generated)]) == 2
+    assert "--fps 30 gives one frame of this" in capsys.readouterr().err and not gif.exists()
+
+
 def test_an_output_that_is_an_input_is_refused(
     arm_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

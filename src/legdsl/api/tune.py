@@ -249,7 +249,9 @@ def tune(
             # flat-footed biped tuned at 0, 1, 1.5, 2 and 2.5 m/s fell at 1.75): the values
             # kept run once more halfway between each two (not scored)
             if halfway := halfway_speeds(objective.speeds):
-                say(f"the tuned values halfway between the tuned speeds: {len(halfway)} more runs")
+                say(
+                    f"the tuned values halfway between the tuned speeds: {_more_runs(len(halfway))}"
+                )
                 unscored = "the runs between the tuned speeds"
                 (rows,) = runs(pool, [kept(begun, best, start)[1]], halfway)
                 between = [row | {"speed": v} for row, v in zip(rows, halfway, strict=True)]
@@ -258,7 +260,7 @@ def tune(
             # early and 0.96 from 6 s on. The values kept run twice as long once more (not
             # scored), so that the report says where the speed settles.
             twice, speeds = 2 * objective.duration, objective.speeds
-            say(f"the tuned values for {twice:g} s, twice as long: {len(speeds)} more runs")
+            say(f"the tuned values for {twice:g} s, twice as long: {_more_runs(len(speeds))}")
             unscored = "the runs twice as long"
             (rows,) = runs(pool, [kept(begun, best, start)[1]], speeds, twice)
             longer = [row | {"speed": v} for row, v in zip(rows, speeds, strict=True)]
@@ -376,6 +378,10 @@ def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound
             f"  at {before['speed']:<6.4g}    {tune_pitch(before):<20} {tune_pitch(after)}"
         )
     return "\n".join(lines)
+
+
+def _more_runs(n: int) -> str:
+    return "1 more run" if n == 1 else f"{n} more runs"
 
 
 def _at_bound(value: float, bound: Bound | None) -> str:

@@ -218,7 +218,10 @@ def load_motion(
     is (frames per second, slow motion) when it is drawn for a video (its note then says so)."""
     run = drawable(read_run(directory, source))
     t = run.trajectory.t  # read_run refuses a run of no samples
-    enough_frames(float(t[-1] - t[0]), fps)
+    if video is None:  # a video's own rate is checked, not the denser one its frames are read at
+        enough_frames(float(t[-1] - t[0]), fps)
+    else:
+        enough_frames(float(t[-1] - t[0]), video[0], usual=30.0, slow=video[1])
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 
