@@ -99,6 +99,7 @@ class Scope:
     )
     # name -> the members read of it (``route.lateral``), to tell what an unknown name is
     dotted: dict[str, set[str]] = field(default_factory=dict)
+    lets: dict[str, Span] = field(default_factory=dict)  # every 'let NAME', where first given
     # role -> each group of legs the table's swaps bind it to, the initial one first
     bound: dict[str, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
 
@@ -205,6 +206,13 @@ class NameResolver:
         """An unknown name, with the declaration its use asks for: a path's members ask for
         'path NAME', a body's or a contact's for one of the creature, anything else for a param.
         ``read``: the member read of it here, quoted if it is a path's."""
+        let = self.scope.lets.get(name)
+        if let is not None and let.file == self.scope.user_file:  # of another row or action
+            return (
+                f"unknown name '{name}': the 'let {name}' at {let} holds "
+                "only in its own row or action, after it; give it again here, or make it a "
+                f"'signal {name} = ...' of the controller (computed every tick)"
+            )
         members = self.scope.dotted.get(name, set())
         if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):
             own = set(members) - set(ir.BODY_MEMBERS)
@@ -494,20 +502,24 @@ def expression_text(e: ast.Expr) -> str:
     return "this"
 
 
-def dotted_members(node: Any, found: dict[str, set[str]] | None = None) -> dict[str, set[str]]:
+def dotted_members(
+    node: Any, found: dict[str, set[str]] | None = None, lets: dict[str, Span] | None = None
+) -> dict[str, set[str]]:
     """Each name read with a member in ``node`` (``trunk.yaw``, ``route.lateral``), and its
-    members."""
+    members; ``lets`` gets each name a ``let`` gives, and where (the first)."""
     found = {} if found is None else found
+    if lets is not None and isinstance(node, ast.LetStmt):
+        lets.setdefault(node.name.name, node.name.span)
     if isinstance(node, ast.EAttr) and isinstance(node.base, ast.EName):
         found.setdefault(node.base.ident.name, set()).add(node.attr.name)
     if isinstance(node, tuple) and len(node) > 1 and all(isinstance(i, ast.Ident) for i in node):
         found.setdefault(node[0].name, set()).add(node[1].name)  # a target: trunk.x = ...
     if isinstance(node, tuple | list):
         for item in node:
-            dotted_members(item, found)
+            dotted_members(item, found, lets)
     else:
         for name in _walked_fields(node.__class__):
-            dotted_members(getattr(node, name), found)
+            dotted_members(getattr(node, name), found, lets)
     return found
 
 

@@ -242,7 +242,7 @@ class ControllerChecker:
                 continue
             seen_states[row.state.name] = row
         scope = Scope(self.model, names, self.roles, self.actions, signals, {}, d.span.file)
-        scope.dotted = dotted_members((self.items, tuple(self.actions.values())))
+        scope.dotted = dotted_members((self.items, tuple(self.actions.values())), lets=scope.lets)
         elaborated = self.elaborate(scope, rows, records)
         self.check_unreached(scope, reachable, shadowed)
         if not rows:
@@ -362,7 +362,7 @@ class ControllerChecker:
         loose = Scope(
             self.model, names, scope.roles, scope.actions, scope.signals, {}, scope.user_file
         )
-        loose.dotted = scope.dotted
+        loose.dotted, loose.lets = scope.dotted, scope.lets
         for action in [*shadowed, *self.actions.values()]:
             called = action.name.name in reachable and action is self.actions[action.name.name]
             if called or id(action) not in own:
