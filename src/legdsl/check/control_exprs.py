@@ -40,7 +40,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import Dim, describe, out_of_range
+from legdsl.lang.units import KINDS, Dim, describe, out_of_range
 
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
@@ -266,7 +266,7 @@ class ExprChecker(NameResolver):
                     f"; '{gram}' is one unit, a gram in it: for gravity write "
                     f"'{gram.replace('*g', ' * g')}', with spaces"
                     if gram
-                    else ""
+                    else _unit_left_out(values, exprs)
                 )
                 self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH
@@ -500,3 +500,15 @@ def _gram_for_gravity(exprs: list[ast.Expr]) -> str | None:
         elif isinstance(node, list | tuple):
             stack.extend(node)
     return None
+
+
+def _unit_left_out(values: list[ir.Expr], exprs: list[ast.Expr]) -> str:
+    """A hint where one side is a number written without its unit (``time > 1``): the unit
+    the other side's dimension is written in."""
+    bare = [e for e in exprs if isinstance(e, ast.EQuantity) and e.quantity.unitless]
+    others = {v.type for v, e in zip(values, exprs, strict=True) if e not in bare and v.type}
+    if len(bare) != 1 or len(others) != 1:
+        return ""
+    (dim,) = others
+    unit = next((u for d, u in KINDS.values() if d == dim), None)
+    return f"; write the number with its unit, as in '{bare[0].text} {unit}'" if unit else ""
