@@ -336,6 +336,7 @@ def _in_threads(
     pool = ThreadPoolExecutor(max_workers=workers)
     futures: dict[Future[Any], int] = {}
     told: set[int] = set()
+    leaving = False
     try:
         try:
             with signals_held():  # each run known once started: a Ctrl-C finds them all
@@ -351,9 +352,17 @@ def _in_threads(
             going = [f for f in futures if not f.cancelled() and futures[f] not in told]
             for future in as_completed(going):
                 yield futures[future], future.result()
+    except GeneratorExit:  # the caller left the loop (a break, its own Ctrl-C)
+        leaving = True
+        raise
     finally:  # a run that raised, or a caller that stopped: start no more, stop the others
         stop.append("the caller stopped")
-        pool.shutdown(wait=True, cancel_futures=True)
+        try:
+            with signals_held():  # they stop at their next report; a Ctrl-C meanwhile waits
+                pool.shutdown(wait=True, cancel_futures=True)
+        except (KeyboardInterrupt, Interrupted):
+            if not leaving:  # else the caller's own exception is on its way out
+                raise
 
 
 def _one_per_library(jobs: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
