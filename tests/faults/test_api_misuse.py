@@ -103,7 +103,7 @@ OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
         {"dt": True},
         r"dt= is a number in SI units, or a text with its unit \(e.g. dt=.0.4 ms.\), not True",
     ),
-    ({"switch": {1: "hop"}}, r"switch= maps times to controllers"),
+    ({"switch": {None: "hop"}}, r"switch= maps times to controllers"),
     ({"controler": "hop"}, r"no option 'controler'.*did you mean 'controller'\?"),
     ({"sett": {"speed": "1 m/s"}}, r"did you mean 'set'\?"),
 ]

@@ -3,7 +3,6 @@ in C in one call per thread; every copy must equal the single run with its value
 
 from __future__ import annotations
 
-import functools
 import os
 import signal
 import threading
@@ -24,6 +23,7 @@ from legdsl.pipeline.session import RunSession
 from legdsl.sim.c_backend import available
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.simulate import Simulation
 
 pytestmark = pytest.mark.skipif(
     available() is not None,
@@ -144,8 +144,8 @@ def test_a_ctrl_c_in_a_copys_run_again_stops_the_copies_after_it(
     def interrupted_again(copies: batch_module.Copies, k: int) -> object:
         again.append(k)
         b = copies.batch
-        return b.session.run(b.controller, b.texts(k), options=b.options, backend="c",
-                             stop=lambda: "SIGINT (Ctrl-C)")  # fmt: skip
+        plan = b.session.prepare(b.controller, b.texts(k), options=b.options, backend="c")
+        return plan.finish(plan.sim.run(stop=lambda: "SIGINT (Ctrl-C)"))
 
     monkeypatch.setattr(batch_module.Copies, "_run_in_python", interrupted_again)
     copies = Batch(roo, 3, "hop", options=RunOptions(duration=2.0)).run()
@@ -163,21 +163,18 @@ def test_ctrl_c_stops_the_runs_of_a_batch_in_threads(
     single run does, and the third never starts. They ran on to their ends before."""
     from legdsl.pipeline.backend import iter_batch
 
-    run, sent, once = roo.run, [], threading.Lock()
+    run, sent, once = Simulation.run, [], threading.Lock()
 
-    @functools.wraps(run)  # its parameters, which run_batch checks the jobs against
-    def ctrl_c_at_a_start(**job: Any) -> object:
-        asked = job.pop("stop")
-
-        def stop() -> str:
+    def ctrl_c_at_a_start(sim: Simulation, progress: Any = None, stop: Any = None) -> object:
+        def asked() -> str:
             with once:  # both threads start at once: one Ctrl-C
                 if not sent:
                     sent.append(os.kill(os.getpid(), signal.SIGINT))
-            return asked()
+            return stop()
 
-        return run(**job, stop=stop)
+        return run(sim, progress, asked)
 
-    monkeypatch.setattr(roo, "run", ctrl_c_at_a_start)
+    monkeypatch.setattr(Simulation, "run", ctrl_c_at_a_start)
     long = RunOptions(duration=5000.0)  # some 20 s of the C backend each
     jobs = [{"controller": "hop", "options": long} for _ in range(3)]
     done = dict(iter_batch(roo, jobs, threads=2))

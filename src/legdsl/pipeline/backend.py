@@ -258,7 +258,7 @@ def _check_jobs(session: Any, jobs: object, threads: object) -> None:
     if isinstance(jobs, str | bytes | Mapping) or not isinstance(jobs, Sequence):
         raise UsageError(f"run_batch: jobs is a list of RunSession.run's keyword arguments, "
                          f"not {jobs!r}")  # fmt: skip
-    known = [k for k in inspect.signature(session.run).parameters if k not in ("progress", "stop")]
+    known = [k for k in inspect.signature(session.run).parameters if k != "progress"]
     for i, job in enumerate(jobs):
         if not isinstance(job, Mapping):
             raise UsageError(f"run_batch: job {i} is a dict of RunSession.run's keyword "
@@ -333,6 +333,10 @@ def _in_threads(
     def asked() -> str:
         return stop[0] if stop else ""
 
+    def run(job: Mapping[str, Any]) -> Any:
+        plan = session.prepare(**job)
+        return plan.finish(plan.sim.run(stop=asked))
+
     pool = ThreadPoolExecutor(max_workers=workers)
     futures: dict[Future[Any], int] = {}
     told: set[int] = set()
@@ -341,7 +345,7 @@ def _in_threads(
         try:
             with signals_held():  # each run known once started: a Ctrl-C finds them all
                 for i, job in enumerate(jobs):
-                    futures[pool.submit(lambda job: session.run(**job, stop=asked), job)] = i
+                    futures[pool.submit(run, job)] = i
             for future in as_completed(futures):
                 told.add(futures[future])
                 yield futures[future], future.result()

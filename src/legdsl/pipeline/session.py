@@ -42,7 +42,7 @@ from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.run_loop import RunOptions, RunResult, steps_per_control, steps_per_sample
+from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.sizes import start_depth
 from legdsl.sim.stability import (
@@ -141,12 +141,10 @@ class RunSession:
         scale: float | None = None,
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
-        stop: Callable[[], str] | None = None,
     ) -> Run:
-        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes and
-        ``stop``, as often, asked for a signal that ends it: ``Simulation.run``)."""
+        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes)."""
         plan = self.prepare(controller, settings, paths, options, scale, switches, backend)
-        return plan.finish(plan.sim.run(progress, stop))
+        return plan.finish(plan.sim.run(progress))
 
     def prepare(
         self,
@@ -486,10 +484,7 @@ class Run:
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),
-            # one fixed interval, a whole number of steps (legdsl.sim.simulate.steps_per_sample)
-            "record_interval": round(steps_per_sample(self.options) * self.options.dt, 12),
-            # the controller's, as run: a whole number of steps (options.control_dt as given)
-            "control_interval": round(steps_per_control(self.options) * self.options.dt, 12),
+            **intervals_as_run(self.options),
             "events": result.events,
         }
 

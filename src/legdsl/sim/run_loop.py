@@ -40,6 +40,14 @@ def steps_per_control(options: RunOptions) -> int:
     return max(1, int(round(options.control_dt / options.dt)))
 
 
+def intervals_as_run(options: RunOptions) -> dict[str, float]:
+    """run.json's record and control intervals: the options' rounded to whole steps."""
+    return {
+        "record_interval": round(steps_per_sample(options) * options.dt, 12),
+        "control_interval": round(steps_per_control(options) * options.dt, 12),
+    }
+
+
 def steps_per_sample(options: RunOptions) -> int:
     """Samples are taken every this many steps: one fixed interval, the record rate's
     rounded up to a whole number of steps (at 200 Hz and 0.4 ms, 12.5 steps: every 13, 5.2 ms),

@@ -1,0 +1,43 @@
+"""What a controller's text reads, found in one walk before it is checked: each name read
+with a member (``route.lateral``: a path's, ``trunk.yaw``: a body's) and the names its lets
+give, so that an unknown name is told with the declaration its use asks for
+(``NameResolver.unknown_name``)."""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import fields, is_dataclass
+from typing import Any
+
+from legdsl.lang import ast
+from legdsl.lang.errors import Span
+
+
+def dotted_members(
+    node: Any, found: dict[str, set[str]] | None = None, lets: dict[str, Span] | None = None
+) -> dict[str, set[str]]:
+    """Each name read with a member in ``node`` (``trunk.yaw``, ``route.lateral``), and its
+    members; ``lets`` gets each name a ``let`` gives, and where (the first)."""
+    found = {} if found is None else found
+    if lets is not None and isinstance(node, ast.LetStmt):
+        lets.setdefault(node.name.name, node.name.span)
+    if isinstance(node, ast.EAttr) and isinstance(node.base, ast.EName):
+        found.setdefault(node.base.ident.name, set()).add(node.attr.name)
+    if isinstance(node, tuple) and len(node) > 1 and all(isinstance(i, ast.Ident) for i in node):
+        found.setdefault(node[0].name, set()).add(node[1].name)  # a target: trunk.x = ...
+    if isinstance(node, tuple | list):
+        for item in node:
+            dotted_members(item, found, lets)
+    else:
+        for name in _walked_fields(node.__class__):
+            dotted_members(getattr(node, name), found, lets)
+    return found
+
+
+@functools.cache
+def _walked_fields(cls: type) -> tuple[str, ...]:
+    """The fields ``dotted_members`` walks into, per class (``fields`` is slow to ask each
+    node: this walk visits every node of every controller)."""
+    if not is_dataclass(cls) or issubclass(cls, Span):
+        return ()
+    return tuple(f.name for f in fields(cls))
