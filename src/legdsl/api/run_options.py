@@ -16,6 +16,7 @@ from legdsl.api.arguments import a_float, seconds, setting_text, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import bare_number
 from legdsl.pipeline.options import RUN_NUMERIC
 from legdsl.sim.run_loop import RunOptions
 
@@ -30,7 +31,7 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
     from legdsl.pipeline.scaled import run_options as with_file_defaults
 
     tilt = options.get("fall_tilt")
-    if isinstance(tilt, str) and _bare_number(tilt):  # --fall-tilt's is degrees, Python's radians
+    if isinstance(tilt, str) and bare_number(tilt):  # --fall-tilt's is degrees, Python's radians
         raise UsageError(f"run(): fall_tilt={tilt!r} has no unit, and a bare number is degrees "
                          f"on the command line but radians in Python: write fall_tilt='{tilt.strip()}"
                          f" deg', or the number {tilt.strip()} for radians")  # fmt: skip
@@ -52,14 +53,6 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
         options.setdefault(key, None)
     duration = seconds(5.0 if time is None else time)
     return with_file_defaults(model, None, duration=duration, **options)
-
-
-def _bare_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def session_args(

@@ -126,6 +126,7 @@ def square_corners(corner: Point, side: float, turn: int) -> tuple[Point, ...]:
 def read_waypoints(path: Path, name: str) -> PathSpec:
     """``x,y`` per line (metres; ``#`` comments and a header line without numbers are skipped)."""
     from legdsl.lang.errors import UsageError
+    from legdsl.lang.units import bare_number
 
     try:  # utf-8-sig: a spreadsheet's byte-order mark would hide the first point as a header
         lines = path.read_bytes().decode("utf-8-sig").splitlines()
@@ -159,7 +160,7 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
                 )
             points.append(point)
         except ValueError:
-            if first and not all(_number(p) for p in parts):
+            if first and not all(bare_number(p) for p in parts):
                 continue  # a header (a line of numbers only is a point written wrong)
             raise UsageError(
                 f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
@@ -170,11 +171,3 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
             "give one 'x,y' line (metres) per point"
         )
     return PathSpec(name=name, shape="polyline", points=tuple(points))
-
-
-def _number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True

@@ -228,6 +228,15 @@ def unknown_unit(word: str, number: str | None = None) -> str:
     return message + (f"; did you mean {' or '.join(repr(f) for f in found)}?" if found else "")
 
 
+def bare_number(text: str) -> bool:
+    """Whether ``text`` is a number alone, without a unit (as Python's ``float`` reads it)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _decimal(value: float) -> str:
     """A number as a person writes it: '0.0003', '5e-09', '1500'."""
     if value != 0 and not 1e-5 <= abs(value) < 1e6:

@@ -23,7 +23,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import InternalError, UsageError
 from legdsl.pipeline.generated import c_sources, edited_by_hand
 from legdsl.signals import signals_held
-from legdsl.sim.run_loop import Interrupted, RunOptions
+from legdsl.sim.run_loop import Interrupted, RunOptions, signal_of
 from legdsl.sim.simulate import Controller, Simulation
 
 BACKENDS = ("python", "c", "auto")
@@ -350,7 +350,7 @@ def _in_threads(
                 told.add(futures[future])
                 yield futures[future], future.result()
         except (KeyboardInterrupt, Interrupted) as sig:
-            stop.append(sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)")
+            stop.append(signal_of(sig))
             for future in futures:
                 future.cancel()  # those not started
             going = [f for f in futures if not f.cancelled() and futures[f] not in told]

@@ -60,7 +60,7 @@ from legdsl.sim.c_library import address
 from legdsl.sim.c_machine import pull_machine, state_events
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
-from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult
+from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, signal_of
 from legdsl.sim.trajectory import ARRAYS, Trajectory
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -227,7 +227,7 @@ class Batch:
                     spent = time.perf_counter() - start
                     progress(done, n, spent / done * (n - done) if done else math.nan)
         except (KeyboardInterrupt, Interrupted) as sig:  # the copies stop; what ran is kept
-            interrupted = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+            interrupted = signal_of(sig)
         finally:
             # Whatever ends this (Ctrl-C, a progress callback's error), the C threads stop and
             # are joined before the arrays they write can go: a Ctrl-C among the starts, past
@@ -350,7 +350,7 @@ class Copies:
             try:
                 done = self._reruns[k] = self._run_in_python(k)
             except (KeyboardInterrupt, Interrupted) as sig:  # in its setup: as in a run
-                self.interrupted = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+                self.interrupted = signal_of(sig)
                 break
             self.steps[k], self.sim_time[k] = done.result.steps, done.result.sim_time
             self.recorded[k] = len(done.result.trajectory)

@@ -103,6 +103,11 @@ class Interrupted(BaseException):
         self.signal = signal
 
 
+def signal_of(stop: BaseException) -> str:
+    """The signal a run's ``KeyboardInterrupt`` or ``Interrupted`` stands for."""
+    return stop.signal if isinstance(stop, Interrupted) else "SIGINT (Ctrl-C)"
+
+
 class ControlFault(Exception):
     """A control law that failed at run time; the message says where and why
     (``legdsl.sim.control_faults`` makes it)."""

@@ -31,6 +31,7 @@ from legdsl.sim.run_loop import (
     RunResult,
     grow_recording,
     run_samples,
+    signal_of,
     steps_per_check,
     steps_per_control,
     steps_per_sample,
@@ -409,7 +410,7 @@ class Simulation:
             cause = self.diverged(err)
         except (KeyboardInterrupt, Interrupted) as sig:
             loop.status = "interrupted"
-            cause = sig.signal if isinstance(sig, Interrupted) else "SIGINT (Ctrl-C)"
+            cause = signal_of(sig)
             self.message = (
                 f"interrupted by {cause} at t = {self.t:.4f} s of {opts.duration:g} s; "
                 "what was recorded up to then is kept"
