@@ -263,11 +263,27 @@ def _in_place(path: Path) -> Iterator[Path]:
 
 
 @contextlib.contextmanager
+def _drawn_first(path: Path, name: str) -> Iterator[Path]:
+    """A scratch file called ``name`` to write, then copied to ``path`` (a device, a pipe),
+    if it was written: for a writer that seeks, or that takes the format from the name."""
+    with tempfile.TemporaryDirectory(prefix="legdsl-") as scratch:
+        drawn = Path(scratch) / name
+        yield drawn
+        if drawn.exists():
+            write_atomic(path, drawn.read_bytes())
+
+
+@contextlib.contextmanager
 def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     """A temporary path to write (ending in ``suffix``, by default ``path``'s own); renamed
     over ``path`` (a link's target) when the block ends without error, removed if it raises.
     Parents are made."""
     path = Path(path)
+    if (is_device(path) or process_fd(path) is not None) and suffix not in (None, path.suffix):
+        # a writer that takes its format from the name (USD): /dev/stdout has none
+        with _drawn_first(path, f"motion{suffix}") as drawn:
+            yield drawn
+        return
     if is_device(path) or process_fd(path) is not None:
         with _in_place(path) as same:
             yield same
@@ -293,11 +309,8 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
     path = Path(path)
     if is_device(path) or process_fd(path) is not None:
         # drawn into a file first: a picture's writer may seek, which a pipe cannot
-        with tempfile.TemporaryDirectory(prefix="legdsl-") as scratch:
-            drawn = Path(scratch) / path.name
+        with _drawn_first(path, path.name) as drawn:
             yield drawn
-            if drawn.exists():
-                write_atomic(path, drawn.read_bytes())
         return
     target = _replaced(path)
     target.parent.mkdir(parents=True, exist_ok=True)

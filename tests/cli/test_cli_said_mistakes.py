@@ -138,3 +138,27 @@ def test_one_name_set_twice_on_the_command_line_is_refused(
              "--set", "speed=2.2m/s", "--generated", str(GENERATED), "--backend", "python",
              "--out", str(tmp_path / "biped")]  # fmt: skip
     assert main(biped) == 0
+
+
+def test_a_fall_tilt_past_upside_down_is_refused_before_anything_is_compiled(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/runtime.md: a run's options are refused before anything is compiled; a
+    --fall-tilt past 180 deg was refused only after the creature's modules were written."""
+    generated = tmp_path / "generated"
+    argv = ["run", str(HOPPER), "--fall-tilt", "181", "--generated", str(generated)]
+    assert main([*argv, "--out", str(tmp_path / "run")]) == 2
+    assert "is past upside down (180 deg)" in capsys.readouterr().err
+    assert not generated.exists() and not (tmp_path / "run").exists()
+
+
+def test_a_pipe_whose_reader_stopped_is_told_as_such() -> None:
+    """'-o /dev/stdout | head' said "Broken pipe (/dev/stdout); check the path and its
+    permissions": neither was wrong."""
+    import errno
+
+    from legdsl.cli.common import os_refusal
+
+    said = os_refusal(OSError(errno.EPIPE, "Broken pipe", "/dev/stdout"))
+    assert said.startswith("/dev/stdout: the pipe's reader stopped reading"), said
+    assert "permissions" not in said

@@ -53,8 +53,40 @@ def test_a_unit_apart_from_its_number_is_read_with_it() -> None:
     assert negative_values_joined(argv, parser) == [
         "run", "f.leg", "--time", "2s", "--dt=0.4ms", "--set", "speed=2m/s"
     ]  # fmt: skip
-    assert negative_values_joined(["run", "--drop", "3", "feet"], parser)[-1] == "feet"
     assert negative_values_joined(["run", "f.leg", "--animate", "s"], parser)[-1] == "s"
+    assert negative_values_joined(["metrics", "--from", "3", "runs"], parser)[-1] == "runs"
+
+
+def test_a_word_meant_as_a_unit_apart_from_its_number_is_told_as_one(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """'--fps 30 fps', '--time 1 sec', '--drop 3 feet': argparse said only "unrecognized
+    arguments: fps"; read with the number, the option's own check names the unit to write.
+    A word that names a file is left alone (a run directory called 'min')."""
+    parser = _parser()
+    joined = negative_values_joined(["run", "f.leg", "--time", "1", "sec"], parser)
+    assert joined[-1] == "1sec"
+    assert negative_values_joined(["run", "f.leg", "--drop", "3", "feet"], parser)[-1] == "3feet"
+    assert (
+        negative_values_joined(["export-motion", "r", "--fps", "30", "fps"], parser)[-1] == "30fps"
+    )
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "mins").mkdir()
+    assert negative_values_joined(["metrics", "--from", "3", "mins"], parser)[-1] == "mins"
+
+
+@pytest.mark.parametrize(
+    ("args", "told"),
+    [
+        (["--time", "1", "sec"], "--time 1sec: 'sec' is not a unit legdsl knows"),
+        (["--drop", "3", "feet"], "--drop 3feet: 'feet' is not a unit legdsl knows"),
+    ],
+)
+def test_a_run_given_a_word_meant_as_a_unit_says_what_to_write(
+    args: list[str], told: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["run", HOPPER, *args, "--out", str(tmp_path / "run")]) == 2
+    assert told in capsys.readouterr().err
 
 
 def test_a_run_given_a_unit_apart_reads_it(tmp_path: Path) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -106,6 +107,17 @@ def test_export_motion(run_dir: Path, tmp_path: Path, capsys) -> None:
         (["animate", "{run}", "-o", "{tmp}/x.gif"], "HTML player; render a video with --video"),
         (["animate", "{run}", "-o", "{tmp}/x.png"], "writes the HTML player; name it"),
         (["export-motion", "{run}", "--fps", "-1"], "--fps must be positive"),
+        # the word 'none' among overlays was told "unknown none; choose from ... or none"
+        (["animate", "{run}", "--overlays", "none,state"], "'none' stands alone"),
+        # an odd size was drawn one pixel smaller without a word
+        (["animate", "{run}", "--video", "x.mp4", "--size", "961x541"], "write --size 962x542"),
+        # options of a video alone were passed over
+        (["animate", "{run}", "--slow-motion", "3"], "--slow-motion is for a video: add --video"),
+        (["animate", "{run}", "--size", "640x360"], "--size is for a video: add --video"),
+        # a stream has no name to take the format from: it was told to write /dev/stdout.mp4
+        (["animate", "{run}", "--video", "/dev/stdout"], "a video is written to a file named"),
+        # a word meant as a unit, apart from its number, was argparse's "unrecognized arguments"
+        (["export-motion", "{run}", "--fps", "30", "fps"], "did you mean 'Hz'?"),
     ],
 )
 def test_mistakes_are_reported_with_status_2(
@@ -140,3 +152,19 @@ def test_the_motion_format_follows_the_name_or_is_refused(
             motion_format(given, output)
     else:
         assert motion_format(given, output) == expected
+
+
+def test_an_export_at_the_recorded_rate_says_so(
+    run_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--fps above the recorded rate keeps the recorded one (not a whole number: samples are
+    on whole steps); the file's rate was that, and nothing said it was not --fps."""
+    out = tmp_path / "k.bvh"
+    assert main(["export-motion", str(run_dir), "--fps", "1000", "-o", str(out), *gen()]) == 0
+    said = capsys.readouterr().out
+    told = re.search(r", ([\d.]+) per second: the rate it was recorded at, below --fps 1000", said)
+    assert told is not None, said
+    frame_time = float(out.read_text().split("Frame Time:")[1].split()[0])
+    assert float(told.group(1)) == pytest.approx(1.0 / frame_time, rel=1e-8)
+    assert main(["export-motion", str(run_dir), "--fps", "30", "-o", str(out), *gen()]) == 0
+    assert "per second" not in capsys.readouterr().out

@@ -180,6 +180,24 @@ def test_a_pad_too_heavy_for_its_body_is_a_leg_error() -> None:
     assert "toe_pad" not in model_to_mjcf(heavy, pads=False)
 
 
+def test_every_pad_too_heavy_is_told_with_its_instance() -> None:
+    """The quadruped's feet come from one template line: only the first foot was told, and
+    without the "(in instance ...)" every other error on a template line ends with."""
+    model = check_model(CREATURES / "quadruped.leg")
+    assert model.ground is not None
+    tangent = dataclasses.replace(model.ground.tangent, b=5000.0)
+    heavy = dataclasses.replace(model, ground=dataclasses.replace(model.ground, tangent=tangent))
+    with pytest.raises(LegError) as refused:
+        model_to_mjcf(heavy)
+    told = [d.message for d in refused.value.diagnostics]
+    assert len(told) == len(model.contacts) == 4
+    for leg in ("fl", "fr", "rl", "rr"):
+        assert any(
+            f"contact 'toe_{leg}'" in m and m.endswith(f"(in instance '{leg}' of template 'leg')")
+            for m in told
+        ), told
+
+
 def test_a_planar_body_keeps_its_moment_about_y_under_a_heavy_pad() -> None:
     """A planar body's x and z moments never act: a pad that leaves its moment about y
     positive fits, though taking it out of the checker's (I, I, I) breaks the triangle

@@ -64,3 +64,13 @@ def test_replay_renders_an_mp4(tmp_path: Path) -> None:
 
     trunk = check_model(CREATURES / "biped.leg").bodies[0].color or ""
     assert hue_mask(image, trunk).sum() > 20  # the trunk is in the picture
+
+
+def test_a_replay_into_a_stream_is_refused(tmp_path: Path, capsys) -> None:
+    """ffmpeg takes the format from the name: -o /dev/stdout was told to be named
+    /dev/stdout.mp4."""
+    from legdsl.cli import main
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    assert main(["replay", str(run), "--mujoco", "-o", "/dev/stdout"]) == 2
+    assert "a video is written to a file named .mp4 or .gif" in capsys.readouterr().err

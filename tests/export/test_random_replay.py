@@ -23,6 +23,7 @@ import contextlib
 import io
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -159,7 +160,9 @@ def check_rig(seed: int, where: Path) -> None:
     if span > 0 and promised_frames(span, fps) < 2:  # a run stopped early (seed 16400: 0.05 s)
         with pytest.raises(UsageError, match=r"gives one frame .*two frames need") as refused:
             replay_frames(where / "run", fps)  # one still picture is refused, saying what to give
-        fps = float(str(refused.value).rpartition("need ")[2].rstrip(")"))  # the rate it names
+        named = re.search(r"two frames need --fps (\S+) or more", str(refused.value))
+        assert named is not None, refused.value
+        fps = float(named.group(1))  # the rate it names
     check_poses(where / "run", where / "generated", fps)
     if rng.random() < 1 / 3 and shutil.which("ffprobe"):
         size = (int(rng.integers(64, 200)), int(rng.integers(64, 160)))

@@ -114,3 +114,31 @@ def test_cli_writes_usda(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> 
     assert "wrote" in capsys.readouterr().out
     bad = ["export-motion", str(run), "--format", "usd", "-o", str(tmp_path / "k2.usda")]
     assert main(bad) == 2
+
+
+@pytest.mark.parametrize(("fmt", "head"), [("usda", b"#usda 1.0"), ("usd", b"PXR-USDC")])
+def test_usd_into_a_pipe(tmp_path: Path, fmt: str, head: bytes) -> None:
+    """USD takes a layer's format from its file's name: ``-o /dev/stdout`` failed in USD's
+    SdfLayer ("fileFormat ''") and was told as a disk to check. Now it is written under its
+    own name first, then copied into the pipe."""
+    import os
+    import threading
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
+    reader.start()
+    args = ["export-motion", str(run), "--format", fmt, "-o", str(pipe)]
+    code = main([*args, "--generated", str(generated_dir())])
+    if code != 0:  # unblock the reader before failing
+        with open(pipe, "wb"):
+            pass
+    reader.join(timeout=30)
+    assert code == 0
+    assert got and got[0].startswith(head)
+    copy = tmp_path / f"copy.{fmt}"
+    copy.write_bytes(got[0])
+    stage = Usd.Stage.Open(str(copy))
+    assert stage.GetEndTimeCode() > 0 and stage.GetPrimAtPath("/kangaroo").IsValid()

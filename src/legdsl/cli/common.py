@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import UnitError, parse_unit
+from legdsl.lang.units import UnitError, looks_like_unit, parse_unit
 
 EXIT_USER_ERROR = 2
 EXIT_DIVERGED = 3
@@ -89,8 +89,9 @@ _PLAIN_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
 def _unit_apart(out: Sequence[str], arg: str, takes_value: set[str]) -> bool:
     """Whether ``arg`` is a unit written apart from the number an option was just given
-    (``--time 2 s``, ``--set speed=2 m/s``, ``--dt=0.4 ms``): argparse took it for another
-    argument ("unrecognized arguments: s"); a file reads '2 s' as '2s'."""
+    (``--time 2 s``, ``--set speed=2 m/s``, ``--dt=0.4 ms``), or a word meant as one (``--fps
+    30 fps``): argparse took it for another argument ("unrecognized arguments: s"); a file
+    reads '2 s' as '2s'."""
     if not out:
         return False
     last = out[-1]
@@ -106,8 +107,8 @@ def _unit_apart(out: Sequence[str], arg: str, takes_value: set[str]) -> bool:
         return False
     try:
         parse_unit(arg)
-    except UnitError:
-        return False
+    except UnitError:  # 'sec', 'fps': meant as a unit, and the option's check says which
+        return looks_like_unit(arg, fuzzy=False) and not Path(arg).exists()
     return True
 
 
@@ -138,6 +139,10 @@ def os_refusal(e: OSError) -> str:
     if e.errno in REFUSED_WRITES:
         where = f"cannot write {e.filename}: " if e.filename else ""
         return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"
+    if e.errno == errno.EPIPE:  # '-o /dev/stdout | head': not the path, nor its permissions
+        where = f"{e.filename}: " if e.filename else ""
+        return (f"{where}the pipe's reader stopped reading before all was written (as "
+                "'| head' does), so what it got is cut short")  # fmt: skip
     if e.errno == errno.EBADF and e.filename:  # -o /dev/stdin, a stream opened only to read
         return (f"cannot write {e.filename}: the stream it names is not open for writing; "
                 "give a file")  # fmt: skip

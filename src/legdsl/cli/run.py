@@ -73,6 +73,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     from legdsl.pipeline.options import (
         RUN_NUMERIC,
+        check_fall_tilt,
         check_output_dir,
         notes_before_run,
         os_error,
@@ -91,6 +92,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     tilt = values.pop("fall_tilt")
     if not isinstance(args.fall_tilt, str):
         tilt = math.radians(tilt)  # the default, in degrees
+    check_fall_tilt(tilt)  # the option alone: before anything is compiled
     if args.out:  # checked before anything is compiled or simulated
         check_output_dir(args.out, "--out")
     with sigterm_unwinds():  # a compile of stale modules, its controller processes stopped

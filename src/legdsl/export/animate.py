@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.outputs import messages_for, named_as
+from legdsl.pipeline.outputs import messages_for, named_as, not_a_stream
 
 OVERLAY_NAMES = ("state", "speed", "forces", "footprints", "com")
 Command = Callable[[argparse.Namespace], int]
@@ -38,6 +38,11 @@ def parse_overlays(text: str) -> tuple[str, ...]:
     if text.strip().lower() == "none":
         return ()
     names = tuple(x.strip() for x in text.split(",") if x.strip())
+    if "none" in (x.lower() for x in names):
+        raise UsageError(
+            f"--overlays {text}: 'none' stands alone (no overlay shown at first); "
+            "write --overlays none, or list only the overlays to show"
+        )
     unknown = [x for x in names if x not in OVERLAY_NAMES]
     if unknown:
         raise UsageError(
@@ -50,7 +55,13 @@ def parse_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
     if not match or not (64 <= int(match.group(1)) <= 7680 and 64 <= int(match.group(2)) <= 4320):
         raise UsageError(f"--size {text!r}: write WIDTHxHEIGHT in pixels, e.g. 960x540")
-    return int(match.group(1)), int(match.group(2))
+    width, height = int(match.group(1)), int(match.group(2))
+    if width % 2 or height % 2:  # H.264's colour planes are half size: 961x541 was drawn 960x540
+        raise UsageError(
+            f"--size {text}: a video's width and height are even numbers of pixels; "
+            f"write --size {width + width % 2}x{height + height % 2}"
+        )
+    return width, height
 
 
 def _positive(value: float | None, flag: str) -> None:
@@ -122,10 +133,14 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     overlays = parse_overlays(args.overlays)
     args.fps = frame_rate(args.fps)
     run = Path(args.run)
+    for flag, given in (("--slow-motion", args.slow_motion), ("--size", args.size)):
+        if given is not None and not args.video:  # the player has its own speed and window
+            raise UsageError(f"{flag} is for a video: add --video FILE.mp4 (or .gif)")
     if args.video:
         from legdsl.export.video import render_video, stderr_progress
 
         video = Path(args.video)
+        not_a_stream(video, "--video")
         # GIFs compress poorly (every frame moves with the camera): smaller by default.
         size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
         if video.suffix.lower() not in (".mp4", ".gif"):  # ffmpeg's format is the name's
@@ -274,10 +289,21 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
-        f"{motion.frames} keyframes over {motion.duration:.2f} s)",
+        f"{motion.frames} keyframes over {motion.duration:.2f} s{_rate_kept(motion, args.fps)})",
         file=messages_for(args.output),
     )
     return 0
+
+
+def _rate_kept(motion: Any, fps: float) -> str:
+    """The keyframe rate, if it is not ``--fps``: a run recorded more slowly keeps its own
+    (35.1104203529 per second, written as the file's rate, for a creature scaled by 30)."""
+    from legdsl.export.motion import frame_rate as keyframe_rate
+
+    rate = keyframe_rate(motion)
+    if motion.frames < 2 or rate >= fps * (1 - 1e-9):
+        return ""
+    return f", {rate:.10g} per second: the rate it was recorded at, below --fps {fps:g}"
 
 
 def add_export_motion_parser(sub: Any) -> Command:
@@ -338,6 +364,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         mjreplay.view(run, video_fps(args.fps, 60.0), source)
         return 0
     out = Path(args.output) if args.output else run / "mujoco.mp4"
+    not_a_stream(out, "-o")
     if out.suffix.lower() != ".mp4":  # ffmpeg's format is the name's
         better = out.with_suffix(".mp4") if out.suffix else f"{out}.mp4"
         raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4; name it {better}")

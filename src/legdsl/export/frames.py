@@ -26,8 +26,8 @@ def enough_frames(span: float, fps: float, usual: float = 60.0, slow: float = 1.
         least = math.ceil(1 / (span * slow) * (1 + 1e-9))  # rounded up: 1/span may give one
         slowed = f" at --slow-motion {slow:g}" if slow != 1.0 else ""
         raise UsageError(f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} "
-                         f"s run; give --fps {max(least, usual):g} or more (two frames need "
-                         f"{least})")  # fmt: skip
+                         f"s run; two frames need --fps {least} or more (the default is "
+                         f"{usual:g})")  # fmt: skip
 
 
 def frame_times(t: np.ndarray, fps: float) -> np.ndarray:

@@ -41,7 +41,7 @@ import numpy as np
 from legdsl.export.motion import quaternion_to_matrix
 from legdsl.export.xml import fresh
 from legdsl.ir.model import Dof, Model, Vec3
-from legdsl.lang.errors import InternalError, LegError
+from legdsl.lang.errors import Diagnostic, InternalError, LegError
 
 # The pad's slide is a mass on a spring-damper integrated explicitly (RK4, MuJoCo's passive
 # forces included): its fastest eigenvalue is at most b / m (overdamped) or sqrt(k / m)
@@ -183,6 +183,7 @@ def carrier_inertials(
         b.name: (b.mass, np.asarray(b.com, float), np.asarray(b.inertia, float))
         for b in model.bodies
     }
+    refused: list[Diagnostic] = []  # every pad that cannot be carried, each told at its contact
     for pad in pads:
         m, c, inertia = out[pad.body]
         p = np.asarray(pad.point, float)
@@ -197,13 +198,16 @@ def carrier_inertials(
             left = left[1, 1] * np.eye(3)
         if rest <= 0 or not _rigid(left):
             contact = next(x for x in model.contacts if x.name == pad.contact)
-            raise LegError.at(
+            refused.append(Diagnostic(
                 contact.span,
                 f"the MJCF export's anchor pad for contact '{pad.contact}' needs "
                 f"{pad.mass:.3g} kg (for its tangent spring-damper at MuJoCo's time step) and body "
                 f"'{pad.body}' cannot give it: what is left of its mass and inertia is not a "
                 "rigid body. Make the body heavier or its inertia larger, or export with "
-                "--no-anchor-pads",
-            )
+                "--no-anchor-pads" + contact.span.within,
+            ))  # fmt: skip
+            continue
         out[pad.body] = (rest, centre, left)
+    if refused:
+        raise LegError(refused, {})
     return out

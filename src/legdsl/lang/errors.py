@@ -95,7 +95,7 @@ class LegError(Exception):
 
     @classmethod
     def at(cls, span: Span, message: str, sources: dict[str, str] | None = None) -> LegError:
-        return cls([Diagnostic(span, message)], dict(sources or {}))
+        return cls([Diagnostic(span, message + span.within)], dict(sources or {}))
 
     def render(self) -> str:
         return "\n".join(d.render(self.sources) for d in self.diagnostics)

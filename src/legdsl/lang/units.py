@@ -157,7 +157,7 @@ _UNIT_NAMES: dict[str, str | None] = {
     "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
     "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
     "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
-    "degree": "deg", "radian": "rad", "revolution": "rev",
+    "degree": "deg", "radian": "rad", "revolution": "rev", "fps": "Hz",
     "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
     "lb": None, "mph": None, "kph": None, "kmh": None, "mp": "m/s", "rpm": "rev/min",
     "t": None, "tonne": None, "ton": None, "oz": None, "ounce": None, "pound": None,
@@ -202,6 +202,7 @@ def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
     parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
     return bool(parts) and all(
         p.lower().removesuffix("s") in _UNIT_NAMES
+        or p.lower() in _UNIT_NAMES
         or p.lower().removesuffix("s") in _UNIT_BY_LOWER
         or p.lower() in _UNIT_BY_LOWER
         or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
@@ -337,7 +338,7 @@ def suggest_units(word: str) -> list[str]:
     together may be read more ways than one: 'Nms' is 'N*ms' or 'N*m*s'."""
     out: list[list[str]] = []
     for part in re.split(r"([*/^])", _plain_unit(word)):
-        singular = part.lower().removesuffix("s")
+        singular = part.lower() if part.lower() in _UNIT_NAMES else part.lower().removesuffix("s")
         undoubled = _undoubled(part)
         if part in UNITS or part in "*/^" or part.lstrip("-").isdigit():
             out.append([part])

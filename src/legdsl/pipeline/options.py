@@ -82,6 +82,22 @@ def _real(value: object) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
+def check_fall_tilt(tilt: object) -> None:
+    """A fall tilt (radians) is more than zero and at most upside down; ``legdsl run`` asks
+    before it compiles (``--fall-tilt 181`` was refused only after a compile)."""
+    if not _real(tilt):
+        raise UsageError(f"--fall-tilt {tilt!r}: must be a number of radians more than zero")
+    tilt = float(tilt)  # type: ignore[arg-type]  # a Real, as _real said
+    if not (math.isfinite(tilt) and tilt > 0):
+        raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
+    if tilt > math.pi * (1 + 1e-12):  # fall_tilt=60 in Python is 60 rad, not 60 degrees
+        raise UsageError(
+            f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
+            "(180 deg), so no tilt would stop the run; give at most 180deg (in Python a number "
+            "is radians: write fall_tilt='60 deg')"
+        )
+
+
 def check_run_options(options: RunOptions) -> None:
     """Raise ``UsageError`` for options no run can use (the API's path to the same rules)."""
     positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}
@@ -104,17 +120,7 @@ def check_run_options(options: RunOptions) -> None:
             f"--record-rate {rate:g}Hz records only the start of a {options.duration:g}s run; "
             f"give --record-rate {1.0 / options.duration:.3g}Hz or more, or 0 to record every step"
         )
-    tilt = options.fall_tilt
-    if not _real(tilt):
-        raise UsageError(f"--fall-tilt {tilt!r}: must be a number of radians more than zero")
-    if not (math.isfinite(tilt) and tilt > 0):
-        raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
-    if tilt > math.pi * (1 + 1e-12):  # fall_tilt=60 in Python is 60 rad, not 60 degrees
-        raise UsageError(
-            f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
-            "(180 deg), so no tilt would stop the run; give at most 180deg (in Python a number "
-            "is radians: write fall_tilt='60 deg')"
-        )
+    check_fall_tilt(options.fall_tilt)
     if options.integrator not in ("euler", "rk4"):
         raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
     _check_step_counts(options)

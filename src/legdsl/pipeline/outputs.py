@@ -39,6 +39,16 @@ def named_as(path: str | Path, flag: str, suffixes: tuple[str, ...], what: str) 
     raise UsageError(f"{flag} {path}: this writes {what}; name it {better}")
 
 
+def not_a_stream(path: str | Path, flag: str) -> None:
+    """A video's format is its name's (.mp4 or .gif) and ffmpeg seeks in an .mp4: a stream
+    (/dev/stdout, a pipe) is refused (it was told to write '/dev/stdout.mp4')."""
+    if is_stream(path):
+        raise UsageError(
+            f"{flag} {path}: a video is written to a file named .mp4 or .gif (its format is "
+            f"its name's, and a stream has none); give a file, e.g. {flag} run.mp4"
+        )
+
+
 def to_stdout(path: str | Path | None) -> bool:
     """Whether writing ``path`` writes this process's standard output (``-``, /dev/stdout,
     or the very file the shell sent standard output to)."""
