@@ -13,7 +13,8 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 
-from legdsl.check.control_names import Blame, NameResolver, Value, describe_type
+from legdsl.check.control_names import Blame, NameResolver, Value
+from legdsl.check.control_words import describe_type
 from legdsl.check.values import per_second, place_of, written_unit
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import ONE

@@ -31,10 +31,9 @@ from legdsl.check.control_names import (
     NameResolver,
     Opaque,
     Value,
-    describe_type,
-    expression_text,
     thing_kind,
 )
+from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.values import did_you_mean
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type

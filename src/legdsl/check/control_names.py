@@ -12,14 +12,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from legdsl.check.control_words import PLANAR_COUNTERPARTS, SPATIAL_ALIASES, no_alias_message
 from legdsl.check.values import TRUTHS, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
-from legdsl.ir.controller import BOOL, ONE, Type
+from legdsl.ir.controller import Type
 from legdsl.ir.model import Model, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
-from legdsl.lang.units import KINDS, UNITS, Dim, describe
+from legdsl.lang.units import KINDS, UNITS, Dim
 
 KIND_WORDS = {
     "coord": "joint coordinate", "path": "path", "com": "centre of mass",
@@ -257,11 +258,43 @@ class NameResolver:
 
     def path(self, idents: tuple[ast.Ident, ...], local: dict[str, Value]) -> Value | None:
         found = self.lookup(idents[0], local)
+        if len(idents) > 1 and self._number_given(idents[0], found):
+            self._number_for_a_member(idents)
+            return None
         for ident in idents[1:]:
             if found is None:
                 return None
             found = self.member(found, ident)
         return found
+
+    def _number_given(self, ident: ast.Ident, found: Value | None) -> bool:
+        """Whether ``ident`` is a parameter of the action being checked that its call gave a
+        number (``relax(3 m, 0 m)``, whose ``leg.spring`` was told "a number has no member
+        'spring'", as if the action were wrong)."""
+        if not self.calls or found is None:
+            return False
+        if isinstance(found, Opaque | ir.Legs | ir.Part | ir.Alias):
+            return False
+        return ident.name in (p.name for p in self.calls[-1][1].params)
+
+    def _number_for_a_member(self, idents: tuple[ast.Ident, ...]) -> None:
+        """Told at the argument where the call is the user's, else at the user's call."""
+        call, action = self.calls[-1]
+        n = [p.name for p in action.params].index(idents[0].name)
+        read = ".".join(i.name for i in idents[:2])
+        message = (
+            f"action '{action.name.name}' reads '{read}' ({place_of(idents[1].span)}), a member "
+            f"of its parameter '{idents[0].name}', and {'this argument' if n < len(call.args) else 'it'}"
+            " is a number, which has no members: give a leg, a part or a role"
+        )
+        if call.span.file == self.scope.user_file and n < len(call.args):
+            at = call.args[n].span
+            if (at, message) not in self._reported_at_call:  # read twice in the action
+                self._reported_at_call.add((at, message))
+                self.error_spans.append(idents[1].span)
+                self.diag.error(at, message)
+        else:
+            self.err(idents[1].span, message)
 
     def member(self, base: Value, attr: ast.Ident) -> Value | None:
         name = attr.name
@@ -438,48 +471,6 @@ class NameResolver:
         raise NotImplementedError
 
 
-def describe_type(t: Type) -> str:
-    if t == BOOL:
-        return "a condition"
-    if t is None:
-        return "a number of any unit"
-    assert isinstance(t, tuple)
-    if t == ONE:
-        return "a plain number (no unit)"
-    word = describe(t)
-    if "(" not in word:
-        return f"a quantity in {word}"
-    return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
-
-
-# The standard library's aliases for a 3D hip's roll and yaw: a planar leg lacks them
-# because the action is 3D, not because the leg forgot an alias.
-SPATIAL_ALIASES = frozenset({"roll_servo", "roll_motor", "roll_angle", "yaw_servo", "yaw_angle"})
-
-# The standard library's 3D actions that have a planar counterpart (appended to raibert.leg),
-# named when a planar creature calls the 3D one.
-PLANAR_COUNTERPARTS = {
-    "trim_step_speed": "trim_step_speed_planar",
-    "trim_step_speed_from": "trim_step_speed_planar_from",
-    "stride_speed": "stride_speed_planar",
-    "place_feet_turning": "place_feet_planar",
-    "servo_posture_virtual": "servo_pitch_shared",
-    "servo_pitch_rate_virtual": "servo_pitch_rate_shared",
-}
-
-
-def no_alias_message(
-    leg: str, role: str | None, name: str, aliases: dict[str, str], planar: bool = False
-) -> str:
-    what = f"leg '{leg}'" + (f" (in role '{role}')" if role else "")
-    # a planar leg has no sideways members: listing them would offer what is refused
-    members = [m for m in ir.LEG_MEMBERS if not (planar and m in ir.SPATIAL_MEMBERS)]
-    return (
-        f"{what} has no member '{name}'; a leg has {', '.join(members)} and its aliases"
-        f"{did_you_mean(name, [*members, *aliases])}"
-    )
-
-
 def thing_kind(value: ir.Thing) -> str:
     if isinstance(value, ir.Legs):
         return "role" if value.role is not None else "leg"  # a member of a role is one leg
@@ -490,11 +481,3 @@ def what_it_is(value: Value) -> str:
     if isinstance(value, ir.Legs | ir.Part | ir.Alias):
         return f"a {KIND_WORDS.get(thing_kind(value), thing_kind(value))}"
     return "a number"
-
-
-def expression_text(e: ast.Expr) -> str:
-    if isinstance(e, ast.EName):
-        return e.ident.name
-    if isinstance(e, ast.EAttr):
-        return f"{expression_text(e.base)}.{e.attr.name}"
-    return "this"

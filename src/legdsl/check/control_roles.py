@@ -3,8 +3,9 @@ run, and the aliases read through a role checked on every one of those legs."""
 
 from __future__ import annotations
 
-from legdsl.check.control_names import AliasUse, Scope, no_alias_message
+from legdsl.check.control_names import AliasUse, Scope
 from legdsl.check.control_stmts import Elaborator
+from legdsl.check.control_words import no_alias_message
 from legdsl.ir import controller as ir
 from legdsl.ir.model import Model
 from legdsl.lang import ast

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from legdsl.check.control_args import retyped
 from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
-from legdsl.check.control_names import Opaque, Value, describe_type, expression_text, what_it_is
+from legdsl.check.control_names import Opaque, Value, what_it_is
+from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe

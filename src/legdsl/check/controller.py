@@ -12,11 +12,12 @@ from __future__ import annotations
 from collections.abc import Collection, Iterable
 from dataclasses import replace
 
-from legdsl.check.control_names import Opaque, Scope, Value, describe_type
+from legdsl.check.control_names import Opaque, Scope, Value
 from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_scan import dotted_members
 from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
+from legdsl.check.control_words import describe_type
 from legdsl.check.paths import check_path
 from legdsl.check.record_readers import settle_by_readers
 from legdsl.check.role_overlap import check_one_role_per_leg
