@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import json
+import math
 import re
 from pathlib import Path
 
@@ -69,6 +70,21 @@ def test_another_sweep_in_the_same_directory_is_refused(
     (out / "sweep.json").write_bytes(plan)
     assert sweep(out, generated) == 2
     assert "holds another sweep" in capsys.readouterr().err
+
+
+def test_another_sweep_is_told_what_differs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It said "its sweep.json differs, or is damaged", naming nothing (a tune names it)."""
+    out, generated = tmp_path / "sweep", tmp_path / "generated"
+    out.mkdir()
+    plan = {"file": str(HOPPER), "controller": "hop", "time": 3.0, "from": 0.5, "set": [],
+            "runs": []}  # fmt: skip
+    (out / "sweep.json").write_text(json.dumps(plan))
+    assert sweep(out, generated) == 2
+    err = capsys.readouterr().err
+    assert "holds another sweep (with other the swept values (--grid," in err, err
+    assert "--time" not in err.partition("choose")[0]
 
 
 def test_axes_take_units_and_check_them() -> None:
@@ -513,3 +529,22 @@ def test_the_table_has_the_speeds_spread_and_an_older_table_resumes(tmp_path: Pa
     ]
     assert rows[0]["running_speed_std"] == ""  # the older row: not measured then
     assert isinstance(rows[1]["running_speed_std"], float) and rows[1]["running_speed_std"] >= 0
+
+
+def test_a_metric_no_run_measured_is_said(capsys: pytest.CaptureFixture[str]) -> None:
+    """A controller whose command is 'vel', not 'speed', swept to an empty map, saying nothing."""
+    import argparse
+    from types import SimpleNamespace
+
+    from legdsl.api.sweep_cli import _say_unmeasured
+
+    args = argparse.Namespace(controller="hop", t_from=3.0)
+    novel = SimpleNamespace(inputs=[SimpleNamespace(name="vel")])
+    rows = [{"outcome": "ok", "speed_error": math.nan}]
+    _say_unmeasured(rows, "speed_error", args, novel, Path("s.png"))
+    err = capsys.readouterr().err
+    assert "no run measured speed_error, so s.png shows none: controller 'hop' has no input" in err
+    _say_unmeasured([{"outcome": "fell at 1.000 s", "cot": "nan"}], "cot", args, novel, Path("s"))
+    assert capsys.readouterr().err.endswith("every run fell or diverged\n")
+    _say_unmeasured([{"outcome": "ok", "cot": 0.5}], "cot", args, novel, Path("s"))
+    assert capsys.readouterr().err == ""

@@ -489,10 +489,27 @@ def test_the_tuned_values_also_run_between_the_tuned_speeds_and_twice_as_long(
 def test_a_fall_between_the_tuned_speeds_is_said(capsys: pytest.CaptureFixture[str]) -> None:
     from legdsl.api.tune_cli import _say_between
 
-    _say_between([{"speed": 1.75, "outcome": "fell at 0.714 s", "running_speed": float("nan")}])
+    between = [{"speed": 1.75, "outcome": "fell at 0.714 s", "running_speed": float("nan")}]
+    _say_between(between, tuned_fell=False)
     told = capsys.readouterr()
-    assert "at 1.75      n/a (fell at 0.714 s)" in told.out
+    assert "at 1.75      n/a (fell at 0.714 s) pitch n/a\n" in told.out  # no 'n/a deg'
     assert "did not last at 1.75 m/s, between the tuned speeds" in told.err
+
+
+def test_tuned_values_that_fall_at_a_tuned_speed_are_said(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A tune whose every candidate fell exited saying only that the runs between the speeds
+    fell, and to add speeds there: no help where the tuned speeds fall too."""
+    from legdsl.api.tune_cli import _say_between, _say_fell
+
+    best = [{"speed": 0.5, "outcome": "fell at 1.142 s"}, {"speed": 1.0, "outcome": "ok"}]
+    between = [{"speed": 0.75, "outcome": "fell at 1.074 s", "running_speed": float("nan")}]
+    _say_between(between, _say_fell(best))
+    err = capsys.readouterr().err
+    assert "the tuned values do not last at 0.5 m/s (fell at 1.142 s), nor does the tuned" in err
+    assert "add speeds there" not in err
+    assert not _say_fell([{"speed": 1.0, "outcome": "ok"}])
 
 
 def test_a_second_tune_into_the_same_out_is_refused_while_the_first_runs(

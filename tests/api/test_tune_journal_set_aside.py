@@ -59,4 +59,28 @@ def test_the_command_notes_the_journal_it_sets_aside(
     err = capsys.readouterr().err
     assert f"legdsl: note: not going on from {out / JOURNAL}: it is of a tune with other " in err
     assert "--param bounds" in err and "this tune starts afresh and replaces it" in err
-    assert not (out / JOURNAL).exists()  # finished: removed
+    # finished: kept, of this tune now, so that raising --generations goes on from it
+    assert json.loads((out / JOURNAL).read_text())["plan"] != PLAN
+
+
+def test_a_finished_tune_goes_further_with_more_generations(tmp_path: Path) -> None:
+    """A finished tune removed its journal: the same command with --generations raised ran
+    every generation again, and overwrote the finished tune's files without a word. Its
+    journal is kept now, and the longer tune goes on from it, to the files a tune of that
+    length writes from the start."""
+
+    def tuned(out: Path, generations: int) -> int:
+        return main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                     "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from",
+                     "0.2", "--generations", str(generations), "--popsize", "2", "--jobs", "1",
+                     "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+
+    out, fresh = tmp_path / "tuned", tmp_path / "fresh"
+    assert tuned(out, 1) == 0
+    first = json.loads((out / JOURNAL).read_text())["generations"]
+    assert len(first) == 1
+    assert tuned(out, 2) == 0
+    assert json.loads((out / JOURNAL).read_text())["generations"][:1] == first
+    assert tuned(fresh, 2) == 0
+    assert (out / "tune.json").read_bytes() == (fresh / "tune.json").read_bytes()
+    assert (out / "hopper.leg").read_bytes() == (fresh / "hopper.leg").read_bytes()

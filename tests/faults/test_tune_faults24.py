@@ -46,7 +46,10 @@ def test_a_signal_as_the_tune_writes_its_files_waits_for_them(
     assert code == 128 + sig
     assert {p.name for p in out.iterdir()} >= {"hopper.leg", "tune.json", "tune.png"}
     assert json.loads((out / "tune.json").read_text())["ended"] == "finished"
-    assert not (out / ".tune-journal.json").exists()  # the tune is done: nothing to go on from
+    journal = json.loads((out / ".tune-journal.json").read_text())  # kept, to go further from
+    assert len(journal["generations"]) == len(
+        json.loads((out / "tune.json").read_text())["history"]
+    )
     assert "its files are whole" in capsys.readouterr().err
 
 

@@ -1,11 +1,21 @@
-"""The picture of a sweep: one metric over one swept name (lines) or two (a heat map)."""
+"""The picture of a sweep: one metric over one swept name (lines) or two (a heat map).
+
+A third swept name and more make one panel per combination of their values (up to
+``MOST_PANELS``), all on one colour scale: drawn over the first two alone, the runs at the
+other values fell on the same cells, and only one of each showed. Runs that fell or diverged
+are red crosses everywhere (in the lines at the foot of the axes, where a metric they never
+measured cannot place them).
+"""
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
+
+MOST_PANELS = 12  # more combinations of the other swept names: one panel, the others told
 
 
 def plot_sweep(
@@ -22,55 +32,95 @@ def plot_sweep(
     def label(name: str) -> str:
         return f"{name} ({given[name]})" if given.get(name) else name
 
-    import numpy as np
-
     from legdsl.analysis.plot import pyplot
 
     plt = pyplot()
-
-    def number(value: Any) -> float:
-        try:
-            return float(value)
-        except (TypeError, ValueError):
-            return math.nan
-
     ok = [str(r["outcome"]) == "ok" for r in rows]
-    values = np.array([number(r[metric]) for r in rows])
-    fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=110)
+    title = f"{metric} over {len(rows)} runs ({sum(ok)} ran to the end)"
     if len(names) == 1:
-        at = np.array([number(r[names[0]]) for r in rows])
-        order = np.argsort(at)
-        kept = np.array(ok)[order]
-        ax.plot(at[order][kept], values[order][kept], "o-", label="ran to the end")
-        if (~kept).any():
-            ax.plot(at[order][~kept], values[order][~kept], "rx", label="fell or diverged")
+        fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=110, layout="constrained")
+        _lines(ax, rows, names[0], metric)
         ax.set_xlabel(label(names[0]))
         ax.set_ylabel(label(metric))
-        ax.legend()
     else:
-        a, b = names[:2]
-        xs = sorted({number(r[a]) for r in rows})
-        ys = sorted({number(r[b]) for r in rows})
-        if len(xs) * len(ys) == len(rows):  # a full grid: a heat map
-            grid = np.full((len(ys), len(xs)), np.nan)
-            for r, v, good in zip(rows, values, ok, strict=True):
-                grid[ys.index(number(r[b])), xs.index(number(r[a]))] = v if good else np.nan
-            image: Any = ax.pcolormesh(_edges(xs), _edges(ys), grid, cmap="viridis", shading="flat")
-            for r, good in zip(rows, ok, strict=True):
-                if not good:
-                    ax.plot(number(r[a]), number(r[b]), "rx")
-        else:  # random or Latin-hypercube draws: a scatter
-            image = ax.scatter([number(r[a]) for r in rows], [number(r[b]) for r in rows],
-                               c=values, cmap="viridis")  # fmt: skip
-        fig.colorbar(image, ax=ax, label=label(metric))
-        ax.set_xlabel(label(a))
-        ax.set_ylabel(label(b))
-    ax.set_title(f"{metric} over {len(rows)} runs ({sum(ok)} ran to the end)")
-    fig.tight_layout()
+        others = list(names[2:])
+        groups = sorted({tuple(_number(r[n]) for n in others) for r in rows})
+        if len(groups) > MOST_PANELS:  # one panel, saying what varies among its dots
+            title += f"; {', '.join(others)} var{'y' if len(others) > 1 else 'ies'} among the dots"
+            groups, others = [()], []
+        cols = min(3, len(groups))
+        rows_of = math.ceil(len(groups) / cols)
+        fig, axes = plt.subplots(rows_of, cols, figsize=(4.2 * cols + 1.2, 3.6 * rows_of + 0.6),
+                                 dpi=110, squeeze=False, layout="constrained")  # fmt: skip
+        values = [_number(r[metric]) for r, good in zip(rows, ok, strict=True) if good]
+        finite = [v for v in values if math.isfinite(v)] or [0.0]
+        scale = {"vmin": min(finite), "vmax": max(finite), "cmap": "viridis"}
+        image = None
+        for ax, group in zip(axes.flat, groups, strict=False):
+            inside = [r for r in rows if tuple(_number(r[n]) for n in others) == group]
+            image = _map(ax, inside, names[0], names[1], metric, scale)
+            ax.set_xlabel(label(names[0]))
+            ax.set_ylabel(label(names[1]))
+            if others:
+                ax.set_title(", ".join(f"{n} = {v:g} {given.get(n, '')}".rstrip()
+                                       for n, v in zip(others, group, strict=True)))  # fmt: skip
+        for ax in itertools.islice(axes.flat, len(groups), None):
+            ax.set_axis_off()
+        fig.colorbar(image, ax=axes.ravel().tolist(), label=label(metric))
+    fig.suptitle(title)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)
     plt.close(fig)
     return out
+
+
+def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> None:
+    """The metric along one swept name; a run that fell as a cross at the foot of the axes."""
+    import numpy as np
+
+    at = np.array([_number(r[name]) for r in rows])
+    values = np.array([_number(r[metric]) for r in rows])
+    order = np.argsort(at)
+    kept = np.array([str(r["outcome"]) == "ok" for r in rows])[order]
+    ax.plot(at[order][kept], values[order][kept], "o-", label="ran to the end")
+    if (~kept).any():  # x in data, y in the axes: a fall has no metric to stand at
+        ax.plot(at[order][~kept], [0.03] * int((~kept).sum()), "rx", clip_on=False,
+                transform=ax.get_xaxis_transform(), label="fell or diverged")  # fmt: skip
+    if not np.isfinite(values[order][kept]).any():
+        ax.set_yticks([])  # nothing measured: no scale to read
+    ax.legend()
+
+
+def _map(
+    ax: Any, rows: Sequence[dict[str, Any]], a: str, b: str, metric: str, scale: dict[str, Any]
+) -> Any:
+    """A heat map over a full grid of ``a`` and ``b``, else a scatter; falls are crosses."""
+    import numpy as np
+
+    ok = [str(r["outcome"]) == "ok" for r in rows]
+    xs = sorted({_number(r[a]) for r in rows})
+    ys = sorted({_number(r[b]) for r in rows})
+    if len(xs) * len(ys) == len(rows):  # a full grid: a heat map
+        grid = np.full((len(ys), len(xs)), np.nan)
+        for r, good in zip(rows, ok, strict=True):
+            grid[ys.index(_number(r[b])), xs.index(_number(r[a]))] = (
+                _number(r[metric]) if good else np.nan
+            )
+        image = ax.pcolormesh(_edges(xs), _edges(ys), grid, shading="flat", **scale)
+    else:  # random or Latin-hypercube draws: a scatter of the runs that lasted
+        lasted = [r for r, good in zip(rows, ok, strict=True) if good]
+        image = ax.scatter([_number(r[a]) for r in lasted], [_number(r[b]) for r in lasted],
+                           c=[_number(r[metric]) for r in lasted], **scale)  # fmt: skip
+    fell = [r for r, good in zip(rows, ok, strict=True) if not good]
+    ax.plot([_number(r[a]) for r in fell], [_number(r[b]) for r in fell], "rx")
+    return image
+
+
+def _number(value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
 
 
 def _edges(centres: list[float]) -> list[float]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import fcntl
 import json
+import math
 import os
 import sys
 from collections.abc import Callable
@@ -140,74 +141,134 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
-    plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
-            "from": args.t_from, "set": args.set, "runs": combos,
-            # what the file says, so that rows of an edited file are not mixed with the new
-            "creature_digest": creature_fingerprint(model),
-            "controller_digest": controller_fingerprint(model, controller),
-            # the step the runs take from the file (a sweep before legdsl read it from the
-            # API took 0.4 ms: its rows are not mixed with these)
-            "simulation": asdict(model.simulation)}  # fmt: skip
-    plan_file = out / "sweep.json"
-    planned_before = plan_file.is_file()
-    before_plan = _plan_in(plan_file) if planned_before else plan
-    if before_plan != plan:
-        digests = ("creature_digest", "controller_digest", "simulation")
-        edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
-            isinstance(before_plan, dict)
-            and all(k in before_plan for k in digests)
-            and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
-        )
-        why = ("the .leg file's creature or controller has changed since its rows were run"
-               if edited else "its sweep.json differs, or is damaged")  # fmt: skip
-        raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
-    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
-    base = {
-        "source": str(args.file),
-        "creature": args.creature,
-        "controller": args.controller,
-        "units": units_of({a.name: dims[a.name] for a in axes}),
-        "fixed": tuple(args.set),
-        "duration": args.time,
-        "start": args.t_from,
-        "generated": args.generated,
-    }
-    jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-    before = len(read_table(out / "sweep.csv"))
-    bar = progress_bar if sys.stderr.isatty() else None
     try:
-        rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
-    except UsageError:  # every run refused (a setting too stiff for the step): the plan it
-        # wrote would refuse the corrected command as another sweep
-        if not planned_before and not read_table(out / "sweep.csv"):
-            plan_file.unlink(missing_ok=True)
-        raise
-    except (KeyboardInterrupt, Interrupted):
-        done = len(read_table(out / "sweep.csv"))
-        print(f"legdsl: sweep interrupted: {done} of {len(jobs)} runs are in "
-              f"{out / 'sweep.csv'}; the same command again runs the other "
-              f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
-        raise
-    _parquet(rows, out / "sweep.parquet")
-    metric = args.plot or "speed_error"
-    units = {**base["units"], **METRIC_UNITS}
-    picture = out / "sweep.png"
+        plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
+                "from": args.t_from, "set": args.set, "runs": combos,
+                # what the file says, so that rows of an edited file are not mixed with the new
+                "creature_digest": creature_fingerprint(model),
+                "controller_digest": controller_fingerprint(model, controller),
+                # the step the runs take from the file (a sweep before legdsl read it from the
+                # API took 0.4 ms: its rows are not mixed with these)
+                "simulation": asdict(model.simulation)}  # fmt: skip
+        plan_file = out / "sweep.json"
+        planned_before = plan_file.is_file()
+        before_plan = _plan_in(plan_file) if planned_before else plan
+        if before_plan != plan:
+            digests = ("creature_digest", "controller_digest", "simulation")
+            edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
+                isinstance(before_plan, dict)
+                and all(k in before_plan for k in digests)
+                and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
+            )
+            why = ("the .leg file's creature or controller has changed since its rows were run"
+                   if edited else _plan_differs(before_plan, plan))  # fmt: skip
+            raise UsageError(
+                f"{out} holds another sweep ({why}); choose another --out or remove it"
+            )
+        write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
+        base = {
+            "source": str(args.file),
+            "creature": args.creature,
+            "controller": args.controller,
+            "units": units_of({a.name: dims[a.name] for a in axes}),
+            "fixed": tuple(args.set),
+            "duration": args.time,
+            "start": args.t_from,
+            "generated": args.generated,
+        }
+        jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
+        before = len(read_table(out / "sweep.csv"))
+        bar = progress_bar if sys.stderr.isatty() else None
+        try:
+            rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+        except UsageError:  # every run refused (a setting too stiff for the step): the plan it
+            # wrote would refuse the corrected command as another sweep
+            if not planned_before and not read_table(out / "sweep.csv"):
+                plan_file.unlink(missing_ok=True)
+            raise
+        except (KeyboardInterrupt, Interrupted):
+            done = len(read_table(out / "sweep.csv"))
+            kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
+                    f"no run had finished, so {out / 'sweep.csv'} was not begun")  # fmt: skip
+            print(f"legdsl: sweep interrupted: {kept}; the same command again runs the other "
+                  f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
+            raise
+        metric = args.plot or "speed_error"
+        units = {**base["units"], **METRIC_UNITS}
+        picture = out / "sweep.png"
 
-    def draw() -> None:
-        with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
-            plot_sweep(rows, [a.name for a in axes][:2], metric, drawn, units)
+        def draw() -> None:
+            with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
+                plot_sweep(rows, [a.name for a in axes], metric, drawn, units)
 
-    not_drawn = drawn_if_room("draw the heat map", draw)
-    fell = sum(1 for r in rows if r["outcome"] != "ok")
-    resumed = f", {before} of them from before" if before else ""
-    wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
-    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
-    lock.close()
-    if not_drawn:  # the table is whole; the same command again draws the map from it
-        print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
-              "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
-        return 2  # as for any out-of-memory line
-    return 0
+        try:
+            _parquet(rows, out / "sweep.parquet")
+            not_drawn = drawn_if_room("draw the heat map", draw)
+        except (KeyboardInterrupt, Interrupted):  # it said only "interrupted"
+            print(f"legdsl: sweep interrupted as it drew its heat map: its {len(rows)} rows "
+                  f"are whole in {out / 'sweep.csv'}; the same command again draws {picture} "
+                  "without a run", file=sys.stderr)  # fmt: skip
+            raise
+        if not not_drawn:
+            _say_unmeasured(rows, metric, args, controller, picture)
+        fell = sum(1 for r in rows if r["outcome"] != "ok")
+        resumed = f", {before} of them from before" if before else ""
+        wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
+        print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
+        if not_drawn:  # the table is whole; the same command again draws the map from it
+            print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
+                  "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
+            return 2  # as for any out-of-memory line
+        return 0
+    finally:  # an API caller may sweep into the same --out again in this process
+        lock.close()
+
+
+def _say_unmeasured(
+    rows: list[dict[str, Any]],
+    metric: str,
+    args: argparse.Namespace,
+    controller: Any,
+    picture: Path,
+) -> None:
+    """A note where no run measured the metric drawn: the picture has nothing to colour (a
+    controller whose command is not called 'speed' drew an empty map, and said nothing)."""
+    if any(math.isfinite(_number(r.get(metric))) for r in rows):
+        return
+    if metric == "speed_error" and "speed" not in {c.name for c in controller.inputs}:
+        why = (f"controller '{args.controller}' has no input 'speed', the command the error is "
+               "measured from (docs/controllers.md); draw another metric, --plot running_speed")  # fmt: skip
+    elif all(r["outcome"] != "ok" for r in rows):
+        why = "every run fell or diverged"
+    else:
+        why = f"no run has a whole stride from --from {args.t_from:g} s to its end"
+    print(f"legdsl: note: no run measured {metric}, so {picture} shows none: {why}",
+          file=sys.stderr)  # fmt: skip
+
+
+def _number(value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+# the plan's parts as the command gives them, to say which differ from the one in OUT
+_PLAN_WORDS = {
+    "file": "the .leg file", "controller": "--controller", "time": "--time", "from": "--from",
+    "set": "--set", "runs": "the swept values (--grid, --random, --lhs, --samples, --seed)",
+    "creature_digest": "creature (the .leg file changed)",
+    "controller_digest": "controller (or its file changed)",
+    "simulation": "simulation block (its step)",
+}  # fmt: skip
+
+
+def _plan_differs(before: object, plan: dict[str, Any]) -> str:
+    """What differs between the plan in OUT's sweep.json and this sweep's, in words."""
+    if not isinstance(before, dict):
+        return "its sweep.json is damaged"
+    other = [_PLAN_WORDS.get(k, k) for k in plan if before.get(k) != plan[k]]
+    return f"with other {', '.join(other)}" if other else "its sweep.json differs"
 
 
 def _parquet(rows: list[dict[str, Any]], path: Path) -> None:

@@ -114,79 +114,82 @@ def cmd_tune(args: argparse.Namespace) -> int:
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
-    units = units_of({b.name: params[b.name].dim for b in bounds})
-    pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
-    base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
-               values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
-               generated=args.generated, keep=None,
-               groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
-    from legdsl.api import load
+    try:
+        units = units_of({b.name: params[b.name].dim for b in bounds})
+        pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
+        base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
+                   values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
+                   generated=args.generated, keep=None,
+                   groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
+        from legdsl.api import load
 
-    load(source, args.creature, args.generated).session.control(args.controller)  # compile once
-    objective = Objective(
-        speeds,
-        args.time,
-        args.t_from,
-        args.table2,
-        args.table2_weight,
-        args.energy_weight,
-        args.spread_weight,
-        args.pitch_weight,
-    )
-    plan = {"creature": creature_fingerprint(model),
-            "controller": controller_fingerprint(model, controller), "bounds": bounds,
-            "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
-    journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
-    if journal.set_aside:  # the user may have meant to go on from it: say why not
-        print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
-              "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
-    with _Stops(out).installed() as stops:
-        try:
-            result = tune(
-                base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-                dask=args.dask, journal=journal,
-            )  # fmt: skip
-        except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
-            lock.close()
-            Path(lock.name).unlink(missing_ok=True)
-            if made and not any(out.iterdir()):
-                out.rmdir()
-            print("legdsl: tune: stopped before the file's own values were measured: nothing "
-                  f"written to {out}", file=sys.stderr)  # fmt: skip
-            raise
-        stops.searching = False  # from here on a signal waits for the three files
-        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
-        dump(result, out / "tune.json")
-        not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
-            "draw the convergence plot",
-            lambda: plot_history(result["history"], out / "tune.png", result["start"]["objective"]),
+        load(source, args.creature, args.generated).session.control(args.controller)  # compile once
+        objective = Objective(
+            speeds,
+            args.time,
+            args.t_from,
+            args.table2,
+            args.table2_weight,
+            args.energy_weight,
+            args.spread_weight,
+            args.pitch_weight,
         )
-        if result["ended"] == "finished":
-            journal.remove()
-    print(report(result, units, bounds))
-    _say_between(result.get("between", []))
-    _say_longer(result, objective)
-    _say_deaf(result["best"]["runs"])
-    runs = len(speeds) + sum(h["runs"] for h in result["history"])
-    runs += len(result.get("between", [])) + len(result.get("longer", []))
-    done = len(result["history"])
-    generations = "1 generation" if done == 1 else f"{done} generations"
-    kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
-    plot = "" if not_drawn else f", {out / 'tune.png'}"
-    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}{plot}{kept}")
-    if not_drawn:
-        print(f"legdsl: tune: tune.png not drawn: {not_drawn}", file=sys.stderr)
-    if result["ended"] == "interrupted":
-        raise KeyboardInterrupt  # the command's status, now that its results are written
-    if result["ended"] == "terminated":
-        raise Interrupted(result.get("signal", "SIGTERM"))
-    if stops.late:  # it came as the files were written, the tune done: they are whole
-        print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
-              file=sys.stderr)  # fmt: skip
-        if stops.late[0] == "SIGINT":
-            raise KeyboardInterrupt
-        raise Interrupted(stops.late[0])
-    return 2 if not_drawn else 0  # 2 as for any out-of-memory line
+        plan = {"creature": creature_fingerprint(model),
+                "controller": controller_fingerprint(model, controller), "bounds": bounds,
+                "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
+        journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
+        if journal.set_aside:  # the user may have meant to go on from it: say why not
+            print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
+                  "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
+        with _Stops(out).installed() as stops:
+            try:
+                result = tune(
+                    base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+                    dask=args.dask, journal=journal,
+                )  # fmt: skip
+            except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+                lock.close()
+                Path(lock.name).unlink(missing_ok=True)
+                if made and not any(out.iterdir()):
+                    out.rmdir()
+                print("legdsl: tune: stopped before the file's own values were measured: nothing "
+                      f"written to {out}", file=sys.stderr)  # fmt: skip
+                raise
+            stops.searching = False  # from here on a signal waits for the three files
+            tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+            dump(result, out / "tune.json")
+            not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
+                "draw the convergence plot",
+                lambda: plot_history(
+                    result["history"], out / "tune.png", result["start"]["objective"]
+                ),
+            )
+        print(report(result, units, bounds))
+        _say_between(result.get("between", []), _say_fell(result["best"]["runs"]))
+        _say_longer(result, objective)
+        _say_deaf(result["best"]["runs"])
+        runs = len(speeds) + sum(h["runs"] for h in result["history"])
+        runs += len(result.get("between", [])) + len(result.get("longer", []))
+        done = len(result["history"])
+        generations = "1 generation" if done == 1 else f"{done} generations"
+        kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
+        plot = "" if not_drawn else f", {out / 'tune.png'}"
+        print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}{plot}{kept}")
+        if not_drawn:
+            print(f"legdsl: tune: tune.png not drawn: {not_drawn}", file=sys.stderr)
+        if result["ended"] == "interrupted":
+            raise KeyboardInterrupt  # the command's status, now that its results are written
+        if result["ended"] == "terminated":
+            raise Interrupted(result.get("signal", "SIGTERM"))
+        if stops.late:  # it came as the files were written, the tune done: they are whole
+            print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
+                  file=sys.stderr)  # fmt: skip
+            if stops.late[0] == "SIGINT":
+                raise KeyboardInterrupt
+            raise Interrupted(stops.late[0])
+        return 2 if not_drawn else 0  # 2 as for any out-of-memory line
+    finally:  # an API caller may tune into the same --out again in this process
+        lock.close()
 
 
 class _Stops:
@@ -233,16 +236,32 @@ class _Stops:
                 signal.signal(sig, before)
 
 
-def _say_between(rows: list[dict[str, Any]]) -> None:
+def _say_between(rows: list[dict[str, Any]], tuned_fell: bool) -> None:
     if not rows:
         return
     print("running speed (m/s) between the tuned speeds (not scored)")
     for row in rows:
-        print(f"  at {row['speed']:<6.4g}    {tune_speed(row):<20} pitch {tune_pitch(row)} deg")
+        pitch = tune_pitch(row)
+        print(f"  at {row['speed']:<6.4g}    {tune_speed(row):<20} pitch {pitch}"
+              + ("" if pitch == "n/a" else " deg"))  # fmt: skip
     fell = [f"{row['speed']:.4g}" for row in rows if row["outcome"] != "ok"]
-    if fell:
+    if fell and not tuned_fell:  # where the tuned speeds fall too, more speeds would not help
         print(f"legdsl: note: the tuned values did not last at {', '.join(fell)} m/s, between "
               "the tuned speeds: add speeds there to --speeds and tune again", file=sys.stderr)  # fmt: skip
+
+
+def _say_fell(rows: list[dict[str, Any]]) -> bool:
+    """A note where the tuned values still fall at a tuned speed (a tune whose every candidate
+    fell wrote its file and said only that the runs between the speeds fell); whether any did."""
+    fell = [row for row in rows if row["outcome"] != "ok"]
+    if fell:
+        at = ", ".join(f"{float(row['speed']):g}" for row in fell)
+        how = "; ".join(str(row["outcome"]) for row in fell)
+        print(f"legdsl: note: the tuned values do not last at {at} m/s ({how}), nor does the "
+              "tuned file: widen the --param bounds, tune other parameters or more "
+              "--generations, or see how the creature fails with legdsl run",
+              file=sys.stderr)  # fmt: skip
+    return bool(fell)
 
 
 def _say_longer(result: dict[str, Any], objective: Objective) -> None:

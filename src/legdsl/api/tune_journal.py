@@ -7,7 +7,9 @@ its best. CMA-ES is deterministic given its seed, so telling a fresh search the 
 objectives (``ask``, then ``tell``, without a run) brings it to the state of the stopped one,
 bit for bit, and the tune goes on as if it had never stopped. A candidate that does not come
 out as recorded (another version of cma) discards the generations, and the search starts
-again from the start's runs. The journal is removed when a tune finishes.
+again from the start's runs. The journal is kept when a tune finishes: the same command
+again comes to the same result without a candidate's run, and one with ``--generations``
+raised goes on from its end (a finished tune's journal was removed, and both started afresh).
 """
 
 from __future__ import annotations
@@ -70,9 +72,6 @@ class Journal:
     def save(self) -> None:
         data = {"plan": self.plan, "start": self.start, "generations": self.generations}
         write_atomic(self.path, json.dumps(data, default=float) + "\n")
-
-    def remove(self) -> None:
-        self.path.unlink(missing_ok=True)
 
 
 def _runs(rows: object) -> bool:

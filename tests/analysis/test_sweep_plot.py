@@ -1,0 +1,69 @@
+"""The sweep's picture: a panel per value of a third swept name, falls marked everywhere."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from matplotlib.figure import Figure
+
+from legdsl.analysis.sweep_plot import MOST_PANELS, plot_sweep
+
+
+@pytest.fixture
+def drawn(monkeypatch: pytest.MonkeyPatch) -> list[Figure]:
+    """The figures plot_sweep saves (it closes them after)."""
+    figures: list[Figure] = []
+    save = Figure.savefig
+
+    def keep(self: Figure, *args: object, **kwargs: object) -> None:
+        figures.append(self)
+        save(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    return figures
+
+
+def crosses(ax: object) -> list[tuple[float, float]]:
+    """The red crosses drawn on ``ax`` (the runs that fell)."""
+    out = []
+    for line in ax.get_lines():  # type: ignore[attr-defined]
+        if line.get_marker() == "x":
+            out += list(zip(line.get_xdata(), line.get_ydata(), strict=True))
+    return out
+
+
+def row(outcome: str = "ok", **values: float) -> dict[str, object]:
+    metric = sum(values.values()) if outcome == "ok" else math.nan
+    return {**values, "outcome": outcome, "speed_error": metric}
+
+
+def test_a_third_swept_name_gets_a_panel_per_value(tmp_path: Path, drawn: list[Figure]) -> None:
+    """Drawn over the first two names alone, the runs at kp 200 hid those at kp 100 (one dot
+    a cell), and a fall at one of them had no cross."""
+    rows = [
+        row(speed=s, k_speed=k, kp=p) for s in (0.5, 1) for k in (0.02, 0.1) for p in (100, 200)
+    ]
+    rows[-1] = row("fell at 2.000 s", speed=1, k_speed=0.1, kp=200)
+    plot_sweep(rows, ["speed", "k_speed", "kp"], "speed_error", tmp_path / "s.png", {"kp": "N"})
+    panels = [ax for ax in drawn[0].axes if ax.get_title()]
+    assert [ax.get_title() for ax in panels] == ["kp = 100 N", "kp = 200 N"]
+    assert crosses(panels[0]) == [] and crosses(panels[1]) == [(1.0, 0.1)]
+
+
+def test_too_many_panels_are_one_that_says_so(tmp_path: Path, drawn: list[Figure]) -> None:
+    rows = [row(a=a, b=b, c=c) for a in (1, 2) for b in (1, 2) for c in range(MOST_PANELS + 1)]
+    plot_sweep(rows, ["a", "b", "c"], "speed_error", tmp_path / "s.png")
+    assert drawn[0].get_suptitle().endswith("; c varies among the dots")
+
+
+def test_falls_are_crosses_in_draws_and_lines(tmp_path: Path, drawn: list[Figure]) -> None:
+    """Random draws marked no fall; in the lines, a run that fell had no metric to stand at,
+    and a sweep where every run fell was an empty picture."""
+    draws = [row(a=0.1, b=0.2), row(a=0.3, b=0.9), row("fell at 1.000 s", a=0.7, b=0.4)]
+    plot_sweep(draws, ["a", "b"], "speed_error", tmp_path / "d.png")
+    assert crosses(drawn[0].axes[0]) == [(0.7, 0.4)]
+    fell = [row("fell at 1.000 s", speed=s) for s in (0.5, 1.0)]
+    plot_sweep(fell, ["speed"], "speed_error", tmp_path / "l.png")
+    assert [x for x, _ in crosses(drawn[1].axes[0])] == [0.5, 1.0]
