@@ -16,13 +16,35 @@ import pickle
 import signal
 import sys
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import Connection
 from typing import Any
 
 from legdsl.signals import signals_held, unblock_stopping
 
 Work = Callable[[Any], bytes]  # an item's result, pickled (what crosses the pipe)
+
+
+@contextlib.contextmanager
+def _main_not_imported(forked: bool) -> Iterator[None]:
+    """A spawned process imports this one's ``__main__`` again (as ``__mp_main__``), by its
+    file or module name, to find what it is given by name; a script without an ``if __name__
+    == "__main__"`` guard then ran again whole in it (its prints, its runs) when a thread of its
+    own made legdsl spawn. The work given is legdsl's own, so the main module is left out: its
+    name and file are hidden while the process starts."""
+    main = sys.modules.get("__main__")
+    if forked or main is None:
+        yield
+        return
+    saved = {k: getattr(main, k) for k in ("__spec__", "__file__") if hasattr(main, k)}
+    main.__spec__ = None
+    if "__file__" in saved:
+        del main.__file__
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            setattr(main, name, value)
 
 
 class Forked:
@@ -54,7 +76,7 @@ class Forked:
                     args=(work, items[first::processes], writing, others),
                     daemon=True,
                 )
-                with signals_held():
+                with signals_held(), _main_not_imported(forked):
                     process.start()
                     self._processes.append(process)  # before a Ctrl-C held back comes
                     self._pipes.append(reading)
