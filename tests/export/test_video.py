@@ -84,6 +84,23 @@ def test_mp4_without_ffmpeg_says_how_to_install_it(
         render_video(quadruped, tmp_path / "q.avi")
 
 
+def test_an_ffmpeg_that_fails_is_told_as_ffmpegs_trouble(
+    kangaroo: Motion, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """An ffmpeg that cannot start (a missing shared library) was legdsl's internal error."""
+    broken = tmp_path / "bin" / "ffmpeg"
+    broken.parent.mkdir()
+    broken.write_text(
+        '#!/bin/sh\necho "ffmpeg: error while loading shared libraries" >&2\nexit 127\n'
+    )
+    broken.chmod(0o755)
+    monkeypatch.setattr("legdsl.export.video.shutil.which", lambda name: str(broken))
+    with pytest.raises(UsageError, match=r"failed with exit status 127 \(it said: ffmpeg: error "
+                       r"while loading shared libraries\); check that it runs"):  # fmt: skip
+        render_video(kangaroo, tmp_path / "k.mp4", fps=10, size=(160, 96))
+    assert not (tmp_path / "k.mp4").exists()
+
+
 def test_a_force_arrow_longer_than_the_frame_is_clipped_not_dropped(kangaroo: Motion) -> None:
     """The side view's ground-force arrow stays drawn, its head at the frame's edge."""
     import dataclasses

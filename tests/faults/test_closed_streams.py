@@ -74,3 +74,12 @@ def test_an_output_to_a_stream_open_only_to_read_says_so(run: Path, tmp_path: Pa
         "legdsl: cannot write /dev/stdin: the stream it names is not open for writing; give a file"
     )
     assert (tmp_path / "notes.txt").read_text() == "mine\n"
+
+
+def test_an_export_to_dash_with_standard_output_closed_is_refused(tmp_path: Path) -> None:
+    """``legdsl export FILE -o - >&-`` was an internal error (sys.stdout is None)."""
+    proc = _legdsl("export", str(ROOT / "creatures" / "hopper.leg"), "--format", "mjcf", "-o",
+                   "-", cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                   preexec_fn=lambda: os.close(1))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "-o -: this command was started with standard output closed (>&-)" in proc.stderr

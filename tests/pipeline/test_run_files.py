@@ -79,3 +79,19 @@ def test_a_new_run_removes_what_was_drawn_from_the_old(
     argv = ["run", str(leg), "--time", "0.5s", "--out", str(run), "--generated", str(generated)]
     assert main(argv) == 0
     assert {p.name for p in run.iterdir()} == set(RUN_FILES)
+
+
+def test_a_run_into_a_folder_of_the_users_own_files_keeps_them(
+    hopper: tuple[Path, Path], generated: Path, tmp_path: Path
+) -> None:
+    """A folder that held no run: its figure6.png, animation.html and metrics.json are the
+    user's own, not drawn from a run before (they were removed without a word)."""
+    leg, _ = hopper
+    project = tmp_path / "project"
+    project.mkdir()
+    for name in DERIVED_FILES:
+        (project / name).write_text(f"the user's {name}")
+    argv = ["run", str(leg), "--time", "0.2s", "--out", str(project), "--generated", str(generated)]
+    assert main(argv) == 0
+    for name in DERIVED_FILES:
+        assert (project / name).read_text() == f"the user's {name}"

@@ -175,6 +175,25 @@ def test_a_compiler_killed_out_of_memory_is_not_an_internal_error(
     assert f"{cc} was killed (SIGKILL) building the C of hopper-hop, most likely out" in err, err
 
 
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_short_of_memory_is_told_as_a_limit(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """cc1 out of memory (ulimit -v), or killed by SIGXFSZ (ulimit -f): it was "the C compiler
+    refused the C legdsl generated ... (a bug in legdsl)", and exit 70 with --backend c."""
+    cc = _script(
+        tmp_path, "cc", 'for a in "$@"; do case "$a" in *dynamics.c) ulimit -v 30000;; esac; done\n'
+        'exec gcc "$@"\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    err = _falls_back(tmp_path, capsys)
+    assert f"{cc} died building the C of hopper-hop (" in err, err  # what cc1 said of it
+    assert "(ulimit -f) or memory (ulimit -v)" in err and "bug" not in err
+
+
 def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

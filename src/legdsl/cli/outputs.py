@@ -84,6 +84,9 @@ def cmd_export(args: argparse.Namespace) -> int:
         read_numeric,
     )
 
+    if args.output == "-" and sys.stdout is None:  # started with >&-: an AttributeError
+        raise UsageError("-o -: this command was started with standard output closed (>&-), "
+                         "so nothing can be written there; give a file, or leave it open")  # fmt: skip
     if args.output not in (None, "-"):
         check_output_file(args.output, "-o")
         not_an_input(args.output, "-o", [Path(args.file)])

@@ -156,8 +156,12 @@ def _write_mp4(
             f"ffmpeg ran out of memory encoding the video (it said: {said}): raise the memory limit "
             "(ulimit -v), which ffmpeg shares, and run again"
         )
-    if code != 0:
-        raise RuntimeError(f"ffmpeg failed (exit {proc.returncode}): {error.strip()}")
+    if code != 0:  # ffmpeg's own trouble (a missing library, a broken install): not legdsl's
+        said = (error.strip().splitlines() or ["nothing"])[-1][-300:]
+        raise UsageError(
+            f"ffmpeg ({ffmpeg_exe()}) failed with exit status {code} (it said: "
+            f"{said}); check that it runs (ffmpeg -version), or render a .gif, which needs none"
+        )
 
 
 # ffmpeg's and its encoders' words for an allocation refused (under ulimit -v, inherited)

@@ -505,7 +505,8 @@ class Run:
             for name in RUN_FILES:  # temporary files of a run killed while writing here
                 for leftover in leftovers(out, name):
                     remove(leftover)
-            for name in DERIVED_FILES:  # drawn from an earlier run here: stale beside this one
+            held_a_run = any((out / name).exists() for name in RUN_FILES)  # else: the user's
+            for name in DERIVED_FILES if held_a_run else ():  # drawn from the run before
                 if (out / name).is_file():
                     remove(out / name)
             write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")

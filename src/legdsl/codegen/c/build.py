@@ -483,7 +483,31 @@ def _check(code: int, command: list[str], stderr: str, name: str, compiler: Comp
             f"{compiler.path} was killed (SIGKILL) building the C of {name}, most likely out "
             "of memory; close other programs and run again"
         )
+    died = _died_of_a_limit(code, stderr)
+    if died is not None:  # cc1 killed by SIGXFSZ or SIGSEGV for want of memory: not our C
+        raise CompilerUnusable(
+            f"{compiler.path} died building the C of {name} ({died}): a limit of this process "
+            "more likely than the C, a file size (ulimit -f) or memory (ulimit -v) one; raise "
+            "it and run again"
+        )
     if code != 0:
         raise BuildFailed(
             f"{compiler.path} failed on the C of {name} ({' '.join(command)}):\n" + stderr[-4000:]
         )
+
+
+# what a compiler says when a pass of it dies of a limit (gcc, clang), lower case
+_DIED = ("internal compiler error", "virtual memory exhausted", "out of memory",
+         "cannot allocate memory", "file size limit exceeded", "terminated signal",
+         "killed signal", "terminated with signal")  # fmt: skip
+
+
+def _died_of_a_limit(code: int, stderr: str) -> str | None:
+    """The compiler's line saying it (or a pass of it) died of a signal or short of memory,
+    or the signal that ended it; None when it only refused the C."""
+    if code < 0:
+        return f"ended by signal {-code}, {signal.strsignal(-code)}"
+    if code == 0:
+        return None
+    return next((line.strip()[:200] for line in stderr.splitlines()
+                 if any(words in line.lower() for words in _DIED)), None)  # fmt: skip
