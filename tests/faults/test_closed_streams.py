@@ -83,3 +83,19 @@ def test_an_export_to_dash_with_standard_output_closed_is_refused(tmp_path: Path
                    preexec_fn=lambda: os.close(1))  # fmt: skip
     assert proc.returncode == 2, proc.stderr
     assert "-o -: this command was started with standard output closed (>&-)" in proc.stderr
+
+
+def test_a_compile_whose_messages_cannot_be_read_still_compiles(tmp_path: Path) -> None:
+    """``legdsl compile FILE 2>&1 | head -1``: the second message met a closed pipe and the
+    compile stopped there, exit 1, nothing written. A message lost does not stop the work."""
+    import shutil
+
+    shutil.copy(ROOT / "creatures" / "hopper.leg", tmp_path / "hopper.leg")
+    proc = subprocess.Popen([sys.executable, "-m", "legdsl", "compile", "hopper.leg"],
+                            cwd=tmp_path, env=ENV, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE)  # fmt: skip
+    assert proc.stderr is not None
+    proc.stderr.readline()  # the first line, then the reader leaves
+    proc.stderr.close()
+    assert proc.wait(timeout=120) == 0
+    assert (tmp_path / "generated" / "hopper" / "dynamics.py").is_file()

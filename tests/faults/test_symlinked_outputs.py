@@ -87,3 +87,21 @@ def test_export_to_dev_stdout_sent_to_a_file(tmp_path: Path) -> None:
     text = out.read_text()
     assert text.startswith('<mujoco model="hopper">') and text.endswith("</mujoco>\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["redirected", "stdout.xml"]
+
+
+@pytest.mark.parametrize("name", ["dangling", "loop/run"])
+def test_an_out_through_a_dangling_or_looping_link_is_refused_before_the_run(
+    tmp_path: Path, name: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It was refused after the run ("cannot write the run directory dangling: File exists"),
+    the run lost; docs/runtime.md: an --out that cannot be written is refused first."""
+    from legdsl.cli import main
+
+    (tmp_path / "dangling").symlink_to(tmp_path / "nowhere")
+    (tmp_path / "loop").symlink_to(tmp_path / "loop")
+    hopper = Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg"
+    generated = tmp_path / "generated"
+    argv = ["run", str(hopper), "--time", "0.1", "--generated", str(generated)]
+    assert main([*argv, "--out", str(tmp_path / name)]) == 2
+    assert "is a symbolic link to " in capsys.readouterr().err
+    assert not generated.exists()  # refused before anything was compiled

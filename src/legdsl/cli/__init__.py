@@ -32,6 +32,7 @@ from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
     TERM_UNWINDS,
     THREAD_REFUSED,
+    QuietErrors,
     QuietWhenClosed,
     a_library_failed,
     cannot_import,
@@ -411,11 +412,13 @@ def main(argv: Sequence[str] | None = None, process_ends: bool = False) -> int:
             file=sys.stderr,
         )
         return EXIT_USER_ERROR
-    stdout = sys.stdout
+    stdout, stderr = sys.stdout, sys.stderr
     if stdout is None:  # started with standard output closed: print() writes nothing
         return _main(argv, process_ends)
     quiet = QuietWhenClosed(stdout)
     sys.stdout = cast(TextIO, quiet)
+    if stderr is not None:
+        sys.stderr = cast(TextIO, QuietErrors(stderr))
     try:
         try:
             status = _main(argv, process_ends)
@@ -425,7 +428,7 @@ def main(argv: Sequence[str] | None = None, process_ends: bool = False) -> int:
         print(f"legdsl: {os_refusal(e)}", file=sys.stderr)
         return EXIT_USER_ERROR
     finally:
-        sys.stdout = stdout
+        sys.stdout, sys.stderr = stdout, stderr
     return status
 
 

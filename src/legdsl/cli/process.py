@@ -135,6 +135,27 @@ class QuietWhenClosed:
         return getattr(self._stream, name)
 
 
+class QuietErrors(QuietWhenClosed):
+    """Standard error that goes quiet when it cannot be written (``legdsl compile 2>&1 | head
+    -1``, ``2>/dev/full``): a message lost is no reason to stop the work (the compile stopped
+    at its second line with a Broken pipe, exit 1, and wrote nothing)."""
+
+    def write(self, text: str) -> int:
+        if not self.reader_left:
+            try:
+                return self._stream.write(text)
+            except OSError:
+                self._left()
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.reader_left:
+            try:
+                self._stream.flush()
+            except OSError:
+                self._left()
+
+
 # Readers that write one output through a temporary file and, for a video, an ffmpeg, and the
 # commands with worker processes: SIGTERM unwinds them as Ctrl-C does (the temporary file
 # removed, ffmpeg and the workers stopped, a tune's best so far written), where Python's

@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import math
 import numbers
+import os
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -222,6 +223,11 @@ def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = Non
         raise UsageError(f"{given}: this is a file, not a directory; give a directory")
     probe = path
     while not probe.exists():
+        if probe.is_symlink():  # dangling, or a loop: nothing can be made there (said after a run)
+            raise UsageError(
+                f"{given}: {probe} is a symbolic link to {os.readlink(probe)}, which does not "
+                "exist (or leads back to itself); make what it points to, or give another directory"
+            )
         if probe.parent == probe:
             break
         probe = probe.parent
