@@ -95,3 +95,26 @@ def test_a_run_into_a_folder_of_the_users_own_files_keeps_them(
     assert main(argv) == 0
     for name in DERIVED_FILES:
         assert (project / name).read_text() == f"the user's {name}"
+
+
+def test_metrics_of_a_run_in_a_read_only_folder_are_printed(
+    hopper: tuple[Path, Path],
+    generated: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A run folder on a read-only disk: the measurement was lost ("cannot write
+    metrics.json", nothing printed, exit 2); it is printed, and the file said not written."""
+    import errno
+
+    from legdsl.pipeline import measure
+
+    def refused(*_: object) -> None:
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(measure, "write_json", refused)
+    _, run = hopper
+    assert main(["metrics", str(run), "--from", "0.1", "--generated", str(generated)]) == 0
+    said = capsys.readouterr()
+    assert said.out.startswith("gait metrics from 0.100 s")
+    assert f"{run / 'metrics.json'} not written (Read-only file system)" in said.err

@@ -104,6 +104,7 @@ class GaitMetrics:
     note: str = ""  # why there are no strides, when there are none
     options: dict[str, Any] = field(default_factory=dict)
     scuff_note: str = ""  # touchdowns that look like scuffs, when no min_stance was given
+    unwritten: str = ""  # why metrics.json could not be written (a read-only run folder)
 
     @property
     def n_strides(self) -> int:

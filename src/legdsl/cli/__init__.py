@@ -119,7 +119,7 @@ def _cmd_metrics(args: argparse.Namespace) -> int:
         print(f"legdsl metrics: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     segments = run_segments(args.dir)
-    for note in (unmeasured_without_source(args.dir), metrics.scuff_note):
+    for note in (unmeasured_without_source(args.dir), metrics.scuff_note, metrics.unwritten):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:

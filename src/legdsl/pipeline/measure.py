@@ -92,8 +92,9 @@ def measure_run(
     metrics.summaries += terrain_rows(run, trajectory, t_from, t_to, Path(generated))
     try:
         write_json(metrics, run / "metrics.json")
-    except OSError as e:
-        raise UsageError(f"cannot write {run / 'metrics.json'}: {e.strerror or e}") from None
+    except OSError as e:  # the measurement stands: it was refused, with nothing printed
+        metrics.unwritten = (f"{run / 'metrics.json'} not written ({e.strerror or e}): the "
+                             "metrics are only printed")  # fmt: skip
     followed = run_followed(run)
     reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to)]
     return metrics, reports
