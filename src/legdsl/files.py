@@ -359,6 +359,14 @@ def writing_alone(directory: Path) -> Iterator[None]:
         os.close(fd)
 
 
+def file_sha256(path: Path) -> str | None:
+    """The SHA-256 of ``path``'s bytes, in hex; None if it cannot be read."""
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
 def write_atomic(path: str | Path, data: str | bytes) -> None:
     """Write ``data`` (text as UTF-8 with ``\\n`` line ends, or bytes) to ``path`` whole."""
     if not isinstance(data, str | bytes):

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import CREATURES
+from conftest import CREATURES, GENERATED
 from runtime_helpers import assert_same
 
 import legdsl.check.source
@@ -271,3 +271,19 @@ def test_a_run_that_falls_says_where_its_controller_was(generated: Path) -> None
     assert row is not None and row[1] == last["state"] and float(row[2]) == round(last["t"], 3)
     held = sess.run("bound", ["speed=2m/s"], options=RunOptions(duration=0.5))
     assert held.result.status == "ok" and "state at the end" not in held.summary()
+
+
+def test_run_json_hashes_the_file_as_it_was_checked(tmp_path: Path) -> None:
+    """A .leg file saved while its run went on: run.json named the edited file's hash beside
+    the fingerprint of the creature actually run."""
+    import hashlib
+    import shutil
+
+    leg = tmp_path / "hopper.leg"
+    shutil.copy(CREATURES / "hopper.leg", leg)
+    checked = hashlib.sha256(leg.read_bytes()).hexdigest()
+    session = RunSession.from_file(leg, generated=GENERATED)
+    run = session.run("hop", options=RunOptions(0.05))
+    leg.write_text(leg.read_text() + "\n# saved during the run\n")
+    info = json.loads((run.write(tmp_path / "run") / "run.json").read_text())
+    assert info["source_sha256"] == checked

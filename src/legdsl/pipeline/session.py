@@ -15,7 +15,6 @@ path reports of a run that followed paths.
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
 from collections.abc import Callable, Iterable, Sequence
@@ -27,7 +26,7 @@ from typing import Any
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.fingerprints import creature_fingerprint
-from legdsl.files import leftovers, remove, write_atomic, writing_alone
+from legdsl.files import file_sha256, leftovers, remove, write_atomic, writing_alone
 from legdsl.ir.model import Model, Pad, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -91,8 +90,9 @@ class RunSession:
         self.generated = Path(generated)
         self.syntax = syntax
         self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
-        # without a log, where the notes and warnings about a run go (the API's warnings)
-        self.note: Callable[[str], None] | None = None
+        self.note: Callable[[str], None] | None = None  # without a log: the API's warnings
+        # the file as checked (hashed after the run, it was one saved while the run went on)
+        self.source_sha256 = file_sha256(Path(model.source))
         self._controls: dict[str, ModuleType] = {}
         # diag(M^-1) at a start state: a batch's runs mostly share theirs (RunSession.run)
         self._inverse_inertia: dict[tuple[ModuleType, tuple[float, ...]], list[float]] = {}
@@ -249,7 +249,8 @@ class RunSession:
         controls = getattr(machine, "modules", {"": control}).values()
         self._check_stiffness(sim, controls, set(sorted_settings.actuators))
         shown = asked if scale is not None else options  # a scaled run reports the scaled
-        return Plan(self.model, sim, controller, shown, sorted_settings, machine, scale)
+        return Plan(self.model, sim, controller, shown, sorted_settings, machine, scale,
+                    self.source_sha256)  # fmt: skip
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is a mistake in the initial pose: the ground
@@ -379,13 +380,6 @@ def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) ->
     return {}
 
 
-def _file_sha256(path: Path) -> str | None:
-    try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError:
-        return None
-
-
 @dataclass
 class Plan:
     """A run set up and not yet simulated (``RunSession.prepare``)."""
@@ -397,6 +391,7 @@ class Plan:
     settings: Settings
     machine: StateMachine | SwitchingMachine | None
     scale: float | None = None
+    source_sha256: str | None = None  # the file's as checked (RunSession.source_sha256)
 
     def finish(
         self,
@@ -419,7 +414,7 @@ class Plan:
             followed = followed_paths(machine, result.sim_time, self.scale)
             reports = [r for _, r in followed_reports(result.trajectory, followed, None, None)]
         return Run(self.model, self.controller, self.options, settings or self.settings,
-                   machine, result, reports, self.scale)  # fmt: skip
+                   machine, result, reports, self.scale, self.source_sha256)  # fmt: skip
 
 
 @dataclass
@@ -434,6 +429,7 @@ class Run:
     result: RunResult
     path_reports: list[dict[str, Any]] = field(default_factory=list)
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
+    source_sha256: str | None = None  # the file's as checked, else read when run.json is made
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
@@ -467,7 +463,7 @@ class Run:
             "source": self.model.source,
             "creature": self.model.name,
             # what the run was made from: the commands that read it refuse another creature
-            "source_sha256": _file_sha256(Path(self.model.source)),
+            "source_sha256": self.source_sha256 or file_sha256(Path(self.model.source)),
             "creature_fingerprint": creature_fingerprint(self.model),
             **_controller_fingerprints(self.machine),
             "options": asdict(self.options),
