@@ -194,6 +194,30 @@ def test_a_compiler_short_of_memory_is_told_as_a_limit(
     assert "(ulimit -f) or memory (ulimit -v)" in err and "bug" not in err
 
 
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_objects_a_broken_compiler_wrote_are_not_kept(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """A wrapper that once wrote garbage objects with exit 0: they were kept, and every build
+    after the compiler was mended linked them again and blamed legdsl, for good."""
+    broken = tmp_path / "BROKEN"
+    cc = _script(
+        tmp_path, "cc", f'if [ -f {broken} ]; then for a in "$@"; do case "$a" in *dynamics.c)\n'
+        '  for o in "$@"; do case "$o" in *.o) head -c 3000 /dev/urandom > "$o";; esac; done\n'
+        '  exit 0;; esac; done; fi\nexec gcc "$@"\n',
+    )  # fmt: skip
+    monkeypatch.setenv("LEGDSL_CC", cc)
+    broken.touch()
+    _falls_back(tmp_path, capsys)
+    broken.unlink()  # mended
+    for known in ("_LOADED", "_BY_STAT", "_TRUSTED"):
+        monkeypatch.setattr(c_library, known, {})
+    assert main(_run(tmp_path, "c")) == 0, capsys.readouterr().err
+
+
 def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

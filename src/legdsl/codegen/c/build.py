@@ -349,12 +349,16 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             codes = [process.returncode for process in started]
             for command, code, err in zip(commands, codes, errors, strict=True):
                 _check(code, command, err, name, compiler)
-            for unit in compiled:
-                keep_object(Path(work) / f"{unit}.o", kept[unit])
+            for unit in compiled:  # an object that is none (a wrapper's, exit 0) is not kept
+                if _is_elf(Path(work) / f"{unit}.o"):
+                    keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
             linker = _start(command, compiler, work, started)
             err = linker.communicate()[1]
+            if linker.returncode != 0:  # the kept objects may be why: built again next time
+                for unit in set(UNITS) - set(compiled):
+                    kept[unit].unlink(missing_ok=True)
             _check(linker.returncode, command, err, name, compiler)
             if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
                 _check(1, command, "it wrote no shared library", name, compiler)
