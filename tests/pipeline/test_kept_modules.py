@@ -118,6 +118,23 @@ def test_a_damaged_entry_is_compiled_again_and_kept_whole(
     assert _tree(tmp_path / "second" / "hopper") == _tree(tmp_path / "first" / "hopper")
 
 
+def test_another_creatures_modules_in_an_entry_are_compiled_anew(
+    own_cache: Path, hopper: Path, tmp_path: Path
+) -> None:
+    """An entry holding another creature's modules, sealed (copied over by hand, a mix-up): they
+    were copied in at every run, found stale, and the run ended in an internal error."""
+    _load(hopper, tmp_path / "first")
+    (entry,) = (own_cache / cache.MODULES).glob("*.z")
+    whole = entry.read_bytes()
+    shutil.copy(CREATURES / "kangaroo.leg", hopper.with_name("kangaroo.leg"))
+    _load(hopper.with_name("kangaroo.leg"), tmp_path / "roo")
+    (other,) = set((own_cache / cache.MODULES).glob("*.z")) - {entry}
+    shutil.copy(other, entry)  # the kangaroo's, sealed, under the hopper's key
+    assert "; compiling" in _load(hopper, tmp_path / "second")
+    assert entry.read_bytes() == whole  # kept anew, the hopper's own
+    assert _tree(tmp_path / "second" / "hopper") == _tree(tmp_path / "first" / "hopper")
+
+
 def test_a_cache_in_a_file_only_compiles(
     tmp_path: Path, hopper: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -191,6 +191,8 @@ def _recompile(
     says how."""
     entry = kept_entry(model, source_label(model.source))
     files = kept_files(entry)
+    if files is not None and not _of_model(files, model):  # another creature's, put there
+        files = None  # (copied in again at every run, then an internal error): compiled anew
     if log is not None:
         copied = f"{source} was compiled before: its modules are copied from legdsl's cache"
         print(f"legdsl: {why}; {copied if files else f'compiling {source}'}", file=log)
@@ -223,6 +225,15 @@ def _dynamics_stamps(model: Model) -> dict[str, str]:
         "dynamics_some.c": f"model fingerprint {stamp} */",
         "dynamics.h": f'#define LEG_MODEL_FINGERPRINT "{stamp}"',
     }
+
+
+def _of_model(files: Sequence[tuple[str, str]], model: Model) -> bool:
+    """Whether kept ``files`` are this model's: its dynamics and controllers, stamped so."""
+    texts = dict(files)
+    stamps = _dynamics_stamps(model)
+    for c in model.controllers:
+        stamps |= _controller_stamps(model, c.name)
+    return all(line in texts.get(name, "") for name, line in stamps.items())
 
 
 def _controller_stamps(model: Model, controller: str) -> dict[str, str]:
