@@ -345,3 +345,29 @@ def test_legdsls_own_c_refused_runs_on_in_python_and_is_one_line_with_backend_c(
     assert main(_run(tmp_path, "c")) == 70
     err = capsys.readouterr().err
     assert said in err and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_library_under_another_controllers_name_is_built_again(tmp_path: Path) -> None:
+    """The pace's library copied over the trot's in the cache (a mix-up, its seal whole) was
+    loaded by its name: a 'trot' run that was neither, exit 0. Its stamps are checked now.
+    (Each run a process of its own: a process's loader keeps what it loaded by name.)"""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "LEGDSL_CACHE": str(tmp_path / "cache")}
+
+    def run(controller: str, out: str) -> bytes:
+        argv = ["run", str(CREATURES / "quadruped.leg"), "--controller", controller, "--time",
+                "0.1", "--backend", "c", "--generated", str(GENERATED), "--out", str(tmp_path / out)]  # fmt: skip
+        done = subprocess.run([sys.executable, "-m", "legdsl", *argv], env=env, capture_output=True)
+        assert done.returncode == 0, done.stderr
+        return (tmp_path / out / "trajectory.npz").read_bytes()
+
+    trot = run("trot", "trot")
+    run("pace", "pace")
+    (trot_lib,) = (tmp_path / "cache").glob("quadruped-trot-*.so")
+    (pace_lib,) = (tmp_path / "cache").glob("quadruped-pace-*.so")
+    shutil.copy(pace_lib, trot_lib)
+    assert run("trot", "again") == trot

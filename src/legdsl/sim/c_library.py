@@ -57,9 +57,9 @@ _STRUCTS: dict[bytes, type[ctypes.Structure]] = {}  # leg_sim's ctypes class, by
 class CLibrary:
     """A creature's loaded shared library and the ctypes twin of its ``leg_sim`` struct."""
 
-    def __init__(self, built: Built, model: Model):
+    def __init__(self, built: Built, model: Model, load_from: Path | None = None):
         self.built = built
-        self.lib = ctypes.CDLL(str(built.path))
+        self.lib = ctypes.CDLL(str(load_from or built.path))
         start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
         text = ctypes.cast(start, ctypes.c_char_p).value
         assert text is not None
@@ -82,7 +82,7 @@ class CLibrary:
         self.lib.leg_sizes(sizes)
         self.nq, self.nv, self.nb, self.nc = list(sizes)
         if (self.nq, self.nv, self.nc) != (model.nq, model.nv, len(model.contacts)):
-            raise RuntimeError(f"the C library of {model.name} is of another model")
+            raise NotThisLibrary(f"the C library of {model.name} is of another model")
         for name in ("leg_run", "leg_begin"):
             getattr(self.lib, name).restype = ctypes.c_int64
             getattr(self.lib, name).argtypes = [ctypes.POINTER(self.Sim)]
@@ -95,6 +95,35 @@ class CLibrary:
         ]  # fmt: skip
         # the controller's state machine runs in C (else the Python one, at each control instant)
         self.c_controller = bool(ctypes.c_int64.in_dll(self.lib, "leg_has_c_controller").value)
+
+
+class NotThisLibrary(RuntimeError):
+    """A library in the cache under these sources' name that was not built from them (put
+    there by hand, a mix-up): its stamps are another model's or controller's."""
+
+
+def _stamps_match(lib: ctypes.CDLL, files: dict[str, str]) -> bool:
+    """Whether the fingerprints ``lib`` carries are those its C sources print."""
+    for file, symbol in (("dynamics.c", "legdsl_model_fingerprint"),
+                         ("control.c", "legdsl_control_fingerprint")):  # fmt: skip
+        printed = re.search(rf'{symbol}\[\] = "(\w+)"', files.get(file, ""))
+        if printed is None:
+            continue
+        start = ctypes.addressof(ctypes.c_char.in_dll(lib, symbol))
+        if ctypes.cast(start, ctypes.c_char_p).value != printed.group(1).encode():
+            return False
+    return True
+
+
+def _loaded_afresh(built: Built, model: Model) -> CLibrary:
+    """``built`` loaded through a name of its own: the system's loader gives the library it
+    loaded before under the same name again (the wrong one, just replaced)."""
+    alias = built.path.with_name(f".{built.path.stem}-{os.getpid()}-afresh.so")
+    os.link(built.path, alias)
+    try:
+        return CLibrary(built, model, load_from=alias)
+    finally:
+        alias.unlink(missing_ok=True)  # mapped: the code stays
 
 
 _LOADED: dict[Path, CLibrary] = {}
@@ -138,6 +167,15 @@ def load_library(
     if built.path not in _LOADED:
         try:
             _LOADED[built.path] = CLibrary(built, model)
+            if not _stamps_match(_LOADED[built.path].lib, files_text):
+                del _LOADED[built.path]
+                raise NotThisLibrary(
+                    f"the C library of {name} is of another creature or controller"
+                )
+        except NotThisLibrary:  # built again from the sources: it was trusted by its name
+            built.path.unlink(missing_ok=True)
+            built = _build(name, files_text, starting)
+            _LOADED[built.path] = _loaded_afresh(built, model)
         except OSError:
             if built.path.exists():
                 raise  # e.g. a cache on a file system that may not map code (noexec)
