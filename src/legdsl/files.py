@@ -141,6 +141,12 @@ def is_leftover(path: Path, name: str | None = None) -> bool:
     return m is not None and (name is None or _names(m, name))
 
 
+def written_as(path: Path) -> str:
+    """The name ``path`` is written for: a temporary sibling's target's, else its own."""
+    m = _LEFTOVER.match(path.name)
+    return m.group("name") if m else path.name
+
+
 def _names(m: re.Match[str], name: str) -> bool:
     """Whether the temporary name ``m`` matched is one of the target ``name``'s."""
     return m.group("name") in (name, _temp_stem(name, m.group("suffix") or ""))

@@ -416,3 +416,18 @@ def test_a_run_whose_recording_the_disk_may_not_hold_is_told_before_it_runs(
     monkeypatch.setattr(shutil, "disk_usage", lambda p: usage._replace(free=10**9))
     code, err = _run(capsys, argv)
     assert code == 0 and "note" not in err, err
+
+
+def test_a_full_disk_names_the_file_of_the_run_directory() -> None:
+    """docs/runtime.md: a full disk names the file; it said only the run directory."""
+    import errno
+
+    from legdsl.pipeline.options import os_error
+
+    full = OSError(
+        errno.ENOSPC, "No space left on device", "/x/r/.trajectory.npz.tmp-12-0a1b2c3d.npz"
+    )
+    said = str(os_error("the run directory", Path("/x/r"), full))
+    assert said.startswith("cannot write the run directory /x/r (trajectory.npz): No space"), said
+    elsewhere = OSError(errno.ENOSPC, "No space left on device", "/y/z")
+    assert "(" not in str(os_error("the run directory", Path("/x/r"), elsewhere)).split(":")[0]
