@@ -371,3 +371,21 @@ def test_a_library_under_another_controllers_name_is_built_again(tmp_path: Path)
     (pace_lib,) = (tmp_path / "cache").glob("quadruped-pace-*.so")
     shutil.copy(pace_lib, trot_lib)
     assert run("trot", "again") == trot
+
+
+def test_no_compiler_found_says_why_each_was_passed_over(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A cc on the PATH that always fails was "no C compiler found", as if there were none."""
+    from legdsl.codegen.c import build
+
+    _script(tmp_path, "cc", "exit 1\n")
+    monkeypatch.setenv("PATH", str(tmp_path))
+    monkeypatch.delenv("LEGDSL_CC", raising=False)
+    build._compiler.cache_clear()
+    try:
+        said = build.no_compiler()
+    finally:
+        build._compiler.cache_clear()
+    assert said == (f"no C compiler found (cc, gcc or clang; or set LEGDSL_CC): "
+                    f"'{tmp_path / 'cc'} --version' failed (exit 1)")  # fmt: skip

@@ -126,6 +126,10 @@ class Built:
     seconds: float  # time spent in the compiler (0 when cached)
 
 
+# why each compiler was passed over, said if none is found (a failing cc was just "none found")
+_PASSED_OVER: dict[str, str] = {}
+
+
 @lru_cache(maxsize=8)
 def _compiler(wanted: str | None) -> Compiler | None:
     names = [wanted] if wanted else ["cc", "gcc", "clang"]
@@ -134,15 +138,18 @@ def _compiler(wanted: str | None) -> Compiler | None:
         if path is None:
             continue
         try:
-            done = _probe_run([path, "--version"], timeout=30)
+            done = _probe_run([path, "--version"], timeout=10)
             if done.returncode != 0:
+                _PASSED_OVER[name] = f"'{path} --version' failed (exit {done.returncode})"
                 continue
             out = done.stdout
         except OSError as e:
             if e.errno in (errno.EMFILE, errno.ENFILE):  # the process's limit, not the compiler
                 raise
+            _PASSED_OVER[name] = f"{path}: {e.strerror or e}"
             continue
         except subprocess.SubprocessError:
+            _PASSED_OVER[name] = f"'{path} --version' did not answer in 10 s"
             continue
         return Compiler(path, out.splitlines()[0] if out else "")
     return None
@@ -159,7 +166,8 @@ def no_compiler() -> str | None:
         return None
     wanted = os.environ.get("LEGDSL_CC") or None
     if wanted is None:
-        return "no C compiler found (cc, gcc or clang; or set LEGDSL_CC)"
+        why = "".join(f": {_PASSED_OVER[n]}" for n in ("cc", "gcc", "clang") if n in _PASSED_OVER)
+        return f"no C compiler found (cc, gcc or clang; or set LEGDSL_CC){why}"
     fix = "set LEGDSL_CC to a C compiler (gcc, clang) or unset it"
     if shutil.which(wanted) is None:
         alone = " (name the program alone, without options)" if " " in wanted.strip() else ""
@@ -489,26 +497,21 @@ def _check(code: int, command: list[str], stderr: str, name: str, compiler: Comp
         )
     died = _died_of_a_limit(code, stderr)
     if died is not None:  # cc1 killed by SIGXFSZ or SIGSEGV for want of memory: not our C
-        raise CompilerUnusable(
-            f"{compiler.path} died building the C of {name} ({died}): a limit of this process "
-            "more likely than the C, a file size (ulimit -f) or memory (ulimit -v) one; raise "
-            "it and run again"
-        )
+        raise CompilerUnusable(f"{compiler.path} died building the C of {name} ({died}): a limit "
+                               "of this process more likely than the C, a file size (ulimit -f) "
+                               "or memory (ulimit -v) one; raise it and run again")  # fmt: skip
     if code != 0:
         raise BuildFailed(
             f"{compiler.path} failed on the C of {name} ({' '.join(command)}):\n" + stderr[-4000:]
         )
 
 
-# what a compiler says when a pass of it dies of a limit (gcc, clang), lower case
-_DIED = ("internal compiler error", "virtual memory exhausted", "out of memory",
-         "cannot allocate memory", "file size limit exceeded", "terminated signal",
-         "killed signal", "terminated with signal")  # fmt: skip
+_DIED = ("internal compiler error", "virtual memory exhausted", "out of memory", "cannot allocate "
+         "memory", "file size limit exceeded", "terminated signal", "killed signal")  # fmt: skip
 
 
 def _died_of_a_limit(code: int, stderr: str) -> str | None:
-    """The compiler's line saying it (or a pass of it) died of a signal or short of memory,
-    or the signal that ended it; None when it only refused the C."""
+    """What says the compiler (or a pass of it) died of a limit; None if it refused the C."""
     if code < 0:
         return f"ended by signal {-code}, {signal.strsignal(-code)}"
     if code == 0:
