@@ -296,6 +296,9 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
         return
     target = _replaced(path)
     target.parent.mkdir(parents=True, exist_ok=True)
+    with contextlib.suppress(OSError):  # a killed writer's (kill -9: .v.mp4.tmp-... stayed)
+        for left in leftovers(target.parent, target.name):
+            remove(left)
     tmp = temp_sibling(target, suffix=suffix)
     try:
         with _refusals_of(tmp, path):

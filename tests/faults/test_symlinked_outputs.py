@@ -105,3 +105,18 @@ def test_an_out_through_a_dangling_or_looping_link_is_refused_before_the_run(
     assert main([*argv, "--out", str(tmp_path / name)]) == 2
     assert "is a symbolic link to " in capsys.readouterr().err
     assert not generated.exists()  # refused before anything was compiled
+
+
+def test_a_killed_writers_temporary_file_goes_at_the_next_write(tmp_path: Path) -> None:
+    """A video killed with kill -9 left .v.mp4.tmp-PID-... beside v.mp4, for good: the next
+    write of v.mp4 removes it (a writer that is still running keeps its own)."""
+    import secrets
+
+    dead = 2**22 + 12345  # above the default pid_max: no process has it
+    left = tmp_path / f".v.mp4.tmp-{dead}-{secrets.token_hex(4)}.mp4"
+    left.write_bytes(b"half a video")
+    running = tmp_path / f".v.mp4.tmp-{os.getpid()}-{secrets.token_hex(4)}.mp4"
+    running.write_bytes(b"ours")
+    write_atomic(tmp_path / "v.mp4", b"a video")
+    assert not left.exists() and running.exists()
+    assert (tmp_path / "v.mp4").read_bytes() == b"a video"
