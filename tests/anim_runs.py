@@ -76,3 +76,22 @@ def export_animations(run_dir: Path, stem: Path, fps: float, generated: Path) ->
         assert status == 0, f"legdsl export-motion --format {fmt} {extra}: {said}"
         files[key] = out
     return files
+
+
+def exported_into_a_pipe(run: Path, fmt: str, pipe: Path) -> tuple[int, bytes]:
+    """``legdsl export-motion RUN --format FMT -o PIPE`` with a reader on the FIFO ``pipe``
+    (made here): the exit status and what the reader got."""
+    import os
+    import threading
+
+    os.mkfifo(pipe)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
+    reader.start()
+    args = ["export-motion", str(run), "--format", fmt, "-o", str(pipe)]
+    code = main([*args, "--generated", str(generated_dir())])
+    if code != 0:  # unblock the reader before failing
+        with open(pipe, "wb"):
+            pass
+    reader.join(timeout=30)
+    return code, got[0] if got else b""

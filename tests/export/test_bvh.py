@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from anim_runs import creature_run, generated_dir
+from anim_runs import creature_run, exported_into_a_pipe, generated_dir
 
 from legdsl.cli import main
 from legdsl.export.bvh import Z_UP_TO_Y_UP, bvh_text
@@ -139,22 +139,10 @@ def test_an_export_into_a_pipe_says_the_size_it_wrote(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], fmt: str
 ) -> None:
     """``-o /dev/stdout | cat`` said "wrote /dev/stdout (0 B: ...)": the size of the pipe."""
-    import os
-    import threading
-
     run = creature_run("kangaroo", tmp_path / "run")
     pipe = tmp_path / "pipe"
-    os.mkfifo(pipe)
-    got: list[bytes] = []
-    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
-    reader.start()
-    args = ["export-motion", str(run), "--format", fmt, "-o", str(pipe)]
-    code = main([*args, "--generated", str(generated_dir())])
-    if code != 0:  # unblock the reader before failing
-        with open(pipe, "wb"):
-            pass
-    reader.join(timeout=30)
+    code, got = exported_into_a_pipe(run, fmt, pipe)
     assert code == 0
     said = "".join(capsys.readouterr())
     assert f"wrote {pipe} (" in said and f"wrote {pipe} (0 B" not in said, said
-    assert got and len(got[0]) > 1000
+    assert len(got) > 1000

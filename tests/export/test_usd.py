@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from anim_runs import creature_motion, creature_run, generated_dir
+from anim_runs import creature_motion, creature_run, exported_into_a_pipe, generated_dir
 
 from legdsl.cli import main
 from legdsl.export.motion import Motion, frame_rate, quaternion_to_matrix
@@ -121,24 +121,10 @@ def test_usd_into_a_pipe(tmp_path: Path, fmt: str, head: bytes) -> None:
     """USD takes a layer's format from its file's name: ``-o /dev/stdout`` failed in USD's
     SdfLayer ("fileFormat ''") and was told as a disk to check. Now it is written under its
     own name first, then copied into the pipe."""
-    import os
-    import threading
-
     run = creature_run("kangaroo", tmp_path / "run")
-    pipe = tmp_path / "pipe"
-    os.mkfifo(pipe)
-    got: list[bytes] = []
-    reader = threading.Thread(target=lambda: got.append(pipe.read_bytes()))
-    reader.start()
-    args = ["export-motion", str(run), "--format", fmt, "-o", str(pipe)]
-    code = main([*args, "--generated", str(generated_dir())])
-    if code != 0:  # unblock the reader before failing
-        with open(pipe, "wb"):
-            pass
-    reader.join(timeout=30)
-    assert code == 0
-    assert got and got[0].startswith(head)
+    code, got = exported_into_a_pipe(run, fmt, tmp_path / "pipe")
+    assert code == 0 and got.startswith(head)
     copy = tmp_path / f"copy.{fmt}"
-    copy.write_bytes(got[0])
+    copy.write_bytes(got)
     stage = Usd.Stage.Open(str(copy))
     assert stage.GetEndTimeCode() > 0 and stage.GetPrimAtPath("/kangaroo").IsValid()

@@ -102,22 +102,24 @@ class QuietWhenClosed:
         if not self.reader_left:
             try:
                 return self._stream.write(text)
-            except BrokenPipeError:
-                self._left()
-            except OSError as e:  # > /dev/full, a full disk: say which file it was
-                raise self._refusal(e) from None
+            except OSError as e:
+                self._failed(e)
         return len(text)
 
     def flush(self) -> None:
         if not self.reader_left:
             try:
                 self._stream.flush()
-            except BrokenPipeError:
-                self._left()
             except OSError as e:
-                raise self._refusal(e) from None
+                self._failed(e)
         if self.refused is not None:
             raise self.refused
+
+    def _failed(self, e: OSError) -> None:
+        if isinstance(e, BrokenPipeError):
+            self._left()
+            return
+        raise self._refusal(e) from None  # > /dev/full, a full disk: say which file it was
 
     def _refusal(self, e: OSError) -> OSError:
         self.refused = self.refused or OSError(e.errno, e.strerror, "standard output")
@@ -140,20 +142,8 @@ class QuietErrors(QuietWhenClosed):
     -1``, ``2>/dev/full``): a message lost is no reason to stop the work (the compile stopped
     at its second line with a Broken pipe, exit 1, and wrote nothing)."""
 
-    def write(self, text: str) -> int:
-        if not self.reader_left:
-            try:
-                return self._stream.write(text)
-            except OSError:
-                self._left()
-        return len(text)
-
-    def flush(self) -> None:
-        if not self.reader_left:
-            try:
-                self._stream.flush()
-            except OSError:
-                self._left()
+    def _failed(self, e: OSError) -> None:
+        self._left()
 
 
 # Readers that write one output through a temporary file and, for a video, an ffmpeg, and the
