@@ -64,7 +64,7 @@ def test_a_run_of_a_changed_creature_is_refused(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert f"{leg} has changed since the run in {run} was recorded" in err
-    assert f"legdsl run {leg} --controller hop --out {run}" in err
+    assert f"legdsl run {leg} --controller hop --time 1s --out {run})" in err
 
 
 def test_a_new_run_removes_what_was_drawn_from_the_old(
@@ -118,3 +118,19 @@ def test_metrics_of_a_run_in_a_read_only_folder_are_printed(
     said = capsys.readouterr()
     assert said.out.startswith("gait metrics from 0.100 s")
     assert f"{run / 'metrics.json'} not written (Read-only file system)" in said.err
+
+
+def test_the_command_to_run_again_keeps_what_the_run_was_given(
+    tmp_path: Path, generated: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The command suggested for a run of a changed creature dropped its --time and --set."""
+    leg, run = tmp_path / "hopper.leg", tmp_path / "run"
+    shutil.copy(ROOT / "creatures" / "hopper.leg", leg)
+    argv = ["run", str(leg), "--controller", "hop", "--time", "0.3s", "--set", "speed=1.5m/s",
+            "--out", str(run), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    leg.write_text(leg.read_text().replace("mass 10 kg", "mass 12 kg", 1))
+    capsys.readouterr()
+    assert main(["plot", str(run)]) == 2
+    err = capsys.readouterr().err
+    assert f"(legdsl run {leg} --controller hop --time 0.3s --out {run}, with the --set" in err

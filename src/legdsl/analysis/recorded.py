@@ -44,10 +44,14 @@ def recorded_model(
         again = f"legdsl run {source}" + (
             f" --controller {info['controller']}" if info.get("controller") else ""
         )
+        duration = (info.get("options") or {}).get("duration")
+        again += f" --time {duration:g}s" if isinstance(duration, int | float) else ""
+        settings = info.get("settings") or {}
+        given = any(settings.get(k) for k in ("actuators", "inputs", "params", "schedule"))
         raise UsageError(
             f"{source} has changed since the run in {directory} was recorded: its creature "
             f"'{model.name}' is not the one the run used; run it again ({again} --out "
-            f"{directory})"
+            f"{directory}" + (", with the --set values its run.json lists)" if given else ")")
         )
     return source, model
 
