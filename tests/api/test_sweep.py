@@ -58,6 +58,9 @@ def test_a_grid_sweep_and_its_resume(tmp_path: Path, capsys: pytest.CaptureFixtu
     again = {r["run"]: r for r in rows(out)}
     assert sorted(again) == ["0", "1", "2", "3"]
     assert all(again[k] == row for k, row in kept.items())  # the finished runs were kept
+    # a whole sweep asked to keep its runs runs none: said (it kept nothing without a word)
+    assert sweep(out, generated, "--keep-runs") == 0
+    assert "--keep-runs keeps the runs a sweep runs, and every run" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("plan", [b"{}\n", b"not json {", b"\xff\xfe"])

@@ -178,6 +178,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         }
         jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
         before = len(read_table(out / "sweep.csv"))
+        if args.keep_runs and before >= len(jobs):  # it kept nothing, and said nothing
+            print(f"legdsl: note: --keep-runs keeps the runs a sweep runs, and every run of "
+                  f"this one is in {out / 'sweep.csv'} already; to keep them, sweep into "
+                  "another --out", file=sys.stderr)  # fmt: skip
         bar = progress_bar if sys.stderr.isatty() else None
         try:
             rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
