@@ -152,6 +152,8 @@ controller hold {
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
         (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller; did you mean .k_speed.\? \(it has k_speed,"),
+        # an actuator's setting is swept, not tuned: it was "not a parameter of the controller"
+        (["--param", "leg_spring.k=1000:5000"], r"--param leg_spring.k: an actuator's setting, which a tune cannot write"),
         (["--table2-weight", "nan"], r"--table2-weight nan: give a weight of 0 or more"),
         (["--table2-weight", "-1"], r"--table2-weight -1: give a weight of 0 or more"),
         (["--from", "1"], r"--from 1 is not a time within the runs \(--time 1\)"),

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.analysis.table2 import virtual_legs
-from legdsl.api.sweep import Job, bare_in_si, parse_axis, seconds, units_of
+from legdsl.api.sweep import Job, actuator_settings, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.sweep_cli import writer_lock
 from legdsl.api.tune import (
     Bound,
@@ -101,7 +101,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
     params = {c.name: c for c in controller.params}
-    bounds = _bounds(args, controller, source)
+    bounds = _bounds(args, controller, source, actuator_settings(model))
     speeds = _speeds(args.speeds, _speed_input(args.controller, controller).dim)
     _check_search(args)
     out = Path(args.out)
@@ -312,7 +312,9 @@ def _say_deaf(rows: list[dict[str, Any]]) -> None:
               "legdsl run at two speeds", file=sys.stderr)  # fmt: skip
 
 
-def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> list[Bound]:
+def _bounds(
+    args: argparse.Namespace, controller: Controller, source: Path, settings: dict[str, Any]
+) -> list[Bound]:
     """``--param NAME=LO:HI`` of each parameter to tune: a parameter the controller declares
     in ``source`` itself, given once, its file value within the bounds."""
     params = {c.name: c for c in controller.params}
@@ -330,6 +332,12 @@ def _bounds(args: argparse.Namespace, controller: Controller, source: Path) -> l
             raise UsageError(
                 f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
                 "tune its parameters (commanded speeds are --speeds)"
+            )
+        if "=" in text and name in settings and name not in params:  # knee_spring.k: swept
+            raise UsageError(
+                f"--param {name}: an actuator's setting, which a tune cannot write into the "
+                "tuned file (it changes the controller's parameters); sweep it with 'legdsl "
+                "sweep --grid', or declare a param the controller sets it from and tune that"
             )
         if "=" in text and name not in params:  # the list: those the tuned file can change
             raise UsageError(
