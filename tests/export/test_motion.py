@@ -264,6 +264,6 @@ def test_the_frame_rate_a_one_frame_refusal_advises_gives_two_frames(span: float
     t = np.array([0.0, span])
     with pytest.raises(UsageError) as refused:
         enough_frames(span, 1.0)
-    advice = re.search(r"give --fps (\d+) or more", str(refused.value))
+    advice = re.search(r"two frames need --fps (\d+) or more", str(refused.value))
     assert advice, refused.value
     assert len(frame_times(t, float(advice.group(1)))) >= 2

@@ -74,7 +74,9 @@ def test_a_new_run_removes_what_was_drawn_from_the_old(
     assert main(["plot", str(run)]) == 0
     assert main(["animate", str(run)]) == 0
     assert main(["metrics", str(run), "--generated", str(generated)]) == 0
+    assert main(["export-motion", str(run), "--generated", str(generated)]) == 0  # motion.glb
     drawn = {p.name for p in run.iterdir()} - set(RUN_FILES)
+    assert "motion.glb" in drawn  # it was left beside the new run
     assert drawn and drawn <= set(DERIVED_FILES), drawn
     argv = ["run", str(leg), "--time", "0.5s", "--out", str(run), "--generated", str(generated)]
     assert main(argv) == 0
@@ -134,3 +136,34 @@ def test_the_command_to_run_again_keeps_what_the_run_was_given(
     assert main(["plot", str(run)]) == 2
     err = capsys.readouterr().err
     assert f"(legdsl run {leg} --controller hop --time 0.3s --out {run}, with the --set" in err
+
+
+def test_a_run_is_held_while_a_command_draws_from_it(
+    hopper: tuple[Path, Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``plot`` read run A, a new run B replaced it meanwhile, and A's figure6.png was written
+    beside B's trajectory. A command drawing from a run holds the run directory's lock, which a
+    new run's write takes too: B waits until the picture is whole (and then removes it)."""
+    import fcntl
+    import os
+
+    from legdsl.analysis import plot
+
+    _, run = hopper
+    drawing = plot.plot_run
+    tried: list[bool] = []
+
+    def while_drawing(*args: object, **kwargs: object) -> object:
+        fd = os.open(run, os.O_RDONLY | os.O_DIRECTORY)  # as a new run's write takes it
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            tried.append(True)
+        except BlockingIOError:
+            tried.append(False)
+        finally:
+            os.close(fd)
+        return drawing(*args, **kwargs)
+
+    monkeypatch.setattr(plot, "plot_run", while_drawing)
+    assert main(["plot", str(run)]) == 0
+    assert tried == [False]  # held

@@ -30,16 +30,15 @@ from legdsl.cli.common import (
 )
 from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
-    TERM_UNWINDS,
     THREAD_REFUSED,
     QuietErrors,
     QuietWhenClosed,
     a_library_failed,
     cannot_import,
+    command_held,
     current_directory_exists,
     exit_status,
     out_of_memory,
-    sigterm_unwinds,
     streams_that_cannot_fail,
 )
 from legdsl.cli.run import add_run_parser
@@ -467,9 +466,7 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
                 if value:
                     check_output_file(value, flag)
                     not_an_input(value, flag, run + ([Path(args.source)] if args.source else []))
-        if args.command not in TERM_UNWINDS:
-            return _COMMANDS[args.command](args)
-        with sigterm_unwinds():
+        with command_held(args):  # SIGTERM unwinding it; a run it draws from held still
             return _COMMANDS[args.command](args)
     except LegError as e:
         print(_render(e), file=sys.stderr)

@@ -195,6 +195,33 @@ def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
                 signal.signal(sig, before)
 
 
+# Commands that read a run directory and may write what they draw into it (figure6.png,
+# animation.html, metrics.json, motion.glb, mujoco.mp4)
+DRAW_INTO_RUNS = ("plot", "animate", "export-motion", "metrics", "replay")
+
+
+@contextlib.contextmanager
+def command_held(args: Any) -> Iterator[None]:
+    """What a command runs within: SIGTERM unwinding it (``TERM_UNWINDS``), and for one that
+    draws from a run, the run directory's lock (``legdsl.files.writing_alone``), which a new
+    run into it takes to replace its files and remove what was drawn from the one before: the
+    new run waits, so a picture of the old run is never left beside it (``plot`` reading run
+    A while run B replaced it wrote A's figure6.png beside B's trajectory)."""
+    from pathlib import Path
+
+    from legdsl.files import writing_alone
+
+    folder = Path(getattr(args, "run", None) or getattr(args, "dir", None) or "")
+    held = args.command in DRAW_INTO_RUNS and folder.name and folder.is_dir()
+    with contextlib.ExitStack() as stack:
+        if args.command in TERM_UNWINDS:
+            stack.enter_context(sigterm_unwinds())
+        if held:
+            with contextlib.suppress(OSError):  # a file system without locks: drawn unheld
+                stack.enter_context(writing_alone(folder))
+        yield
+
+
 @contextlib.contextmanager
 def sigterm_unwinds() -> Iterator[None]:
     from legdsl.sim.run_loop import Interrupted

@@ -56,9 +56,9 @@ from legdsl.sim.switching import Switch, SwitchingMachine, check_switch_paths, n
 Progress = Callable[[float, float], None]  # (simulated time, duration)
 RUN_FILES = ("run.json", "trajectory.npz", "trajectory.csv")
 # What the commands that read a run write into its directory by default (plot, animate,
-# metrics, replay): a new run into the directory removes them with the old run.
+# metrics, replay, export-motion): a new run into the directory removes them with the old run.
 DERIVED_FILES = ("figure6.png", "top.png", "footfall.png", "animation.html", "metrics.json",
-                 "mujoco.mp4")  # fmt: skip
+                 "mujoco.mp4", *(f"motion.{f}" for f in ("glb", "gltf", "usd", "usda", "bvh")))  # fmt: skip
 
 
 def _only_owner(models: list[Model], scene: str | None, controller: str | None) -> str | None:
