@@ -287,7 +287,7 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     path = Path(path)
     if (is_device(path) or process_fd(path) is not None) and suffix not in (None, path.suffix):
         # a writer that takes its format from the name (USD): /dev/stdout has none
-        with _drawn_first(path, f"motion{suffix}") as drawn:
+        with _drawn_first(path, path.with_suffix(suffix).name) as drawn:
             yield drawn
         return
     if is_device(path) or process_fd(path) is not None:

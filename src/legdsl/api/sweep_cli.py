@@ -142,90 +142,101 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
     try:
-        plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
-                "from": args.t_from, "set": args.set, "runs": combos,
-                # what the file says, so that rows of an edited file are not mixed with the new
-                "creature_digest": creature_fingerprint(model),
-                "controller_digest": controller_fingerprint(model, controller),
-                # the step the runs take from the file (a sweep before legdsl read it from the
-                # API took 0.4 ms: its rows are not mixed with these)
-                "simulation": asdict(model.simulation)}  # fmt: skip
-        plan_file = out / "sweep.json"
-        planned_before = plan_file.is_file()
-        before_plan = _plan_in(plan_file) if planned_before else plan
-        if before_plan != plan:
-            digests = ("creature_digest", "controller_digest", "simulation")
-            edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
-                isinstance(before_plan, dict)
-                and all(k in before_plan for k in digests)
-                and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
-            )
-            why = ("the .leg file's creature or controller has changed since its rows were run"
-                   if edited else _plan_differs(before_plan, plan))  # fmt: skip
-            raise UsageError(
-                f"{out} holds another sweep ({why}); choose another --out or remove it"
-            )
-        write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
-        base = {
-            "source": str(args.file),
-            "creature": args.creature,
-            "controller": args.controller,
-            "units": units_of({a.name: dims[a.name] for a in axes}),
-            "fixed": tuple(args.set),
-            "duration": args.time,
-            "start": args.t_from,
-            "generated": args.generated,
-        }
-        jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-        before = len(read_table(out / "sweep.csv"))
-        if args.keep_runs and before >= len(jobs):  # it kept nothing, and said nothing
-            print(f"legdsl: note: --keep-runs keeps the runs a sweep runs, and every run of "
-                  f"this one is in {out / 'sweep.csv'} already; to keep them, sweep into "
-                  "another --out", file=sys.stderr)  # fmt: skip
-        bar = progress_bar if sys.stderr.isatty() else None
-        try:
-            rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
-        except UsageError:  # every run refused (a setting too stiff for the step): the plan it
-            # wrote would refuse the corrected command as another sweep
-            if not planned_before and not read_table(out / "sweep.csv"):
-                plan_file.unlink(missing_ok=True)
-            raise
-        except (KeyboardInterrupt, Interrupted):
-            done = len(read_table(out / "sweep.csv"))
-            kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
-                    f"no run had finished, so {out / 'sweep.csv'} was not begun")  # fmt: skip
-            print(f"legdsl: sweep interrupted: {kept}; the same command again runs the other "
-                  f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
-            raise
-        metric = args.plot or "speed_error"
-        units = {**base["units"], **METRIC_UNITS}
-        picture = out / "sweep.png"
-
-        def draw() -> None:
-            with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
-                plot_sweep(rows, [a.name for a in axes], metric, drawn, units)
-
-        try:
-            _parquet(rows, out / "sweep.parquet")
-            not_drawn = drawn_if_room("draw the heat map", draw)
-        except (KeyboardInterrupt, Interrupted):  # it said only "interrupted"
-            print(f"legdsl: sweep interrupted as it drew its heat map: its {len(rows)} rows "
-                  f"are whole in {out / 'sweep.csv'}; the same command again draws {picture} "
-                  "without a run", file=sys.stderr)  # fmt: skip
-            raise
-        if not not_drawn:
-            _say_unmeasured(rows, metric, args, controller, picture)
-        fell = sum(1 for r in rows if r["outcome"] != "ok")
-        resumed = f", {before} of them from before" if before else ""
-        wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
-        print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
-        if not_drawn:  # the table is whole; the same command again draws the map from it
-            print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
-                  "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
-            return 2  # as for any out-of-memory line
-        return 0
+        return _sweep_into(out, args, model, controller, axes, dims, combos)
     finally:  # an API caller may sweep into the same --out again in this process
         lock.close()
+
+
+def _sweep_into(
+    out: Path,
+    args: argparse.Namespace,
+    model: Any,
+    controller: Any,
+    axes: list[Any],
+    dims: dict[str, Dim],
+    combos: list[dict[str, float]],
+) -> int:
+    """The sweep, its lock held: the plan, the runs, the table's copies and the map."""
+    plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
+            "from": args.t_from, "set": args.set, "runs": combos,
+            # what the file says, so that rows of an edited file are not mixed with the new
+            "creature_digest": creature_fingerprint(model),
+            "controller_digest": controller_fingerprint(model, controller),
+            # the step the runs take from the file (a sweep before legdsl read it from the
+            # API took 0.4 ms: its rows are not mixed with these)
+            "simulation": asdict(model.simulation)}  # fmt: skip
+    plan_file = out / "sweep.json"
+    planned_before = plan_file.is_file()
+    before_plan = _plan_in(plan_file) if planned_before else plan
+    if before_plan != plan:
+        digests = ("creature_digest", "controller_digest", "simulation")
+        edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
+            isinstance(before_plan, dict)
+            and all(k in before_plan for k in digests)
+            and all(before_plan.get(k) == v for k, v in plan.items() if k not in digests)
+        )
+        why = ("the .leg file's creature or controller has changed since its rows were run"
+               if edited else _plan_differs(before_plan, plan))  # fmt: skip
+        raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
+    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
+    base = {
+        "source": str(args.file),
+        "creature": args.creature,
+        "controller": args.controller,
+        "units": units_of({a.name: dims[a.name] for a in axes}),
+        "fixed": tuple(args.set),
+        "duration": args.time,
+        "start": args.t_from,
+        "generated": args.generated,
+    }
+    jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
+    before = len(read_table(out / "sweep.csv"))
+    if args.keep_runs and before >= len(jobs):  # it kept nothing, and said nothing
+        print(f"legdsl: note: --keep-runs keeps the runs a sweep runs, and every run of "
+              f"this one is in {out / 'sweep.csv'} already; to keep them, sweep into "
+              "another --out", file=sys.stderr)  # fmt: skip
+    bar = progress_bar if sys.stderr.isatty() else None
+    try:
+        rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+    except UsageError:  # every run refused (a setting too stiff for the step): the plan it
+        # wrote would refuse the corrected command as another sweep
+        if not planned_before and not read_table(out / "sweep.csv"):
+            plan_file.unlink(missing_ok=True)
+        raise
+    except (KeyboardInterrupt, Interrupted):
+        done = len(read_table(out / "sweep.csv"))
+        kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
+                f"no run had finished, so {out / 'sweep.csv'} was not begun")  # fmt: skip
+        print(f"legdsl: sweep interrupted: {kept}; the same command again runs the other "
+              f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
+        raise
+    metric = args.plot or "speed_error"
+    units = {**base["units"], **METRIC_UNITS}
+    picture = out / "sweep.png"
+
+    def draw() -> None:
+        with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
+            plot_sweep(rows, [a.name for a in axes], metric, drawn, units)
+
+    try:
+        _parquet(rows, out / "sweep.parquet")
+        not_drawn = drawn_if_room("draw the heat map", draw)
+    except (KeyboardInterrupt, Interrupted):  # it said only "interrupted"
+        print(f"legdsl: sweep interrupted as it drew its heat map: its {len(rows)} rows "
+              f"are whole in {out / 'sweep.csv'}; the same command again draws {picture} "
+              "without a run", file=sys.stderr)  # fmt: skip
+        raise
+    if not not_drawn:
+        _say_unmeasured(rows, metric, args, controller, picture)
+    fell = sum(1 for r in rows if r["outcome"] != "ok")
+    resumed = f", {before} of them from before" if before else ""
+    wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
+    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
+    if not_drawn:  # the table is whole; the same command again draws the map from it
+        print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
+              "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
+        return 2  # as for any out-of-memory line
+    return 0
 
 
 def _say_unmeasured(

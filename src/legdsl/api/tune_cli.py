@@ -12,7 +12,7 @@ import sys
 from collections.abc import Callable, Iterator
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, actuator_settings, bare_in_si, parse_axis, seconds, units_of
@@ -35,6 +35,7 @@ from legdsl.check.source import check_model
 from legdsl.check.values import did_you_mean
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
 from legdsl.ir.controller import Constant, Controller
+from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.pipeline.options import check_output_dir
@@ -100,7 +101,6 @@ def cmd_tune(args: argparse.Namespace) -> int:
     model = check_model(source, args.creature)
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
-    params = {c.name: c for c in controller.params}
     bounds = _bounds(args, controller, source, actuator_settings(model))
     speeds = _speeds(args.speeds, _speed_input(args.controller, controller).dim)
     _check_search(args)
@@ -115,81 +115,95 @@ def cmd_tune(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
     try:
-        units = units_of({b.name: params[b.name].dim for b in bounds})
-        pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
-        base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
-                   values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
-                   generated=args.generated, keep=None,
-                   groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
-        from legdsl.api import load
-
-        load(source, args.creature, args.generated).session.control(args.controller)  # compile once
-        objective = Objective(
-            speeds,
-            args.time,
-            args.t_from,
-            args.table2,
-            args.table2_weight,
-            args.energy_weight,
-            args.spread_weight,
-            args.pitch_weight,
-        )
-        plan = {"creature": creature_fingerprint(model),
-                "controller": controller_fingerprint(model, controller), "bounds": bounds,
-                "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
-        journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
-        if journal.set_aside:  # the user may have meant to go on from it: say why not
-            print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
-                  "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
-        with _Stops(out).installed() as stops:
-            try:
-                result = tune(
-                    base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
-                    dask=args.dask, journal=journal,
-                )  # fmt: skip
-            except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
-                lock.close()
-                Path(lock.name).unlink(missing_ok=True)
-                if made and not any(out.iterdir()):
-                    out.rmdir()
-                print("legdsl: tune: stopped before the file's own values were measured: nothing "
-                      f"written to {out}", file=sys.stderr)  # fmt: skip
-                raise
-            stops.searching = False  # from here on a signal waits for the three files
-            tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
-            dump(result, out / "tune.json")
-            not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
-                "draw the convergence plot",
-                lambda: plot_history(
-                    result["history"], out / "tune.png", result["start"]["objective"]
-                ),
-            )
-        print(report(result, units, bounds))
-        _say_between(result.get("between", []), _say_fell(result["best"]["runs"]))
-        _say_longer(result, objective)
-        _say_deaf(result["best"]["runs"])
-        runs = len(speeds) + sum(h["runs"] for h in result["history"])
-        runs += len(result.get("between", [])) + len(result.get("longer", []))
-        done = len(result["history"])
-        generations = "1 generation" if done == 1 else f"{done} generations"
-        kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
-        plot = "" if not_drawn else f", {out / 'tune.png'}"
-        print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}{plot}{kept}")
-        if not_drawn:
-            print(f"legdsl: tune: tune.png not drawn: {not_drawn}", file=sys.stderr)
-        if result["ended"] == "interrupted":
-            raise KeyboardInterrupt  # the command's status, now that its results are written
-        if result["ended"] == "terminated":
-            raise Interrupted(result.get("signal", "SIGTERM"))
-        if stops.late:  # it came as the files were written, the tune done: they are whole
-            print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
-                  file=sys.stderr)  # fmt: skip
-            if stops.late[0] == "SIGINT":
-                raise KeyboardInterrupt
-            raise Interrupted(stops.late[0])
-        return 2 if not_drawn else 0  # 2 as for any out-of-memory line
+        return _tune_into(out, made, lock, args, source, model, controller, bounds, speeds)
     finally:  # an API caller may tune into the same --out again in this process
         lock.close()
+
+
+def _tune_into(
+    out: Path,
+    made: bool,
+    lock: IO[str],
+    args: argparse.Namespace,
+    source: Path,
+    model: Model,
+    controller: Controller,
+    bounds: list[Bound],
+    speeds: tuple[float, ...],
+) -> int:
+    """The tune, its lock held: the search, the three files, the report."""
+    params = {c.name: c for c in controller.params}
+    units = units_of({b.name: params[b.name].dim for b in bounds})
+    pairs = virtual_legs(args.table2, model)[0] if args.table2 is not None else {}
+    base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
+               values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
+               generated=args.generated, keep=None,
+               groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
+    from legdsl.api import load
+
+    load(source, args.creature, args.generated).session.control(args.controller)  # compile once
+    objective = Objective(
+        speeds,
+        args.time,
+        args.t_from,
+        args.table2,
+        args.table2_weight,
+        args.energy_weight,
+        args.spread_weight,
+        args.pitch_weight,
+    )
+    plan = {"creature": creature_fingerprint(model),
+            "controller": controller_fingerprint(model, controller), "bounds": bounds,
+            "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
+    journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
+    if journal.set_aside:  # the user may have meant to go on from it: say why not
+        print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
+              "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
+    with _Stops(out).installed() as stops:
+        try:
+            result = tune(
+                base, bounds, objective, args.generations, args.popsize, args.seed, args.jobs,
+                dask=args.dask, journal=journal,
+            )  # fmt: skip
+        except (KeyboardInterrupt, Interrupted):  # before the file's own values were measured
+            lock.close()
+            Path(lock.name).unlink(missing_ok=True)
+            if made and not any(out.iterdir()):
+                out.rmdir()
+            print("legdsl: tune: stopped before the file's own values were measured: nothing "
+                  f"written to {out}", file=sys.stderr)  # fmt: skip
+            raise
+        stops.searching = False  # from here on a signal waits for the three files
+        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+        dump(result, out / "tune.json")
+        not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
+            "draw the convergence plot",
+            lambda: plot_history(result["history"], out / "tune.png", result["start"]["objective"]),
+        )
+    print(report(result, units, bounds))
+    _say_between(result.get("between", []), _say_fell(result["best"]["runs"]))
+    _say_longer(result, objective)
+    _say_deaf(result["best"]["runs"])
+    runs = len(speeds) + sum(h["runs"] for h in result["history"])
+    runs += len(result.get("between", [])) + len(result.get("longer", []))
+    done = len(result["history"])
+    generations = "1 generation" if done == 1 else f"{done} generations"
+    kept = "" if result["ended"] == "finished" else f", the best of {generations} so far"
+    plot = "" if not_drawn else f", {out / 'tune.png'}"
+    print(f"{runs} runs; wrote {tuned}, {out / 'tune.json'}{plot}{kept}")
+    if not_drawn:
+        print(f"legdsl: tune: tune.png not drawn: {not_drawn}", file=sys.stderr)
+    if result["ended"] == "interrupted":
+        raise KeyboardInterrupt  # the command's status, now that its results are written
+    if result["ended"] == "terminated":
+        raise Interrupted(result.get("signal", "SIGTERM"))
+    if stops.late:  # it came as the files were written, the tune done: they are whole
+        print(f"legdsl: {stops.late[0]} came once the tune had finished; its files are whole",
+              file=sys.stderr)  # fmt: skip
+        if stops.late[0] == "SIGINT":
+            raise KeyboardInterrupt
+        raise Interrupted(stops.late[0])
+    return 2 if not_drawn else 0  # 2 as for any out-of-memory line
 
 
 class _Stops:
