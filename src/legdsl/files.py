@@ -362,7 +362,12 @@ def writing_alone(directory: Path) -> Iterator[None]:
     of them, the last (the system releases the lock of a writer killed meanwhile)."""
     fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY)
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:  # said, not a silent wait (a video drawn from it takes minutes)
+            print(f"legdsl: {directory} is in use by another legdsl command (a run, or one "
+                  "drawing from it): waiting for it to finish", file=sys.stderr)  # fmt: skip
+            fcntl.flock(fd, fcntl.LOCK_EX)
         yield
     finally:
         os.close(fd)

@@ -93,3 +93,31 @@ def test_two_writers_of_one_run_directory_take_turns(generated: Path, tmp_path: 
         assert info == json.loads(json.dumps(mine[0].info))
         table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1, usecols=0)
         assert np.allclose(table, mine[0].trajectory.t)
+
+
+def test_a_writer_that_waits_for_a_directory_says_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A run into a folder that another command holds (a video drawn from the run there, for
+    minutes) waited without a word."""
+    import fcntl
+
+    from legdsl.files import writing_alone
+
+    fd = os.open(tmp_path, os.O_RDONLY | os.O_DIRECTORY)
+    fcntl.flock(fd, fcntl.LOCK_EX)  # another command's hold
+    entered = threading.Event()
+
+    def write() -> None:
+        with writing_alone(tmp_path):
+            entered.set()
+
+    writer = threading.Thread(target=write)
+    writer.start()
+    try:
+        assert not entered.wait(0.5)  # it waits...
+    finally:
+        os.close(fd)  # ...until the other lets go
+    writer.join(timeout=10)
+    assert entered.is_set()
+    assert f"legdsl: {tmp_path} is in use by another legdsl command" in capsys.readouterr().err

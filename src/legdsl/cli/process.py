@@ -196,8 +196,8 @@ def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
 
 
 # Commands that read a run directory and may write what they draw into it (figure6.png,
-# animation.html, metrics.json, motion.glb, mujoco.mp4)
-DRAW_INTO_RUNS = ("plot", "animate", "export-motion", "metrics", "replay")
+# animation.html, metrics.json, motion.glb; not replay, which may only show it, for minutes)
+DRAW_INTO_RUNS = ("plot", "animate", "export-motion", "metrics")
 
 
 @contextlib.contextmanager
