@@ -389,3 +389,14 @@ def test_no_compiler_found_says_why_each_was_passed_over(
         build._compiler.cache_clear()
     assert said == (f"no C compiler found (cc, gcc or clang; or set LEGDSL_CC): "
                     f"'{tmp_path / 'cc'} --version' failed (exit 1)")  # fmt: skip
+
+
+def test_a_cache_that_may_not_run_programs_is_told_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A cache on a noexec mount was told only as the loader's "failed to map segment"."""
+    from legdsl.pipeline.backend import _cache_fix
+
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
+    refused = OSError(f"{tmp_path}/x.so: failed to map segment from shared object")
+    assert _cache_fix(refused).startswith("its file system may not run programs (mounted noexec?)")

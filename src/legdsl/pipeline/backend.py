@@ -149,6 +149,9 @@ def _cache_fix(e: OSError) -> str:
         return f"move {in_way} (a file, not a directory) away, set LEGDSL_CACHE to a directory, "
     if e.errno in (errno.EMFILE, errno.ENFILE):
         return "raise the limit of open files (ulimit -n), "
+    if "map segment" in str(e):  # the loader's words for a file system mounted noexec
+        return ("its file system may not run programs (mounted noexec?): set LEGDSL_CACHE "
+                "to a directory on one that may, ")  # fmt: skip
     return "set LEGDSL_CACHE to a directory you can write and run programs from, "
 
 
