@@ -99,3 +99,11 @@ def test_a_compile_whose_messages_cannot_be_read_still_compiles(tmp_path: Path) 
     proc.stderr.close()
     assert proc.wait(timeout=120) == 0
     assert (tmp_path / "generated" / "hopper" / "dynamics.py").is_file()
+
+
+def test_show_with_standard_output_closed_says_so(tmp_path: Path) -> None:
+    """``legdsl show FILE >&-`` exited 0 having shown nothing."""
+    proc = _legdsl("show", str(ROOT / "creatures" / "hopper.leg"), cwd=tmp_path,
+                   stderr=subprocess.PIPE, text=True, preexec_fn=lambda: os.close(1))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "standard output is closed (>&-)" in proc.stderr

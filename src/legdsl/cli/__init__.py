@@ -87,6 +87,8 @@ def _cmd_show(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.ir.describe import describe_model
 
+    if sys.stdout is None:  # its one product: said, not exit 0 with nothing shown
+        raise UsageError("show prints the creature, and standard output is closed (>&-)")
     model = check_model(args.file, args.creature)
     print(describe_model(model), end="")
     for note in leg_contact_notes(model):
