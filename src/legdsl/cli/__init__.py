@@ -35,11 +35,12 @@ from legdsl.cli.process import (
     QuietWhenClosed,
     a_library_failed,
     cannot_import,
-    command_held,
     current_directory_exists,
     exit_status,
     out_of_memory,
+    run_held,
     streams_that_cannot_fail,
+    term_unwinds,
 )
 from legdsl.cli.run import add_run_parser
 from legdsl.lang.errors import LegError, UsageError, thread_refused
@@ -468,7 +469,7 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
                 if value:
                     check_output_file(value, flag)
                     not_an_input(value, flag, run + ([Path(args.source)] if args.source else []))
-        with command_held(args):  # SIGTERM unwinding it; a run it draws from held still
+        with term_unwinds(args.command), run_held(args):  # a run it draws from held still
             return _COMMANDS[args.command](args)
     except LegError as e:
         print(_render(e), file=sys.stderr)

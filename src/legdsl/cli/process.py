@@ -201,25 +201,35 @@ DRAW_INTO_RUNS = ("plot", "animate", "export-motion", "metrics")
 
 
 @contextlib.contextmanager
-def command_held(args: Any) -> Iterator[None]:
-    """What a command runs within: SIGTERM unwinding it (``TERM_UNWINDS``), and for one that
-    draws from a run, the run directory's lock (``legdsl.files.writing_alone``), which a new
-    run into it takes to replace its files and remove what was drawn from the one before: the
-    new run waits, so a picture of the old run is never left beside it (``plot`` reading run
-    A while run B replaced it wrote A's figure6.png beside B's trajectory)."""
+def run_held(args: Any) -> Iterator[None]:
+    """For a command that draws from a run, the run directory's lock meanwhile
+    (``legdsl.files.writing_alone``), which a new run into it takes to replace its files and
+    remove what was drawn from the one before: the new run waits, so a picture of the old run
+    is never left beside it (``plot`` reading run A while run B replaced it wrote A's
+    figure6.png beside B's trajectory)."""
     from pathlib import Path
 
     from legdsl.files import writing_alone
 
     folder = Path(getattr(args, "run", None) or getattr(args, "dir", None) or "")
-    held = args.command in DRAW_INTO_RUNS and folder.name and folder.is_dir()
-    with contextlib.ExitStack() as stack:
-        if args.command in TERM_UNWINDS:
-            stack.enter_context(sigterm_unwinds())
-        if held:
-            with contextlib.suppress(OSError):  # a file system without locks: drawn unheld
-                stack.enter_context(writing_alone(folder))
+    if not (args.command in DRAW_INTO_RUNS and folder.name and folder.is_dir()):
         yield
+        return
+    lock = writing_alone(folder)
+    try:
+        lock.__enter__()
+    except OSError:  # a file system without locks: drawn unheld
+        yield
+        return
+    try:
+        yield
+    finally:
+        lock.__exit__(None, None, None)
+
+
+def term_unwinds(command: str) -> contextlib.AbstractContextManager[None]:
+    """``sigterm_unwinds`` for a command of ``TERM_UNWINDS``, else nothing."""
+    return sigterm_unwinds() if command in TERM_UNWINDS else contextlib.nullcontext()
 
 
 @contextlib.contextmanager
