@@ -44,7 +44,7 @@ def plot_sweep(
         ax.set_ylabel(label(metric))
     else:
         others = list(names[2:])
-        groups = sorted({tuple(_number(r[n]) for n in others) for r in rows})
+        groups = sorted({tuple(as_number(r[n]) for n in others) for r in rows})
         if len(groups) > MOST_PANELS:  # one panel, saying what varies among its dots
             title += f"; {', '.join(others)} var{'y' if len(others) > 1 else 'ies'} among the dots"
             groups, others = [()], []
@@ -52,12 +52,12 @@ def plot_sweep(
         rows_of = math.ceil(len(groups) / cols)
         fig, axes = plt.subplots(rows_of, cols, figsize=(4.2 * cols + 1.2, 3.6 * rows_of + 0.6),
                                  dpi=110, squeeze=False, layout="constrained")  # fmt: skip
-        values = [_number(r[metric]) for r, good in zip(rows, ok, strict=True) if good]
+        values = [as_number(r[metric]) for r, good in zip(rows, ok, strict=True) if good]
         finite = [v for v in values if math.isfinite(v)] or [0.0]
         scale = {"vmin": min(finite), "vmax": max(finite), "cmap": "viridis"}
         image = None
         for ax, group in zip(axes.flat, groups, strict=False):
-            inside = [r for r in rows if tuple(_number(r[n]) for n in others) == group]
+            inside = [r for r in rows if tuple(as_number(r[n]) for n in others) == group]
             image = _map(ax, inside, names[0], names[1], metric, scale)
             ax.set_xlabel(label(names[0]))
             ax.set_ylabel(label(names[1]))
@@ -78,8 +78,8 @@ def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> N
     """The metric along one swept name; a run that fell as a cross at the foot of the axes."""
     import numpy as np
 
-    at = np.array([_number(r[name]) for r in rows])
-    values = np.array([_number(r[metric]) for r in rows])
+    at = np.array([as_number(r[name]) for r in rows])
+    values = np.array([as_number(r[metric]) for r in rows])
     order = np.argsort(at)
     kept = np.array([str(r["outcome"]) == "ok" for r in rows])[order]
     ax.plot(at[order][kept], values[order][kept], "o-", label="ran to the end")
@@ -98,25 +98,26 @@ def _map(
     import numpy as np
 
     ok = [str(r["outcome"]) == "ok" for r in rows]
-    xs = sorted({_number(r[a]) for r in rows})
-    ys = sorted({_number(r[b]) for r in rows})
+    xs = sorted({as_number(r[a]) for r in rows})
+    ys = sorted({as_number(r[b]) for r in rows})
     if len(xs) * len(ys) == len(rows):  # a full grid: a heat map
         grid = np.full((len(ys), len(xs)), np.nan)
         for r, good in zip(rows, ok, strict=True):
-            grid[ys.index(_number(r[b])), xs.index(_number(r[a]))] = (
-                _number(r[metric]) if good else np.nan
+            grid[ys.index(as_number(r[b])), xs.index(as_number(r[a]))] = (
+                as_number(r[metric]) if good else np.nan
             )
         image = ax.pcolormesh(_edges(xs), _edges(ys), grid, shading="flat", **scale)
     else:  # random or Latin-hypercube draws: a scatter of the runs that lasted
         lasted = [r for r, good in zip(rows, ok, strict=True) if good]
-        image = ax.scatter([_number(r[a]) for r in lasted], [_number(r[b]) for r in lasted],
-                           c=[_number(r[metric]) for r in lasted], **scale)  # fmt: skip
+        image = ax.scatter([as_number(r[a]) for r in lasted], [as_number(r[b]) for r in lasted],
+                           c=[as_number(r[metric]) for r in lasted], **scale)  # fmt: skip
     fell = [r for r, good in zip(rows, ok, strict=True) if not good]
-    ax.plot([_number(r[a]) for r in fell], [_number(r[b]) for r in fell], "rx")
+    ax.plot([as_number(r[a]) for r in fell], [as_number(r[b]) for r in fell], "rx")
     return image
 
 
-def _number(value: Any) -> float:
+def as_number(value: Any) -> float:
+    """A table cell as a float; NaN for one that holds none."""
     try:
         return float(value)
     except (TypeError, ValueError):

@@ -13,7 +13,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import IO, Any
 
-from legdsl.analysis.sweep_plot import plot_sweep
+from legdsl.analysis.sweep_plot import as_number, plot_sweep
 from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
@@ -248,7 +248,7 @@ def _say_unmeasured(
 ) -> None:
     """A note where no run measured the metric drawn: the picture has nothing to colour (a
     controller whose command is not called 'speed' drew an empty map, and said nothing)."""
-    if any(math.isfinite(_number(r.get(metric))) for r in rows):
+    if any(math.isfinite(as_number(r.get(metric))) for r in rows):
         return
     if metric == "speed_error" and "speed" not in {c.name for c in controller.inputs}:
         why = (f"controller '{args.controller}' has no input 'speed', the command the error is "
@@ -259,13 +259,6 @@ def _say_unmeasured(
         why = f"no run has a whole stride from --from {args.t_from:g} s to its end"
     print(f"legdsl: note: no run measured {metric}, so {picture} shows none: {why}",
           file=sys.stderr)  # fmt: skip
-
-
-def _number(value: Any) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        return math.nan
 
 
 # the plan's parts as the command gives them, to say which differ from the one in OUT

@@ -212,19 +212,11 @@ def run_held(args: Any) -> Iterator[None]:
     from legdsl.files import writing_alone
 
     folder = Path(getattr(args, "run", None) or getattr(args, "dir", None) or "")
-    if not (args.command in DRAW_INTO_RUNS and folder.name and folder.is_dir()):
+    with contextlib.ExitStack() as held:
+        if args.command in DRAW_INTO_RUNS and folder.name and folder.is_dir():
+            with contextlib.suppress(OSError):  # a file system without locks: drawn unheld
+                held.enter_context(writing_alone(folder))
         yield
-        return
-    lock = writing_alone(folder)
-    try:
-        lock.__enter__()
-    except OSError:  # a file system without locks: drawn unheld
-        yield
-        return
-    try:
-        yield
-    finally:
-        lock.__exit__(None, None, None)
 
 
 def term_unwinds(command: str) -> contextlib.AbstractContextManager[None]:

@@ -233,7 +233,7 @@ def _of_model(files: Sequence[tuple[str, str]], model: Model) -> bool:
     stamps = _dynamics_stamps(model)
     for c in model.controllers:
         stamps |= _controller_stamps(model, c.name)
-    return all(line in texts.get(name, "") for name, line in stamps.items())
+    return _stamped(texts, stamps)
 
 
 def _controller_stamps(model: Model, controller: str) -> dict[str, str]:
@@ -250,7 +250,12 @@ def _fresh(folder: Path, stamps: dict[str, str]) -> dict[str, str] | None:
     if next(_changed(folder, list(stamps)), None) is not None:
         return None
     texts = {name: (folder / name).read_text(encoding="utf-8") for name in stamps}
-    return texts if all(line in texts[name] for name, line in stamps.items()) else None
+    return texts if _stamped(texts, stamps) else None
+
+
+def _stamped(texts: dict[str, str], stamps: dict[str, str]) -> bool:
+    """Whether each file named in ``stamps`` is in ``texts`` and holds its stamp line."""
+    return all(line in texts.get(name, "") for name, line in stamps.items())
 
 
 def _controllers_recompiled(model: Model, folder: Path) -> tuple[tuple[str, str], ...] | None:

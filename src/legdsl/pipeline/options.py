@@ -18,7 +18,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from legdsl.files import closed_stream, free_bytes
+from legdsl.files import closed_stream, free_bytes, written_as
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
@@ -304,8 +304,6 @@ def not_an_input(path: str | Path, flag: str, inputs: list[Path]) -> None:
 def os_error(what: str, path: Path, e: OSError) -> UsageError:
     """A ``UsageError`` for an ``OSError`` met while writing the user's output, naming the
     file of a directory it was writing (docs/runtime.md: a full disk names the file)."""
-    from legdsl.files import written_as
-
     file = Path(e.filename) if isinstance(e.filename, str) else None
     inside = f" ({written_as(file)})" if file is not None and file.parent == Path(path) else ""
     return UsageError(f"cannot write {what} {path}{inside}: {_why(e)}; give another place to write")

@@ -26,7 +26,7 @@ from typing import Any
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.fingerprints import creature_fingerprint
-from legdsl.files import file_sha256, leftovers, remove, write_atomic, writing_alone
+from legdsl.files import file_sha256, remove, write_atomic, writing_alone
 from legdsl.ir.model import Model, Pad, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
@@ -498,9 +498,6 @@ class Run:
         pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
         with writing_alone(out):
-            for name in RUN_FILES:  # temporary files of a run killed while writing here
-                for leftover in leftovers(out, name):
-                    remove(leftover)
             held_a_run = any((out / name).exists() for name in RUN_FILES)  # else: the user's
             for name in DERIVED_FILES if held_a_run else ():  # drawn from the run before
                 if (out / name).is_file():

@@ -60,9 +60,7 @@ class CLibrary:
     def __init__(self, built: Built, model: Model, load_from: Path | None = None):
         self.built = built
         self.lib = ctypes.CDLL(str(load_from or built.path))
-        start = ctypes.addressof(ctypes.c_char.in_dll(self.lib, "leg_sim_fields"))
-        text = ctypes.cast(start, ctypes.c_char_p).value
-        assert text is not None
+        text = _text(self.lib, "leg_sim_fields")
         fields = []
         self.pointee: dict[str, Any] = {}  # the dtype each pointer field points to
         for decl in text.decode().split(";")[:-1]:
@@ -102,15 +100,19 @@ class NotThisLibrary(RuntimeError):
     there by hand, a mix-up): its stamps are another model's or controller's."""
 
 
+def _text(lib: ctypes.CDLL, symbol: str) -> bytes:
+    """The text of the ``const char symbol[]`` that ``lib`` exports."""
+    text = ctypes.cast(ctypes.addressof(ctypes.c_char.in_dll(lib, symbol)), ctypes.c_char_p).value
+    assert text is not None
+    return text
+
+
 def _stamps_match(lib: ctypes.CDLL, files: dict[str, str]) -> bool:
     """Whether the fingerprints ``lib`` carries are those its C sources print."""
     for file, symbol in (("dynamics.c", "legdsl_model_fingerprint"),
                          ("control.c", "legdsl_control_fingerprint")):  # fmt: skip
         printed = re.search(rf'{symbol}\[\] = "(\w+)"', files.get(file, ""))
-        if printed is None:
-            continue
-        start = ctypes.addressof(ctypes.c_char.in_dll(lib, symbol))
-        if ctypes.cast(start, ctypes.c_char_p).value != printed.group(1).encode():
+        if printed is not None and _text(lib, symbol) != printed.group(1).encode():
             return False
     return True
 
@@ -166,12 +168,12 @@ def load_library(
     built = _build(name, files_text, starting)
     if built.path not in _LOADED:
         try:
-            _LOADED[built.path] = CLibrary(built, model)
-            if not _stamps_match(_LOADED[built.path].lib, files_text):
-                del _LOADED[built.path]
+            library = CLibrary(built, model)
+            if not _stamps_match(library.lib, files_text):
                 raise NotThisLibrary(
                     f"the C library of {name} is of another creature or controller"
                 )
+            _LOADED[built.path] = library
         except NotThisLibrary:  # built again from the sources: it was trusted by its name
             built.path.unlink(missing_ok=True)
             built = _build(name, files_text, starting)
