@@ -14,6 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 
 from legdsl.check.source import check_file
+from legdsl.cli import main
 from legdsl.codegen.python.control import render_control
 from legdsl.lang.errors import LegError
 from legdsl.lower.control import lower_controller
@@ -90,3 +91,38 @@ def test_what_sympy_makes_infinite_is_an_error_at_its_line(tmp_path: Path) -> No
         assert (d.span.line, d.span.col) == (11, 28)
         assert "no finite real number" in d.message
         assert "hip_servo.setpoint = " + value in info.value.render()
+
+
+def test_legdsl_check_refuses_what_only_sympy_sees(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``legdsl check`` lowers the controllers too (the checker alone accepted a division by
+    a difference that is always 0, which compile then refused), at the line, exit 2."""
+    text = (ROOT / "tests" / "bad" / "ctl_constant_without_value.leg").read_text()
+    table = "table {\n    state A on time > 0 s: hip_servo.setpoint = 1 rad * trunk.z / (trunk.z - trunk.z)\n  }"
+    path = tmp_path / "c.leg"
+    path.write_text(text.split("controller c {")[0] + "controller c {\n  " + table + "\n}\n")
+    check_file(path)  # the checker alone sees nothing wrong
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}:11:28: error: this gives no finite real number" in err
+    assert "Traceback" not in err
+
+
+def test_a_whole_constant_power_written_as_a_sum_or_a_function(tmp_path: Path) -> None:
+    """A constant exponent that leaves whole powers of the units is taken however it is
+    written (``x ^ (1 + 1)``, ``x ^ abs(-2)``), not only as a number or a product, and the
+    power lowers to the square it is."""
+    text = (ROOT / "tests" / "bad" / "ctl_constant_without_value.leg").read_text()
+    for exponent in ("(1 + 1)", "(3 - 1)", "abs(-2)", "(4 / 2)", "max(2, 1)"):
+        value = f"1 rad * (trunk.z ^ {exponent}) / 1 m^2"
+        table = "table {\n    state A on time > 0 s: hip_servo.setpoint = " + value + "\n  }"
+        path = tmp_path / "p.leg"
+        path.write_text(text.split("controller c {")[0] + "controller c {\n  " + table + "\n}\n")
+        (model,) = check_file(path)
+        lowered = lower_controller(model, model.controllers[0])
+        printed = render_control(lowered, path.name, {"A": "x"}, "0" * 16)
+        assert "hip_servo_setpoint = body_trunk_z*body_trunk_z" in printed
+    path.write_text(path.read_text().replace("max(2, 1)", "(1 + 0.5)"))
+    with pytest.raises(LegError, match="whole powers"):
+        check_file(path)

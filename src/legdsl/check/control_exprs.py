@@ -226,7 +226,10 @@ class ExprChecker(NameResolver):
             return None
         if base.type in (ONE, None):
             return ir.Binary("^", base, exponent, base.type)
-        n = _constant(exponent)
+        try:
+            n = self.constant_value(exponent)
+        except NoValue:  # (its own error is given where it is checked as a value)
+            n = None
         assert isinstance(base.type, tuple)
         powered = None if n is None else tuple(d * n for d in base.type)
         if powered is None or any(abs(p - round(p)) > 1e-12 for p in powered):
@@ -420,20 +423,6 @@ def _combine(a: Type, b: Type, sign: int) -> Type:
         # a bare 0 times anything is 0 of any dimension
         return None
     return (a[0] + sign * b[0], a[1] + sign * b[1], a[2] + sign * b[2], a[3] + sign * b[3])
-
-
-def _constant(e: ir.Expr) -> float | None:
-    if isinstance(e, ir.Num):
-        return e.value
-    if isinstance(e, ir.Unary) and e.op == "-":
-        inner = _constant(e.operand)
-        return None if inner is None else -inner
-    if isinstance(e, ir.Binary) and e.op in ("/", "*"):
-        a, b = _constant(e.left), _constant(e.right)
-        if a is None or b is None or (e.op == "/" and b == 0):
-            return None
-        return a / b if e.op == "/" else a * b
-    return None
 
 
 class NoValue(ValueError):

@@ -61,12 +61,12 @@ def _render(e: LegError) -> str:
 
 def _cmd_check(args: argparse.Namespace) -> int:
     from legdsl.check.leg_notes import leg_contact_notes
-    from legdsl.check.source import check_file
+    from legdsl.pipeline.compile import check_lowered
 
     failed = False
     for path in args.files:
         try:
-            models = check_file(path)
+            models = check_lowered(path)
         except LegError as e:
             print(e.render(), file=sys.stderr)
             failed = True

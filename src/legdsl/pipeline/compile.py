@@ -85,6 +85,21 @@ def compile_file(
         raise LegError(e.diagnostics, {**e.sources, str(path): text}) from None
 
 
+def check_lowered(path: str | Path) -> list[Model]:
+    """Check a ``.leg`` file, then lower each controller as ``compile`` does (``legdsl
+    check``): sympy's algebra finds what the checker cannot see (a division by a difference
+    that is always 0), so a file this accepts also compiles. The dynamics always lower."""
+    syntax, text = parse_file(path, recover=True)
+    models = check_tree(syntax, text, path)
+    try:
+        for model in models:
+            for controller in model.controllers:
+                lower_controller(model, controller)
+    except LegError as e:  # shown with its line, as the checker's are
+        raise LegError(e.diagnostics, {**e.sources, str(path): text}) from None
+    return models
+
+
 def compile_model(
     path: str | Path,
     creature: str | None = None,
