@@ -273,6 +273,25 @@ def test_bad_scale_factors_are_user_errors(
     assert not Path(out).exists()
 
 
+def test_a_bad_run_scale_is_refused_before_anything_is_compiled(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """runtime.md: values that make no sense are refused before anything is compiled;
+    --scale 0 filled generated/hopper/ (a sympy compile) and only then was refused."""
+    hopper = str(CREATURES / "hopper.leg")
+    gen = tmp_path / "generated"
+    for by in ("0", "-1", "1e100"):
+        out = tmp_path / "run"
+        args = ["run", hopper, "--controller", "hop", "--scale", by, "--generated", str(gen)]
+        assert main([*args, "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert "compiling" not in err
+        assert f"--scale {float(by):g}: " in err
+        assert not gen.exists() and not out.exists()
+    assert main(["run", hopper, "--scale", "0", "--generated", str(gen)]) == 2
+    assert "--scale 0: the scale factor is a positive, finite number" in capsys.readouterr().err
+
+
 def test_a_factor_whose_numbers_no_double_holds_is_refused_at_the_numbers(
     generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -80,7 +80,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
-    from legdsl.pipeline.scaled import check_scaled_defaults, run_options
+    from legdsl.pipeline.scaled import check_scale, check_scaled_defaults, run_options
     from legdsl.pipeline.scenes import switches_not_made
     from legdsl.pipeline.session import RunSession
     from legdsl.pipeline.settings import refuse_repeated
@@ -93,6 +93,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if not isinstance(args.fall_tilt, str):
         tilt = math.radians(tilt)  # the default, in degrees
     check_fall_tilt(tilt)  # the option alone: before anything is compiled
+    check_scale(args.scale)  # so is --scale (--scale 0 was refused after compiling)
     if args.out:  # checked before anything is compiled or simulated
         check_output_dir(args.out, "--out")
     with sigterm_unwinds():  # a compile of stale modules, its controller processes stopped
@@ -115,9 +116,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 
         scene = find_scene(session.model, args.scene)
         if args.scale is not None:  # the scene as the scaled file has it, for the scaled creature
-            from legdsl.pipeline.scaled import check_scale, scale_scene
+            from legdsl.pipeline.scaled import scale_scene
 
-            check_scale(args.scale)
             scene = scale_scene(scene, session.model, args.scale)
         controller, settings, switches = scene_plan(
             scene, session.model, settings, switches, unreached
