@@ -42,12 +42,17 @@ CASES = {
             "the value is nan", "leg.main.stance_time = nan"),
     "clamp": ("hip_servo.setpoint = clamp(active.stance_time * 1 rad/s, -10 deg, 10 deg)",
               "the value is nan", "leg.main.stance_time = nan"),
+    # a stiffness or damping a law makes negative: it ran on and diverged, blamed on the step
+    "negative": ("leg_spring.k = 3000 N/m - 10000 N/m * com.z / 1 m",
+                 "it sets leg_spring.k = -4651 N/m, and k must not be negative", ""),
+    "damping": ("hip_servo.kv = -1 N*m*s/rad * com.z / 1 m",
+                "it sets hip_servo.kv = -0.7651 N*m*s/rad, and kv must not be negative", ""),
 }  # fmt: skip
 ADVICE = "leg.main.stance_time is NaN (not measured yet): give a time to use until it is, as in "
 ADVICE += "select(main.stance_time > 0 s, main.stance_time, 0.3 s)"
 
 
-@pytest.mark.parametrize(("case", "backend"), [(c, "c") for c in CASES] + [("min", "python")])
+@pytest.mark.parametrize(("case", "backend"), [(c, "c") for c in CASES] + [("min", "python"), ("negative", "python")])
 def test_a_failing_control_law_names_its_statement(
     capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path, case: str, backend: str
 ) -> None:

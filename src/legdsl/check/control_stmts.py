@@ -16,7 +16,7 @@ from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
-from legdsl.ir.model import Actuator, Leg, setting_kind
+from legdsl.ir.model import NON_NEGATIVE, Actuator, Leg, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
@@ -129,6 +129,14 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 s.value.span,
                 f"'{text}' is {describe_type(want)}, but the value is {describe_type(value.type)}"
                 f"{unit_advice(want)}",
+            )
+            return []
+        if key.name in NON_NEGATIVE and (self.constant_value(value) or 0.0) < 0:
+            self.err(
+                s.value.span,
+                f"'{key.name}' must not be negative, here as in the actuator's line (a negative "
+                f"{'stiffness' if key.name in ('k', 'kp') else 'damping'} feeds energy in and "
+                "the run diverges); give 0 or more",
             )
             return []
         assert isinstance(target, ir.Part | ir.Alias)

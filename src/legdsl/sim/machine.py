@@ -25,9 +25,10 @@ from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any
 
-from legdsl.ir.model import Model
+from legdsl.ir.model import NON_NEGATIVE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS
 from legdsl.signals import import_held
 from legdsl.sim.handover import Clock, Pair, cycle, take_over
 from legdsl.sim.kinematics import FootPlacer
@@ -211,6 +212,18 @@ class StateMachine:
         return explain(self.model, self.module, kind, key, args, t, self.state_names[state],
                        error, index)  # fmt: skip
 
+    def _negative(self, actuator: str, setting: str, value: float) -> str:
+        """Why a negative stiffness or damping stops the run (the C machine hands the tick to
+        Python where one is set, so that both say this)."""
+        rotary = next(a.rotary for a in self.model.actuators if a.name == actuator)
+        unit = KINDS[setting_kind(setting, rotary)][1]
+        what = "stiffness" if setting in ("k", "kp") else "damping"
+        return (
+            f"it sets {actuator}.{setting} = {value:.4g} {unit}, and {setting} must not be "
+            f"negative (a negative {what} feeds energy in, and the run would diverge); keep it "
+            f"at 0 or more, as with max(0 {unit}, ...)"
+        )
+
     def _enter(self, state: int, t: float, s: tuple[float, ...]) -> None:
         self.state_index = state
         self.entered_at = t
@@ -270,7 +283,10 @@ class StateMachine:
         args = (s, self.inputs, self.params, self.records, t - self.entered_at)
         outputs = self._call("action", m.ACTIONS, key, args, t, self.state_index)
         targets = m.SETTINGS[key]
-        for (actuator, setting), value in zip(targets, outputs, strict=False):
+        for i, ((actuator, setting), value) in enumerate(zip(targets, outputs, strict=False)):
+            if value < 0 and setting in NON_NEGATIVE and self._sane:
+                error = self._negative(actuator, setting, value)
+                raise self._fault("action", key, args, t, self.state_index, error, i)
             sim.actuators.by_name[actuator].set(setting, value)
         goals = iter(outputs[len(targets) :])
         for i, (leg, axes, servos) in enumerate(m.PLACES.get(key, ())):

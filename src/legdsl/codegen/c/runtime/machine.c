@@ -549,6 +549,8 @@ int64_t leg_control_tick(leg_sim *s) {
         const int64_t *targets = c->settings[key];
         for (int64_t k = 0; k < n; k++) {
             int64_t a = targets[2 * k];
+            /* a negative stiffness or damping: Python's machine says why the run stops */
+            if (out[k] < 0.0 && targets[2 * k + 1] <= LEG_SET_DAMPING) goto python;
             switch (targets[2 * k + 1]) {
             case LEG_SET_GAIN: s->act_gain[a] = out[k]; break;
             case LEG_SET_DAMPING: s->act_damping[a] = out[k]; break;
