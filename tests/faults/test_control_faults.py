@@ -52,7 +52,9 @@ ADVICE = "leg.main.stance_time is NaN (not measured yet): give a time to use unt
 ADVICE += "select(main.stance_time > 0 s, main.stance_time, 0.3 s)"
 
 
-@pytest.mark.parametrize(("case", "backend"), [(c, "c") for c in CASES] + [("min", "python"), ("negative", "python")])
+@pytest.mark.parametrize(
+    ("case", "backend"), [(c, "c") for c in CASES] + [("min", "python"), ("negative", "python")]
+)
 def test_a_failing_control_law_names_its_statement(
     capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path, case: str, backend: str
 ) -> None:
