@@ -346,6 +346,8 @@ WAYPOINTS_REFUSED = [  # (a waypoints file, what the message must say)
     ("0,0\n1,nan\n", "not finite"),
     ("0,0\n1,2,3\n", "is not 'x,y'"),
     ("0,0,0\n1,1\n2,2\n", "line 1 is not 'x,y'"),  # numbers only: a point, not a header
+    ("0 0\n5,0\n5,5\n", "line 1 is not 'x,y'"),  # so too with spaces (it was dropped)
+    ("0\t0;\n5,0\n5,5\n", "line 1 is not 'x,y'"),
     ("0,0\n5e9,0\n", "from the origin"),
 ]
 

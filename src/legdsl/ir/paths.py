@@ -17,6 +17,7 @@ counted without wrapping (a closed path's second lap goes on from its length).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -160,8 +161,8 @@ def read_waypoints(path: Path, name: str) -> PathSpec:
                 )
             points.append(point)
         except ValueError:
-            if first and not all(bare_number(p) for p in parts):
-                continue  # a header (a line of numbers only is a point written wrong)
+            if first and not all(bare_number(w) for w in re.split(r"[\s,;]+", text) if w):
+                continue  # a header (a line of numbers only, '0 0', is a point written wrong)
             raise UsageError(
                 f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
             ) from None
