@@ -85,5 +85,5 @@ def test_a_wrong_edge_is_refused_before_anything_is_written(
     slipping_edges_run().save(tmp_path)
     assert main(["metrics", str(tmp_path), "--friction-edge", value]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"legdsl metrics: error: {said}") and "Traceback" not in err, err
+    assert err.startswith(f"legdsl: {said}") and "Traceback" not in err, err
     assert not (tmp_path / "metrics.json").exists()

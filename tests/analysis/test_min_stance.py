@@ -105,7 +105,7 @@ def test_a_wrong_min_stance_is_refused_saying_how_to_write_it(
     scuffed_run().save(tmp_path)
     assert main(["metrics", str(tmp_path), "--min-stance", value]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"legdsl metrics: error: {said}") and "Traceback" not in err, err
+    assert err.startswith(f"legdsl: {said}") and "Traceback" not in err, err
     assert "write e.g. --min-stance" in err or "more than zero" in err
     assert not (tmp_path / "metrics.json").exists()
 

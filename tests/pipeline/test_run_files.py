@@ -67,6 +67,35 @@ def test_a_run_of_a_changed_creature_is_refused(
     assert f"legdsl run {leg} --controller hop --time 1s --out {run})" in err
 
 
+def test_the_rerun_asked_for_a_changed_creature_keeps_the_switches_and_scene(
+    hopper: tuple[Path, Path], capsys: pytest.CaptureFixture[str], generated: Path,
+    tmp_path: Path,
+) -> None:  # fmt: skip
+    """The command given to run again a run of a changed creature has its --switch values and
+    its --scene (left out, it would record another run); run.json names the scene."""
+    leg, run = hopper
+    argv = ["run", str(leg), "--controller", "hop", "--switch", "0.5s=hop", "--time", "1s",
+            "--out", str(run), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    leg.write_text(leg.read_text().replace("mass 10 kg", "mass 12 kg", 1))
+    assert main(["plot", str(run)]) == 2
+    err = capsys.readouterr().err
+    assert f"legdsl run {leg} --controller hop --switch 0.5s=hop --time 1s --out {run})" in err
+    biped = tmp_path / "biped.leg"
+    shutil.copy(ROOT / "creatures" / "biped.leg", biped)
+    scene = tmp_path / "scene"
+    argv = ["run", str(biped), "--scene", "run_gallop_run", "--time", "0.2s", "--out",
+            str(scene), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    assert json.loads((scene / "run.json").read_text())["scene"] == "run_gallop_run"
+    biped.write_text(biped.read_text().replace("mass 23.1 kg", "mass 24 kg", 1))
+    capsys.readouterr()
+    assert main(["metrics", str(scene), "--generated", str(generated)]) == 2
+    err = capsys.readouterr().err
+    assert f"legdsl: {biped} has changed since the run" in err
+    assert f"legdsl run {biped} --scene run_gallop_run --time 0.2s --out {scene}" in err
+
+
 def test_a_new_run_removes_what_was_drawn_from_the_old(
     hopper: tuple[Path, Path], generated: Path
 ) -> None:

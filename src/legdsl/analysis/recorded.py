@@ -42,8 +42,15 @@ def recorded_model(
     recorded = info.get("creature_fingerprint")
     if recorded is not None and recorded != creature_fingerprint(model):
         again = f"legdsl run {source}" + (
-            f" --controller {info['controller']}" if info.get("controller") else ""
+            f" --scene {info['scene']}"
+            if info.get("scene")
+            else f" --controller {info['controller']}"
+            if info.get("controller")
+            else ""
         )
+        if not info.get("scene"):  # a scene's switches are its own
+            again += "".join(f" --switch {w['t']:g}s={w['controller']}"
+                             for w in info.get("switches") or [])  # fmt: skip
         duration = (info.get("options") or {}).get("duration")
         again += f" --time {duration:g}s" if isinstance(duration, int | float) else ""
         settings = info.get("settings") or {}

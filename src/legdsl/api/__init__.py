@@ -135,6 +135,7 @@ class Creature:
                             scene, **options)  # fmt: skip
         self._before(plan, asked)
         done = self.session.run(**plan)
+        done.scene = scene
         self._after(done)
         return self._wrap(done)
 

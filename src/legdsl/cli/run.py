@@ -154,6 +154,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             controller, settings, args.path, options, progress, args.scale, switches, **backend
         )
         interrupts.simulating = False  # from here on a signal waits for the directory
+        run.scene = args.scene
         try:
             out = run.write(out)
         except OSError as e:

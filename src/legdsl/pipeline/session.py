@@ -430,6 +430,7 @@ class Run:
     path_reports: list[dict[str, Any]] = field(default_factory=list)
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
     source_sha256: str | None = None  # the file's as checked, else read when run.json is made
+    scene: str | None = None  # the scene run (--scene), which run.json names
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
@@ -468,6 +469,7 @@ class Run:
             **_controller_fingerprints(self.machine),
             "options": asdict(self.options),
             **({"scale": self.scale} if self.scale is not None else {}),
+            **({"scene": self.scene} if self.scene is not None else {}),
             **extra,
             "status": result.status,
             "message": result.message,
