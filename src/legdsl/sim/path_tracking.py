@@ -4,12 +4,16 @@ tracker the runtime evaluates every control tick (the path itself is ``legdsl.ir
 Conventions: x, y in the world's ground plane, headings measured from +x towards +y,
 ``lateral`` positive when the point is to the left of the path (looking along it),
 ``progress`` the arclength travelled along the path, counted without wrapping.
+
+The tracker follows a polyline in its order, not only to its globally nearest point (see
+``PathTracker.update``): a stretch the path comes back along, a hairpin or a crossing is
+taken when the creature gets there, and ``progress`` goes on along it.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from legdsl.ir.paths import MEMBERS, PathSpec, Point
 
@@ -27,6 +31,19 @@ class Projection:
 
 def _wrap(angle: float) -> float:
     return math.atan2(math.sin(angle), math.cos(angle))
+
+
+SAME_S = 1e-9  # m: arclengths this near are one point of the path (a vertex, from either side)
+
+
+def _goes_on(s: float, best: float, last: float) -> bool:
+    """Whether the point at arclength ``s`` goes on from the last reading's (``last``) better
+    than the one at ``best``, as near: not behind it where ``best`` is, else nearer to it
+    (never without a last reading, nor between two arclengths that are one point)."""
+    behind, best_behind = s < last - SAME_S, best < last - SAME_S
+    if behind != best_behind:
+        return best_behind
+    return abs(s - last) < abs(best - last) - SAME_S
 
 
 class PathGeometry:
@@ -63,7 +80,20 @@ class PathGeometry:
         return -spec.turn * math.pi / 2 + spec.turn * s / spec.radius
 
     # ---------------------------------------------------------------- queries
-    def project(self, x: float, y: float) -> Projection:
+    def project(
+        self,
+        x: float,
+        y: float,
+        lo: float = -math.inf,
+        hi: float = math.inf,
+        last: float = math.nan,
+    ) -> Projection:
+        """The nearest point of the path; of a polyline, the nearest whose arclength is within
+        [lo, hi] (unwrapped: a closed path's window may reach past its end or before its
+        start, and ``s`` is then unwrapped too), of equally near ones the first, or with
+        ``last`` (the last reading's arclength) the one that goes on from it: not behind it
+        if one is not, else the nearer to it (a stretch the path comes back along is two
+        points at one place)."""
         spec = self.spec
         if spec.shape == "circle":
             cx, cy = spec.center
@@ -81,24 +111,35 @@ class PathGeometry:
             )  # fmt: skip
         best: Projection | None = None
         best_d = math.inf
-        for i, (a, b) in enumerate(zip(self.vertices, self.vertices[1:], strict=False)):
-            ex, ey = b[0] - a[0], b[1] - a[1]
-            seg = math.hypot(ex, ey)
-            u = ((x - a[0]) * ex + (y - a[1]) * ey) / (seg * seg)
-            u = min(1.0, max(0.0, u))
-            px, py = a[0] + u * ex, a[1] + u * ey
-            d = math.hypot(x - px, y - py)
-            if d < best_d - 1e-12:
-                best_d = d
-                tx, ty = ex / seg, ey / seg
-                cross = tx * (y - py) - ty * (x - px)
-                if not self.closed and (
-                    (i == 0 and u == 0.0) or (u == 1.0 and i == len(self.vertices) - 2)
+        laps = (-self.length, 0.0, self.length) if self.closed and hi - lo < math.inf else (0.0,)
+        for lap in laps:
+            for i, (a, b) in enumerate(zip(self.vertices, self.vertices[1:], strict=False)):
+                start, end = self.starts[i] + lap, self.starts[i + 1] + lap
+                if end < lo or start > hi:
+                    continue
+                ex, ey = b[0] - a[0], b[1] - a[1]
+                seg = math.hypot(ex, ey)
+                # the part of the segment in the window (all of it: 0 to 1, as without one)
+                ulo = min(1.0, (lo - start) / seg) if start < lo else 0.0
+                uhi = max(0.0, (hi - start) / seg) if end > hi else 1.0
+                u = ((x - a[0]) * ex + (y - a[1]) * ey) / (seg * seg)
+                u = min(uhi, max(ulo, u))
+                px, py = a[0] + u * ex, a[1] + u * ey
+                d = math.hypot(x - px, y - py)
+                s = start + u * seg
+                if d < best_d - 1e-12 or (
+                    d <= best_d + 1e-12 and best is not None and _goes_on(s, best.s, last)
                 ):
-                    lateral = cross  # past an open end: the distance to the end's tangent line
-                else:
-                    lateral = math.copysign(d, cross) if d > 0 else 0.0
-                best = Projection(self.starts[i] + u * seg, px, py, math.atan2(ty, tx), lateral)
+                    best_d = d
+                    tx, ty = ex / seg, ey / seg
+                    cross = tx * (y - py) - ty * (x - px)
+                    if not self.closed and (
+                        (i == 0 and u == 0.0) or (u == 1.0 and i == len(self.vertices) - 2)
+                    ):
+                        lateral = cross  # past an open end: the distance to the end's tangent line
+                    else:
+                        lateral = math.copysign(d, cross) if d > 0 else 0.0
+                    best = Projection(s, px, py, math.atan2(ty, tx), lateral)
         assert best is not None
         return best
 
@@ -132,6 +173,8 @@ class PathTracker:
 
     ``progress`` is unwrapped: on a closed path a step from near its end to near its
     start counts forward (the nearer way round), so that ``progress / length`` counts laps.
+    The nearest point is the whole path's at the first reading, then a polyline's within a
+    window about the last (``update``): it follows the path's order.
     """
 
     def __init__(self, spec: PathSpec | None):
@@ -146,14 +189,32 @@ class PathTracker:
         if geo is None:
             return self.values
         assert self.spec is not None
-        p = geo.project(x, y)
-        if math.isnan(self._last_s):
+        last = self._last_s
+        if math.isnan(last):  # the first reading: the nearest point of the whole path
+            p = geo.project(x, y)
             self.progress = p.s
-        else:
-            ds = p.s - self._last_s
-            if geo.closed:
-                ds = (ds + geo.length / 2) % geo.length - geo.length / 2
+        elif geo.spec.shape == "circle":  # its nearest point is the only one near
+            p = geo.project(x, y)
+            ds = p.s - last
+            ds = (ds + geo.length / 2) % geo.length - geo.length / 2
             self.progress += ds
+        else:
+            # Then the nearest point within a window of arclength about the last one, so that
+            # the projection moves along the path, not across to another stretch of it (one
+            # the path comes back along or passes near): the window reaches either way as far
+            # as the creature now is from the last nearest point (along a straight stretch it
+            # cannot have gone further), and the lookahead more ahead (where the path turns
+            # back on itself, the way on is found within it; the tie rule of ``project``
+            # takes it). A creature that strays widens the window as far as it strays, and a
+            # reading at the window's edge moves the next window on. A closed path's window
+            # wraps (a lap at most, half either way); an open one's ends clamp it.
+            reach = math.hypot(x - self.values["x"], y - self.values["y"])
+            lo, hi = last - reach, last + self.spec.lookahead + reach
+            if geo.closed and not hi - lo < geo.length:
+                lo, hi = last - geo.length / 2, last + geo.length / 2
+            p = geo.project(x, y, lo, hi, last)
+            self.progress += p.s - last
+            p = replace(p, s=p.s % geo.length if geo.closed else p.s)
         self._last_s = p.s
         ax, ay, ah = geo.at(p.s + self.spec.lookahead)
         self.values = {

@@ -241,8 +241,19 @@ static double py_mod(double x, double y, int *err) {
 
 static double wrap(double angle, int *err) { return atan2(leg_sin(angle), leg_cos(angle)); }
 
-/* PathGeometry.project: s, x, y, heading, lateral */
-static void project(const double *g, double x, double y, double *out, int *err) {
+#define SAME_S 1e-9 /* path_tracking.SAME_S */
+
+/* path_tracking._goes_on: whether arclength s goes on from last better than best, as near */
+static int goes_on(double s, double best, double last) {
+    int behind = s < last - SAME_S, best_behind = best < last - SAME_S;
+    if (behind != best_behind) return best_behind;
+    return fabs(s - last) < fabs(best - last) - SAME_S;
+}
+
+/* PathGeometry.project: s, x, y, heading, lateral; of a polyline, within [lo, hi] of
+ * arclength (a closed one's unwrapped), ties to the one that goes on from last */
+static void project(const double *g, double x, double y, double lo, double hi, double last,
+                    double *out, int *err) {
     if (g[0] == 1.0) {
         double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
         double dx = x - cx, dy = y - cy;
@@ -260,24 +271,37 @@ static void project(const double *g, double x, double y, double *out, int *err) 
     int closed = g[1] != 0.0;
     int64_t nv = (int64_t)g[8];
     const double *v = g + 9, *starts = g + 9 + 2 * nv;
+    double length = g[7];
+    double laps[3] = {-length, 0.0, length};
+    int nlaps = closed && hi - lo < INFINITY ? 3 : 1;
     double best_d = INFINITY;
-    for (int64_t i = 0; i + 1 < nv; i++) {
-        const double *a = v + 2 * i, *b = v + 2 * i + 2;
-        double ex = b[0] - a[0], ey = b[1] - a[1];
-        double seg = leg_hypot(ex, ey);
-        double u = leg_div((x - a[0]) * ex + (y - a[1]) * ey, seg * seg);
-        u = leg_min(1.0, leg_max(0.0, u));
-        double px = a[0] + u * ex, py = a[1] + u * ey;
-        double d = leg_hypot(x - px, y - py);
-        if (d < best_d - 1e-12) {
-            best_d = d;
-            double tx = leg_div(ex, seg), ty = leg_div(ey, seg);
-            double cross = tx * (y - py) - ty * (x - px);
-            double lateral;
-            if (!closed && ((i == 0 && u == 0.0) || (u == 1.0 && i == nv - 2))) lateral = cross;
-            else lateral = d > 0 ? copysign(d, cross) : 0.0;
-            out[0] = starts[i] + u * seg;
-            out[1] = px; out[2] = py; out[3] = atan2(ty, tx); out[4] = lateral;
+    int found = 0;
+    for (int k = 0; k < nlaps; k++) {
+        double lap = nlaps == 3 ? laps[k] : 0.0;
+        for (int64_t i = 0; i + 1 < nv; i++) {
+            double start = starts[i] + lap, end = starts[i + 1] + lap;
+            if (end < lo || start > hi) continue;
+            const double *a = v + 2 * i, *b = v + 2 * i + 2;
+            double ex = b[0] - a[0], ey = b[1] - a[1];
+            double seg = leg_hypot(ex, ey);
+            double ulo = start < lo ? leg_min(1.0, leg_div(lo - start, seg)) : 0.0;
+            double uhi = end > hi ? leg_max(0.0, leg_div(hi - start, seg)) : 1.0;
+            double u = leg_div((x - a[0]) * ex + (y - a[1]) * ey, seg * seg);
+            u = leg_min(uhi, leg_max(ulo, u));
+            double px = a[0] + u * ex, py = a[1] + u * ey;
+            double d = leg_hypot(x - px, y - py);
+            double s = start + u * seg;
+            if (d < best_d - 1e-12 || (d <= best_d + 1e-12 && found && goes_on(s, out[0], last))) {
+                best_d = d;
+                found = 1;
+                double tx = leg_div(ex, seg), ty = leg_div(ey, seg);
+                double cross = tx * (y - py) - ty * (x - px);
+                double lateral;
+                if (!closed && ((i == 0 && u == 0.0) || (u == 1.0 && i == nv - 2))) lateral = cross;
+                else lateral = d > 0 ? copysign(d, cross) : 0.0;
+                out[0] = s;
+                out[1] = px; out[2] = py; out[3] = atan2(ty, tx); out[4] = lateral;
+            }
         }
     }
 }
@@ -315,14 +339,25 @@ double leg_sense_path(leg_sim *s, int k, int member, int *err) {
         sense_cache *const kc = this_thread();
         com(kc, s, err);
         double p[5], ahead[3];
-        project(g, kc->c[0], kc->c[1], p, err);
-        double length = g[7];
-        if (isnan(st[1])) {
+        double x = kc->c[0], y = kc->c[1], last = st[1], length = g[7];
+        if (isnan(last)) { /* the first reading: the nearest point of the whole path */
+            project(g, x, y, -INFINITY, INFINITY, NAN, p, err);
             st[0] = p[0];
-        } else {
-            double ds = p[0] - st[1];
-            if (g[1] != 0.0 || g[0] == 1.0) ds = py_mod(ds + leg_div(length, 2.0), length, err) - leg_div(length, 2.0);
+        } else if (g[0] == 1.0) {
+            project(g, x, y, -INFINITY, INFINITY, NAN, p, err);
+            double ds = p[0] - last;
+            ds = py_mod(ds + leg_div(length, 2.0), length, err) - leg_div(length, 2.0);
             st[0] += ds;
+        } else { /* within a window about the last reading (PathTracker.update says why) */
+            double reach = leg_hypot(x - st[2 + 4], y - st[2 + 5]);
+            double lo = last - reach, hi = last + g[6] + reach;
+            if (g[1] != 0.0 && !(hi - lo < length)) {
+                lo = last - leg_div(length, 2.0);
+                hi = last + leg_div(length, 2.0);
+            }
+            project(g, x, y, lo, hi, last, p, err);
+            st[0] += p[0] - last;
+            if (g[1] != 0.0) p[0] = py_mod(p[0], length, err);
         }
         st[1] = p[0];
         path_at_s(g, p[0] + g[6], ahead, err);
