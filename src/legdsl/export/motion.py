@@ -239,7 +239,7 @@ def load_motion(
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec
-        from legdsl.sim.path_tracking import PathGeometry
+        from legdsl.sim.path_tracking import PathTracker
 
         followed = [PathSpec.from_json(p) for p in specs]
         motion.paths = tuple(path_points(p, motion.terrain) for p in followed)
@@ -250,13 +250,14 @@ def load_motion(
             else None for p in specs
         )  # fmt: skip
         nearest, lateral = [], []
-        for spec in followed:
-            geometry = PathGeometry(spec)
-            hits = [geometry.project(float(x), float(y)) for x, y in motion.com[:, :2]]
+        for spec in followed:  # tracked frame by frame, as the run's tracker went along it
+            tracker = PathTracker(spec)
+            hits = [tracker.update(float(x), float(y)) for x, y in motion.com[:, :2]]
             nearest.append(
-                np.array([(h.x, h.y, terrain_height(motion.terrain, h.x, h.y)) for h in hits])
-            )
-            lateral.append(np.array([h.lateral for h in hits]))
+                np.array([(h["x"], h["y"], terrain_height(motion.terrain, h["x"], h["y"]))
+                          for h in hits])
+            )  # fmt: skip
+            lateral.append(np.array([h["lateral"] for h in hits]))
         motion.path_nearest, motion.path_lateral = tuple(nearest), tuple(lateral)
     return motion
 
