@@ -13,6 +13,8 @@ from legdsl.cli import main
 from legdsl.sim.actuators import ActuatorState
 from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
 
+ROOT = Path(__file__).resolve().parents[2]
+
 
 def _spring(k: float, b: float, limit: float | None = None) -> ActuatorState:
     return ActuatorState("s", "spring", 0, 0, k, b, 0.0, 0.0, limit)
@@ -242,3 +244,54 @@ def test_a_templates_actuator_too_stiff_is_told_for_each_instance(
     assert [h.rsplit("(in ", 1)[1] for h in heads] == [
         f"instance '{name}' of template 'leg')" for name in ("fl", "fr", "rl", "rr")
     ]
+
+
+def test_a_foot_that_touched_down_far_under_the_surface_is_named() -> None:
+    """A foot run into a box's side face is under the box's top at once and pushed with
+    thousands of weights: that is the cause (it was blamed on joint limits the blow-up
+    passed); a foot down already and pushed hard as the run blows up is not named."""
+    import numpy as np
+
+    from legdsl.check.source import check_model
+    from legdsl.sim.stability import likely_cause
+
+    model = check_model(ROOT / "creatures" / "hopper.leg")
+    weight = model.total_mass * 9.81
+    t = np.arange(5) * 0.005
+    contact = np.zeros((5, 1), dtype=np.int8)
+    force = np.zeros((5, 1, 3))
+    contact[3:, 0], force[3, 0, 2] = 1, 500 * weight
+    force[4] = np.nan  # the sample the run diverged in
+    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=(t, contact, force))
+    assert cause.startswith("contact 'toe' touched down far under the surface: the ground pushed")
+    assert "at t = 0.0150 s, 500 times the creature's weight" in cause
+    contact[:, 0] = 1  # down all along: a blow-up
+    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=(t, contact, force))
+    assert "touched down" not in cause
+
+
+def test_a_foot_run_into_a_boxs_side_is_the_divergences_cause(
+    tmp_path: Path, generated: Path
+) -> None:
+    """The kangaroo's jump at 4 m/s into a 20 cm box: its toe enters through the side face and
+    the run diverges; the likely cause says so, on both backends alike."""
+    from runtime_helpers import assert_same
+
+    from legdsl.pipeline.session import RunSession
+    from legdsl.sim.c_backend import available
+    from legdsl.sim.run_loop import RunOptions
+
+    text = (ROOT / "creatures" / "kangaroo.leg").read_text()
+    anchor = "  ground {"
+    assert text.count(anchor) == 1
+    leg = tmp_path / "kangaroo.leg"
+    box = "    terrain box(x0 = 10 m, x1 = 12 m, height = 0.2 m)\n"
+    leg.write_text(text.replace(anchor, anchor + "\n" + box, 1))
+    sess = RunSession.from_file(leg, generated=generated)
+    options = RunOptions(duration=6.0)
+    python = sess.run("jump", ["speed=4m/s"], options=options, backend="python").result
+    assert python.status == "diverged"
+    assert "Likely cause: contact 'toe' touched down far under the surface" in python.message
+    assert "the side of a step or box" in python.message
+    if available() is None:
+        assert_same(python, sess.run("jump", ["speed=4m/s"], options=options, backend="c").result)

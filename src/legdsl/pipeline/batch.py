@@ -469,7 +469,7 @@ class Copies:
             elif code == RAISED:
                 raise ERRORS[int(s.err)]()
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
-            status, cause = "diverged", sim.diverged(err)
+            status, cause = "diverged", sim.diverged(err, self.trajectory(k))
         events = sorted(self._contact_events(k) + self._state_events(k), key=lambda e: e["t"])
         stops = self.blocks["stop_time"][k]
         return RunResult(

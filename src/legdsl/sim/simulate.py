@@ -17,6 +17,8 @@ from collections.abc import Callable, Sequence
 from types import ModuleType
 from typing import Any, Protocol
 
+import numpy as np
+
 from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
@@ -38,6 +40,7 @@ from legdsl.sim.run_loop import (
 )
 from legdsl.sim.sizes import too_fast
 from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
+from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
 
@@ -367,9 +370,14 @@ class Simulation:
             return "fell"
         return None
 
-    def likely_cause(self, err: BaseException | None = None) -> str:
-        """Why a run diverged (``legdsl.sim.stability.likely_cause``); a division by zero may
-        be the dynamics' own, at a singular mass matrix, so that is looked at too."""
+    def likely_cause(
+        self,
+        err: BaseException | None = None,
+        recorded: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> str:
+        """Why a run diverged (``legdsl.sim.stability.likely_cause``, with the sample times,
+        contact flags and ground forces ``recorded``); a division by zero may be the dynamics' own, at a
+        singular mass matrix, so that is looked at too."""
         mass = None
         if isinstance(err, ZeroDivisionError):
             with contextlib.suppress(ArithmeticError, ValueError):
@@ -379,7 +387,7 @@ class Simulation:
         with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
             inverse = inverse_inertia_diagonal(self.dyn.mass_matrix(list(self.model.q0)))
             stiff = stiff_now(self.actuators.states, self._stops, inverse, opts.dt, opts.integrator)
-        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff)
+        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff, recorded)
 
     # ------------------------------------------------------------ running
     def run(
@@ -407,7 +415,7 @@ class Simulation:
             self.message = cause  # it names the time
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
             loop.status = "diverged"
-            cause = self.diverged(err)
+            cause = self.diverged(err, loop.traj.head(loop.recorded))
         except (KeyboardInterrupt, Interrupted) as sig:
             loop.status = "interrupted"
             cause = signal_of(sig)
@@ -451,10 +459,12 @@ class Simulation:
             start_height=self.standing_height(),
         )
 
-    def diverged(self, err: BaseException) -> str:
-        """The cause of a divergence ``err`` at the state now; sets the run's message."""
+    def diverged(self, err: BaseException, traj: Trajectory | None = None) -> str:
+        """The cause of a divergence ``err`` at the state now, with what ``traj`` recorded up to
+        it; sets the run's message."""
         state = ", ".join(f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True))
-        cause = f"{err}. Likely cause: {self.likely_cause(err)}"
+        recorded = None if traj is None else (traj.t, traj.contact, traj.force)
+        cause = f"{err}. Likely cause: {self.likely_cause(err, recorded)}"
         self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
         return cause
 

@@ -35,6 +35,9 @@ from legdsl.ir.model import Model, Pad, Stop, axes_spread
 from legdsl.sim.actuators import ActuatorState
 
 SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
+# A ground force of this many times the creature's weight (a hard landing's is a few) is a
+# foot far under the surface: one that ran into a box's side face is put under its top at once.
+PUSHED = 20.0
 # A ball joint whose turned axes span less than this (1 at right angles; their first and last
 # within about 3 deg of lining up) is near gimbal lock, where its rates grow without bound.
 NEAR_LOCK = 0.05
@@ -177,11 +180,15 @@ def likely_cause(
     q: Sequence[float],
     mass_matrix: Sequence[Sequence[float]] | None = None,
     stiff: Sequence[str] = (),
+    recorded: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
-    the mass matrix there (where the dynamics could compute it), and the actuators and stops
-    too stiff for the step (``stiff``: ``stiff_now``)."""
+    the mass matrix there (where the dynamics could compute it), the actuators and stops
+    too stiff for the step (``stiff``: ``stiff_now``) and what was ``recorded`` just before (the
+    trajectory's sample times, contact flags and ground forces)."""
     causes = list(stiff)
+    if recorded is not None and (pushed := _pushed_deep(model, *recorded)) is not None:
+        causes.append(pushed)
     if mass_matrix is not None:
         m = np.asarray(mass_matrix, dtype=float)
         condition = np.linalg.cond(m) if np.all(np.isfinite(m)) else math.inf
@@ -236,3 +243,33 @@ def likely_cause(
             "block) or --integrator rk4"
         )
     return "; ".join(causes)
+
+
+def _pushed_deep(model: Model, t: np.ndarray, contact: np.ndarray, force: np.ndarray) -> str | None:
+    """A foot that touched down far under the surface (pushed past ``PUSHED`` weights at
+    its first sample down) among the last samples recorded before a divergence, as its
+    cause; None if there was none. (A run blowing up pushes hard too, but on feet that were
+    down already.)"""
+    weight = model.total_mass * abs(model.gravity[2])
+    finite = np.flatnonzero(np.all(np.isfinite(force.reshape(len(force), -1)), axis=1))[-3:]
+    if weight <= 0 or not len(finite) or not force.shape[1]:
+        return None
+    push = np.linalg.norm(force[finite], axis=2)  # (samples, contacts)
+    before = np.maximum(finite - 1, 0)
+    push[(contact[before] != 0) | (before == finite)[:, None]] = 0.0  # only first samples down
+    row, foot = np.unravel_index(int(np.argmax(push)), push.shape)
+    if not push[row, foot] > PUSHED * weight:
+        return None
+    said = (
+        f"contact '{model.contacts[foot].name}' touched down far under the surface: the ground "
+        f"pushed it with {push[row, foot]:.3g} N at t = {t[finite[row]]:.4f} s, "
+        f"{push[row, foot] / weight:.0f} times the creature's weight"
+    )
+    terrain = model.ground.terrain if model.ground is not None else ()
+    if any(f.kind in ("step", "box") for f in terrain):
+        return (
+            f"{said}, as a foot that runs into the side of a step or box does (the ground has "
+            "their top faces only: a foot under a top's edge is under its top at once); move the "
+            "terrain, or have the creature clear it (a higher or earlier jump, a slower approach)"
+        )
+    return f"{said}; land softer (a slower approach, a softer leg) or give the ground a pad"
