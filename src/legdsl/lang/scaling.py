@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Mapping
 from dataclasses import fields, is_dataclass
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,9 @@ DEFAULT_DT = 0.0004
 DEFAULT_CONTROL_DT = 0.002
 DEFAULT_RECORD_RATE = 200.0
 DEFAULT_LOOKAHEAD = 1.0  # m: a path's, legdsl.ir.paths.DEFAULT_LOOKAHEAD (a test keeps them equal)
+NAME_MOST = (
+    64  # a creature name's characters: legdsl.check.values.MAX_NAME (a test keeps them equal)
+)
 
 
 def exponent(dim: Dim) -> float:
@@ -64,8 +68,10 @@ def format_number(value: float) -> str:
 
 
 def scale_name(name: str, scale: float) -> str:
-    """``kangaroo`` scaled by 2 -> ``kangaroo_x2``; by 0.5 -> ``kangaroo_x0_5``."""
-    return f"{name}_x{format_number(scale).replace('.', '_').replace('-', 'm')}"
+    """``kangaroo`` scaled by 2 -> ``kangaroo_x2``; by 0.5 -> ``kangaroo_x0_5``. A name that
+    would pass ``NAME_MOST`` characters keeps as much of its start as fits before ``_xL``."""
+    suffix = f"_x{format_number(scale).replace('.', '_').replace('-', 'm')}"
+    return name[: NAME_MOST - len(suffix)] + suffix
 
 
 def _offset(lines: list[int], line: int, col: int) -> int:
@@ -186,10 +192,15 @@ def _simulation_completed(
 
 
 def scale_source(
-    text: str, scale: float, file: str = "<string>", out: str | Path | None = None
+    text: str,
+    scale: float,
+    file: str = "<string>",
+    out: str | Path | None = None,
+    names: Mapping[str, str] | None = None,
 ) -> str:
     """The text of a ``.leg`` file with every quantity scaled by Table 1 for length factor ``scale``,
-    its creatures renamed NAME_xL (with the controllers that name them), and a ``simulation``
+    its creatures renamed NAME_xL (``scale_name``), or as ``names`` maps them, with the
+    controllers and scenes that name them, and a ``simulation``
     block giving the scaled integration step, control interval and record rate to a creature
     that has none; a ``use`` of a file by its path is pointed at that file from ``out``, where
     the text will be written. Raises ``LegError`` for a file that does not parse, and for a
@@ -219,11 +230,14 @@ def scale_source(
     if out is not None:
         edits += _uses_from(tree, text, starts, file, Path(out))
 
-    names = {c.name.name for c in tree.creatures}
+    renamed = {
+        c.name.name: (names or {}).get(c.name.name) or scale_name(c.name.name, scale)
+        for c in tree.creatures
+    }
     for creature in tree.creatures:
         ident = creature.name
         start = _offset(starts, ident.span.line, ident.span.col)
-        edits.append((start, start + len(ident.name), scale_name(ident.name, scale)))
+        edits.append((start, start + len(ident.name), renamed[ident.name]))
         if not _has_block(creature, "simulation"):
             entries = "".join(
                 f"    {k} {v}\n" for k, v in _scaled_defaults(DEFAULT_DT, scale).items()
@@ -250,9 +264,9 @@ def scale_source(
     # 'for NAME' of a controller or a scene follows the creature's new name
     owners = [*(c.creature for c in tree.controllers), *(s.creature for s in tree.scenes)]
     for owner in owners:
-        if owner is not None and owner.name in names:
+        if owner is not None and owner.name in renamed:
             start = _offset(starts, owner.span.line, owner.span.col)
-            edits.append((start, start + len(owner.name), scale_name(owner.name, scale)))
+            edits.append((start, start + len(owner.name), renamed[owner.name]))
 
     out = text
     for start, end, new in sorted(edits, key=lambda e: e[0], reverse=True):

@@ -4,16 +4,18 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.source import check_file, load_uses
-from legdsl.check.values import stdlib_name
+from legdsl.check.source import check_file, check_tree, load_uses
+from legdsl.check.values import MAX_NAME, did_you_mean, stdlib_name
 from legdsl.files import write_atomic
-from legdsl.lang.errors import Diagnostics, UsageError
-from legdsl.lang.parser import parse_file
+from legdsl.ir.model import Model
+from legdsl.lang.errors import Diagnostics, LegError, UsageError
+from legdsl.lang.parser import parse, parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
 from legdsl.pipeline.options import check_output_file
 from legdsl.pipeline.outputs import is_stream, named_as
@@ -26,8 +28,9 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
         help="write a creature and its controllers dynamically scaled (Table 1)",
         description="Write FILE with every quantity of dimension kg^a m^b s^c rad^d multiplied by "
         "L^(3a + b + c/2) (lengths L, masses L^3, times L^(1/2), ...; bare numbers and angles as "
-        "they were), comments and layout kept, each creature renamed NAME_xL, and a simulation "
-        "block with the scaled integration step, control interval and record rate. See docs/scaling.md.",
+        "they were), comments and layout kept, each creature renamed NAME_xL (or as --name "
+        "says), and a simulation block with the scaled integration step, control interval and "
+        "record rate. OUT is written only once it passes legdsl check. See docs/scaling.md.",
         epilog="Example: legdsl scale creatures/kangaroo.leg --by 2 -o kangaroo_x2.leg",
     )
     sc.add_argument("file", metavar="FILE", help="a .leg file")
@@ -35,6 +38,14 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
         "--by", type=scale_factor, required=True, metavar="L", help="the length factor L"
     )
     sc.add_argument("-o", "--output", required=True, metavar="OUT", help="the .leg file to write")
+    sc.add_argument(
+        "--name",
+        action="append",
+        default=[],
+        metavar="NEW",
+        help="the scaled creature's name (default NAME_xL, its start cut to fit 64 characters); "
+        "OLD=NEW names one of a file's several creatures (repeat it for each)",
+    )
     return cmd_scale
 
 
@@ -49,6 +60,8 @@ def cmd_scale(args: argparse.Namespace) -> int:
     used: dict[str, str] = {}  # the files it uses, by path (a missing one is check_file's)
     load_uses(tree, Diagnostics(used), used)
     _not_an_input(out, [Path(p) for p in used], Path(args.file), args.by)
+    if args.name and not tree.creatures:
+        raise UsageError(f"--name {args.name[0]}: {args.file} has no creature to name")
     if not tree.creatures and (tree.actions or tree.shared):
         # a file of actions and shared parts, for a scaled file to 'use': checked where used
         write_atomic(out, scale_source(text, args.by, args.file, out))
@@ -58,9 +71,20 @@ def cmd_scale(args: argparse.Namespace) -> int:
         )
         return 0
     check_file(args.file)
-    write_atomic(out, scale_source(text, args.by, args.file, out))
-    names = ", ".join(m.name for m in check_file(out))
-    print(f"wrote {out} (creature {names}, scaled by {args.by:g}); legdsl check passes on it")
+    names = _new_names([c.name.name for c in tree.creatures], args.name, args.by, args.file)
+    scaled = scale_source(text, args.by, args.file, out, names)
+    models = _checked(scaled, out)  # before it is written: a file that fails is never left
+    write_atomic(out, scaled)
+    written = ", ".join(m.name for m in models)
+    print(f"wrote {out} (creature {written}, scaled by {args.by:g}); legdsl check passes on it")
+    for old, new in names.items():
+        if new != f"{old}{_suffix(args.by)}" and not _given(old, args.name, len(names)):
+            print(
+                f"legdsl: note: creature {old} scaled is named {new}: {old}{_suffix(args.by)} "
+                f"would pass {MAX_NAME} characters; choose its name with --name "
+                f"{'NEW' if len(names) == 1 else f'{old}=NEW'}",
+                file=sys.stderr,
+            )
     for path in map(_readable, _unscaled(used, Path(args.file))):
         print(
             f"legdsl: note: {path}, which it uses, is not scaled and has numbers with units: "
@@ -69,6 +93,90 @@ def cmd_scale(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     return 0
+
+
+def _suffix(scale: float) -> str:
+    """``_xL``, what ``scale_name`` puts after a creature's name."""
+    return scale_name("", scale)
+
+
+def _given(old: str, given: list[str], creatures: int) -> bool:
+    """Whether ``--name`` named the scaled ``old``."""
+    return any(g.partition("=")[0] == old if "=" in g else creatures == 1 for g in given)
+
+
+def _new_names(creatures: list[str], given: list[str], scale: float, file: str) -> dict[str, str]:
+    """Each creature's scaled name: ``--name NEW`` (a file of one creature) or ``--name
+    OLD=NEW``, checked as the checker checks a creature's name, else NAME_xL cut to fit."""
+    names: dict[str, str] = {}
+    for text in given:
+        old, sep, new = text.partition("=")
+        if not sep:  # --name NEW
+            if len(creatures) > 1:
+                raise UsageError(
+                    f"--name {text}: {file} has {len(creatures)} creatures "
+                    f"({', '.join(creatures)}); say which with --name OLD=NEW, e.g. --name "
+                    f"{creatures[0]}={text}"
+                )
+            old, new = creatures[0], text
+        if old not in creatures:
+            raise UsageError(
+                f"--name {text}: {file} has no creature '{old}' (its creatures: "
+                f"{', '.join(creatures)}){did_you_mean(old, creatures)}"
+            )
+        if old in names:
+            raise UsageError(f"--name {text}: creature {old} is named twice (also {names[old]})")
+        names[old] = _valid_name(new, text)
+    for old in creatures:
+        names.setdefault(old, scale_name(old, scale))
+    seen: dict[str, str] = {}
+    for old, new in names.items():
+        if new in seen:
+            which = [o for o in (seen[new], old) if not _given(o, given, len(creatures))]
+            raise UsageError(
+                f"creatures {seen[new]} and {old} of {file} would both be named {new} once "
+                f"scaled (a name has at most {MAX_NAME} characters); name "
+                f"{'them' if len(which) > 1 else 'one'} with "
+                + " ".join(f"--name {o}=NEW" for o in (which or [old]))
+            )
+        seen[new] = old
+    return names
+
+
+def _valid_name(new: str, given: str) -> str:
+    """``--name``'s NEW, as the checker takes a creature's name, else a ``UsageError``."""
+    what = (
+        "a creature's name is a letter or _ followed by letters, digits and _ "
+        f"(at most {MAX_NAME} characters), e.g. --name hopper_big"
+    )
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", new):
+        raise UsageError(f"--name {given}: {what}")
+    if len(new) > MAX_NAME:
+        raise UsageError(
+            f"--name {given}: this name is {len(new)} characters long; a creature's name has at "
+            f"most {MAX_NAME} (it names files, such as generated/NAME/)"
+        )
+    try:
+        (creature,) = parse(f"creature {new} {{ planar }}", "--name").creatures
+    except (LegError, ValueError):
+        creature = None
+    if creature is None or creature.name.name != new:
+        raise UsageError(f"--name {given}: '{new}' is a word of the language; {what}")
+    return new
+
+
+def _checked(text: str, out: Path) -> list[Model]:
+    """The scaled text checked as ``legdsl check OUT`` would check it (its 'use' paths from
+    OUT's folder), before anything is written: a mistake is shown at the line OUT would have."""
+    try:
+        tree = parse(text, str(out), recover=True)
+        return check_tree(tree, text, out)
+    except LegError as e:
+        print(e.render(), file=sys.stderr)
+        raise UsageError(
+            f"-o {out}: not written: the scaled file would not pass legdsl check (above, at "
+            "the lines it would have)"
+        ) from None
 
 
 def _unscaled(used: dict[str, str], source: Path) -> list[str]:
