@@ -59,3 +59,23 @@ def test_a_switch_with_scale_says_what_to_run_instead(
         f"legdsl: --switch with --scale is not supported: write the scaled file with 'legdsl "
         f"scale {source} --by 2 -o OUT.leg' and run it with --switch"
     )
+
+
+def test_a_switch_that_leaves_a_path_says_the_new_controller_follows_none(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The biped's run on a circle, then the gallop, which has no path: it turned back to its
+    default heading (0 deg) from wherever the circle left it, spun and fell, with no word.
+    The run says so, and how to give the heading; not when the heading is commanded."""
+    argv = ["run", str(CREATURES / "biped.leg"), "--controller", "run", "--time", "0.1",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run"),
+            "--path", "circle(center = (0, 5) m, radius = 5 m)", "--switch", "8s=gallop"]  # fmt: skip
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "note: the switch to gallop at 8 s leaves run's path: gallop follows no path" in err
+    assert "its heading is its default, 0 deg" in err and "--set heading=ANGLE@8s" in err
+    assert main([*argv, "--set", "heading=170deg@8s"]) == 0
+    err = capsys.readouterr().err
+    assert "follows no path" in err and "its heading is its default" not in err
+    assert main(argv[:-4]) == 0  # no switch, nothing to say
+    assert "follows no path" not in capsys.readouterr().err

@@ -40,6 +40,7 @@ from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
@@ -228,6 +229,9 @@ class RunSession:
         if control is not None and controller is not None and changes:
             s = sorted_settings
             check_switch_paths(self.model, [controller, *later], specs)
+            told = [*s.inputs, *(c.name for c in s.schedule)]
+            for note in switching.paths_left(self.model, controller, changes, specs, told):
+                self._tell("note", note)
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             machine = SwitchingMachine(
                 self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs,

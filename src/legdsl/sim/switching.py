@@ -118,6 +118,37 @@ def check_switch_paths(model: Model, controllers: Sequence[str], given: Sequence
             resolve_paths(model, controllers[0], [spec])  # raises the UsageError saying why
 
 
+def paths_left(
+    model: Model, first: str, switches: Sequence[Switch], given: Sequence[PathSpec],
+    commanded: Iterable[str],
+) -> list[str]:  # fmt: skip
+    """Notes for each switch from a controller that follows a path to one that follows none:
+    from there the new one steers as its inputs say, and a ``heading`` nobody commanded is its
+    default, which may lie behind the creature (the biped's gallop after a circle turned back
+    to 0 deg at once, spun and fell)."""
+
+    def follows(name: str) -> bool:
+        return any(p.shape != "none" for p in paths_for(model, name, given))
+
+    notes, running, told = [], first, set(commanded)
+    for w in sorted(switches, key=lambda w: w.t):
+        if follows(running) and not follows(w.controller):
+            inputs = {c.name: c.value for c in model.controller(w.controller).inputs}
+            aim = (
+                f"; its heading is its default, {math.degrees(inputs['heading']):g} deg, "
+                f"whichever way the path left the creature: give the way it will be going, as "
+                f"with --set heading=ANGLE@{w.t:g}s"
+                if "heading" in inputs and "heading" not in told
+                else ""
+            )
+            notes.append(
+                f"the switch to {w.controller} at {w.t:g} s leaves {running}'s path: "
+                f"{w.controller} follows no path and steers as its inputs say{aim}"
+            )
+        running = w.controller
+    return notes
+
+
 def _fits(model: Model, controller: str, spec: PathSpec) -> bool:
     declared = [p.name for p in model.controller(controller).paths]
     return spec.name in declared or (not spec.name and len(declared) == 1)
