@@ -42,6 +42,7 @@ from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
+from legdsl.sim.path_tracking import lookahead_notes
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.sizes import start_depth
@@ -216,6 +217,10 @@ class RunSession:
             s = sorted_settings
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
+        if control is not None and controller is not None:  # as given, before any --scale
+            controls = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
+            for note in lookahead_notes(self.model, controls, specs):
+                self._tell("note", note)
         if scale is not None:
             options = scaled.scale_options(asked, scale)
             sorted_settings = scaled.scale_settings(sorted_settings, self.model, controller, scale)

@@ -12,10 +12,17 @@ taken when the creature gets there, and ``progress`` goes on along it.
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 from legdsl.ir.paths import MEMBERS, PathSpec, Point
+
+if TYPE_CHECKING:
+    from legdsl.ir.model import Model
 
 
 @dataclass(frozen=True)
@@ -87,13 +94,14 @@ class PathGeometry:
         lo: float = -math.inf,
         hi: float = math.inf,
         last: float = math.nan,
+        slack: float = 1e-12,
     ) -> Projection:
         """The nearest point of the path; of a polyline, the nearest whose arclength is within
         [lo, hi] (unwrapped: a closed path's window may reach past its end or before its
-        start, and ``s`` is then unwrapped too), of equally near ones the first, or with
-        ``last`` (the last reading's arclength) the one that goes on from it: not behind it
-        if one is not, else the nearer to it (a stretch the path comes back along is two
-        points at one place)."""
+        start, and ``s`` is then unwrapped too), of points as near (within ``slack``) the
+        first, or with ``last`` (the last reading's arclength) the one that goes on from it:
+        not behind it if one is not, else the nearer to it (a stretch the path comes back
+        along is two points at one place)."""
         spec = self.spec
         if spec.shape == "circle":
             cx, cy = spec.center
@@ -127,7 +135,7 @@ class PathGeometry:
                 px, py = a[0] + u * ex, a[1] + u * ey
                 d = math.hypot(x - px, y - py)
                 s = start + u * seg
-                if d < best_d - 1e-12 or (
+                if d < best_d - slack or (
                     d <= best_d + 1e-12 and best is not None and _goes_on(s, best.s, last)
                 ):
                     best_d = d
@@ -190,8 +198,11 @@ class PathTracker:
             return self.values
         assert self.spec is not None
         last = self._last_s
-        if math.isnan(last):  # the first reading: the nearest point of the whole path
-            p = geo.project(x, y)
+        if math.isnan(last):
+            # the first reading: the nearest point of the whole path, or an earlier one as near
+            # within the lookahead (a creature at the start of a path that comes back through
+            # it starts at its start)
+            p = geo.project(x, y, slack=self.spec.lookahead)
             self.progress = p.s
         elif geo.spec.shape == "circle":  # its nearest point is the only one near
             p = geo.project(x, y)
@@ -241,3 +252,84 @@ def track(spec: PathSpec, xs: list[float], ys: list[float]) -> tuple[list[float]
         lateral.append(v["lateral"])
         progress.append(v["progress"])
     return lateral, progress
+
+
+# The most the path's tangent may turn within the lookahead (rad, 57 deg) all the way along it.
+# With more, steering by the look-ahead tangent (``steer_path``) cannot hold the path: the
+# biped's ``run`` at 1.5 m/s with the default 1 m lookahead holds a 1 m circle to 0.08 m RMS, an
+# 0.8 m one to 0.41 m (half a lap in 15 s), runs a 0.6 m one the wrong way round and runs away
+# from a 0.3 m one (the tangent 1 m on is 191 deg round), as from a square of 0.5 m sides.
+TURN_WITHIN_LOOKAHEAD = 1.0
+
+
+def lookahead_note(spec: PathSpec) -> str | None:
+    """A note when the lookahead is too long for the path's turns, else None: a circle's
+    longer than its radius, or a closed polyline's within which the tangent turns more than
+    ``TURN_WITHIN_LOOKAHEAD`` from every point of it (the look-ahead tangent never points
+    along the path where the creature is). One tight turn, even a hairpin, is not this: the
+    creature turns early, and takes it."""
+    if spec.shape == "none" or not (spec.shape == "circle" or spec.closed):
+        return None
+    look, name = spec.lookahead, spec.name or "(--path)"
+    if spec.shape == "circle":
+        if look <= spec.radius:
+            return None
+        told = (
+            f"its lookahead ({look:g} m) is longer than its radius ({spec.radius:g} m): the "
+            f"tangent {look:g} m on is {math.degrees(look / spec.radius):.0f} deg round from"
+        )
+        fix = f"give the path 'lookahead = {spec.radius:.3g} m' or less, or a larger radius"
+    else:
+        geo = PathGeometry(spec)
+        turned = _least_turn(geo, look)
+        if turned <= TURN_WITHIN_LOOKAHEAD:
+            return None
+        side = max(b - a for a, b in itertools.pairwise(geo.starts))
+        told = (
+            f"within its lookahead ({look:g} m) the path turns by "
+            f"{math.degrees(turned):.0f} deg or more: the tangent {look:g} m on is as far round from"
+        )
+        fix = f"give the path a lookahead shorter than its longest side ({side:.3g} m)"
+    return (
+        f"path {name}: {told} the nearest point's, all the way along, and a creature steering "
+        f"by it (steer_path) cuts inside, runs round the wrong way or runs off; {fix}"
+    )
+
+
+def _least_turn(geo: PathGeometry, look: float) -> float:
+    """The least the tangent of a closed polyline turns (net, in magnitude, rad) between a
+    point and the point ``look`` further on, over every point."""
+    v, starts, length = geo.vertices, geo.starts, geo.length
+    n = len(v) - 1  # segments; vertex k (0 the closing one) turns from segment k-1 to k
+    heads = [math.atan2(v[k + 1][1] - v[k][1], v[k + 1][0] - v[k][0]) for k in range(n)]
+    turns = [_wrap(heads[k] - heads[k - 1]) for k in range(n)]
+    total = sum(turns)
+
+    def turned_to(u: float) -> float:  # the net turn from arclength 0- to u
+        laps = math.floor(u / length)
+        rest = u - laps * length
+        return laps * total + sum(t for t, at in zip(turns, starts, strict=False) if at <= rest)
+
+    marks = sorted({*starts[:n], *((at - look) % length for at in starts[:n])})
+    marks.append(marks[0] + length)
+    return min(
+        abs(turned_to(s + look) - turned_to(s))
+        for s in ((a + b) / 2 for a, b in zip(marks, marks[1:], strict=False))
+    )
+
+
+def lookahead_notes(
+    model: Model, controls: Mapping[str, ModuleType], given: Sequence[PathSpec]
+) -> list[str]:
+    """``lookahead_note`` of each path a run's controllers (by name) steer by the look-ahead
+    of (read an ``ahead_`` member of), with ``--path``'s ``given`` in place, once each."""
+    from legdsl.sim.switching import paths_for
+
+    notes: list[str] = []
+    for name, module in controls.items():
+        for spec in paths_for(model, name, given):
+            reads = any(key.startswith(f"path.{spec.name}.ahead_") for key in module.SENSORS)
+            note = lookahead_note(spec) if reads else None
+            if note is not None and note not in notes:
+                notes.append(note)
+    return notes

@@ -253,7 +253,7 @@ static int goes_on(double s, double best, double last) {
 /* PathGeometry.project: s, x, y, heading, lateral; of a polyline, within [lo, hi] of
  * arclength (a closed one's unwrapped), ties to the one that goes on from last */
 static void project(const double *g, double x, double y, double lo, double hi, double last,
-                    double *out, int *err) {
+                    double slack, double *out, int *err) {
     if (g[0] == 1.0) {
         double cx = g[2], cy = g[3], radius = g[4], turn = g[5];
         double dx = x - cx, dy = y - cy;
@@ -291,7 +291,7 @@ static void project(const double *g, double x, double y, double lo, double hi, d
             double px = a[0] + u * ex, py = a[1] + u * ey;
             double d = leg_hypot(x - px, y - py);
             double s = start + u * seg;
-            if (d < best_d - 1e-12 || (d <= best_d + 1e-12 && found && goes_on(s, out[0], last))) {
+            if (d < best_d - slack || (d <= best_d + 1e-12 && found && goes_on(s, out[0], last))) {
                 best_d = d;
                 found = 1;
                 double tx = leg_div(ex, seg), ty = leg_div(ey, seg);
@@ -340,11 +340,11 @@ double leg_sense_path(leg_sim *s, int k, int member, int *err) {
         com(kc, s, err);
         double p[5], ahead[3];
         double x = kc->c[0], y = kc->c[1], last = st[1], length = g[7];
-        if (isnan(last)) { /* the first reading: the nearest point of the whole path */
-            project(g, x, y, -INFINITY, INFINITY, NAN, p, err);
+        if (isnan(last)) { /* the first reading: the whole path's nearest, or an earlier as near */
+            project(g, x, y, -INFINITY, INFINITY, NAN, g[6], p, err);
             st[0] = p[0];
         } else if (g[0] == 1.0) {
-            project(g, x, y, -INFINITY, INFINITY, NAN, p, err);
+            project(g, x, y, -INFINITY, INFINITY, NAN, 1e-12, p, err);
             double ds = p[0] - last;
             ds = py_mod(ds + leg_div(length, 2.0), length, err) - leg_div(length, 2.0);
             st[0] += ds;
@@ -355,7 +355,7 @@ double leg_sense_path(leg_sim *s, int k, int member, int *err) {
                 lo = last - leg_div(length, 2.0);
                 hi = last + leg_div(length, 2.0);
             }
-            project(g, x, y, lo, hi, last, p, err);
+            project(g, x, y, lo, hi, last, 1e-12, p, err);
             st[0] += p[0] - last;
             if (g[1] != 0.0) p[0] = py_mod(p[0], length, err);
         }
