@@ -218,8 +218,8 @@ class RunSession:
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if control is not None and controller is not None:  # as given, before any --scale
-            controls = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
-            for note in lookahead_notes(self.model, controls, specs):
+            modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
+            for note in lookahead_notes(self.model, modules, specs):
                 self._tell("note", note)
         if scale is not None:
             options = scaled.scale_options(asked, scale)
