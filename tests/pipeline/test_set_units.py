@@ -179,3 +179,22 @@ def test_the_named_si_unit_reads_back_as_its_dimension() -> None:
     for dim in itertools.product((0, 1), (-2, -1, 0, 1, 2), (-3, -2, -1, 0, 1), (-1, 0, 1)):
         if any(dim):
             assert parse_unit(named_si_unit(dim)) == (1.0, dim), dim
+
+
+@pytest.mark.parametrize(
+    ("setting", "says"),
+    [
+        # as a file's '6 /s' is told: the unit opened by '/' (it got the list of unit symbols)
+        ("--set=speed=6/s", "a unit starts with a symbol, not '/': write '6 s^-1' or '6 Hz'"),
+        # a servo has a max, which only the file gives ('a servo has kp, kv, setpoint')
+        ("--set=neck_servo.max=5N*m", "'max' is the .leg file's alone (change it there); a "
+         "servo's settings are kp, kv, setpoint"),
+    ],
+)  # fmt: skip
+def test_a_setting_written_as_elsewhere_is_told_how(
+    setting: str, says: str, generated: Path, tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:  # fmt: skip
+    assert main(_run([setting], generated, tmp_path / "run")) == 2
+    err = capsys.readouterr().err
+    assert says in err and err.count("\n") == 1, err

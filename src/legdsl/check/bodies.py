@@ -174,7 +174,7 @@ class BodyChecker(CreaturePart):
             self.err(
                 value.span,
                 f"the inertia of body '{name}' breaks the triangle inequality: principal moments "
-                f"{a:.3g} + {b:.3g} < {c:.3g}, which no rigid body has",
+                f"{_apart(a, b, c)}, which no rigid body has",
             )
             return fallback
         return (
@@ -259,3 +259,12 @@ def _scale(mat: np.ndarray) -> float:
 
 def _is_hex(text: str) -> bool:
     return all(c in "0123456789abcdefABCDEF" for c in text)
+
+
+def _apart(a: float, b: float, c: float) -> str:
+    """'a + b < c' with as many digits as show it (1 + 1 < 2.0000001, not 1 + 1 < 2)."""
+    for digits in range(3, 17):
+        x, y, z = (float(f"{v:.{digits}g}") for v in (a, b, c))
+        if x + y < z:
+            return f"{a:.{digits}g} + {b:.{digits}g} < {c:.{digits}g}"
+    return f"{a!r} + {b!r} < {c!r}"

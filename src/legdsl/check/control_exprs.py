@@ -263,13 +263,7 @@ class ExprChecker(NameResolver):
                 dims = " and ".join(
                     dict.fromkeys(describe_type(v.type) for v in values if v.type is not None)
                 )
-                gram = _gram_for_gravity(exprs)
-                hint = (
-                    f"; '{gram}' is one unit, a gram in it: for gravity write "
-                    f"'{gram.replace('*g', ' * g')}', with spaces"
-                    if gram
-                    else _unit_left_out(values, exprs)
-                )
+                hint = gram_for_gravity(exprs) or _unit_left_out(values, exprs)
                 self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH
         return found
@@ -475,19 +469,30 @@ def unit_advice(want: Dim) -> str:
     return "" if want == ONE else f"; write it with a unit of {describe(want)}"
 
 
-def _gram_for_gravity(exprs: list[ast.Expr]) -> str | None:
-    """A quantity written as '2 kg*g' among ``exprs``: the lexer reads 'kg*g' as one unit,
-    kilogram times gram, where a weight (2 kg times gravity, 'g') was meant."""
+def gram_for_gravity(exprs: list[ast.Expr]) -> str:
+    """The hint for a quantity among ``exprs`` with a gram where gravity, 'g', was meant: in
+    '2 kg*g' the lexer reads 'kg*g' as one unit (kilogram times gram), and in '0.5 g' the
+    'g' after the number is a gram; '' if there is none."""
     stack: list[object] = list(exprs)
     while stack:
         node = stack.pop()
-        if isinstance(node, ast.EQuantity) and re.search(r"[A-Za-z]\*g(?![A-Za-z])", node.text):
-            return node.text
+        if isinstance(node, ast.EQuantity):
+            if re.search(r"[A-Za-z]\*g(?![A-Za-z])", node.text):
+                return (
+                    f"; '{node.text}' is one unit, a gram in it: for gravity write "
+                    f"'{node.text.replace('*g', ' * g')}', with spaces"
+                )
+            alone = re.fullmatch(r"(.*?\d\.?)[ \t]*g", node.text)
+            if alone is not None:
+                return (
+                    f"; '{node.text}' is {alone.group(1)} gram: for gravity, multiply, as in "
+                    f"'{alone.group(1)} * g'"
+                )
         if dataclasses.is_dataclass(node) and not isinstance(node, type):
             stack.extend(getattr(node, f.name) for f in dataclasses.fields(node))
         elif isinstance(node, list | tuple):
             stack.extend(node)
-    return None
+    return ""
 
 
 def _unit_left_out(values: list[ir.Expr], exprs: list[ast.Expr]) -> str:

@@ -8,7 +8,7 @@ The top layer of the controller checker (on ``control_exprs`` and ``control_name
 from __future__ import annotations
 
 from legdsl.check.control_args import retyped
-from legdsl.check.control_exprs import ExprChecker, fits, unit_advice
+from legdsl.check.control_exprs import ExprChecker, fits, gram_for_gravity, unit_advice
 from legdsl.check.control_names import Opaque, Value, what_it_is
 from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
@@ -128,7 +128,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
             self.err(
                 s.value.span,
                 f"'{text}' is {describe_type(want)}, but the value is {describe_type(value.type)}"
-                f"{unit_advice(want)}",
+                f"{gram_for_gravity([s.value]) or unit_advice(want)}",
             )
             return []
         if key.name in NON_NEGATIVE and (self.constant_value(value) or 0.0) < 0:

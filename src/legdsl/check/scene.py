@@ -257,9 +257,11 @@ class _SceneChecker:
         diag = self.diag
         if not table.bands:
             diag.error(table.span, "a gait table needs a band: CONTROLLER from LOW to HIGH")
+            self.partial = True  # the names the scene sets are its missing controllers' own
             return None
         good = [b for b in table.bands if self._controller(b.controller)]
         if len(good) < len(table.bands):
+            self.partial = True
             return None
         dim = self._band_input(table, [b.controller.name for b in good])
         if dim is None:

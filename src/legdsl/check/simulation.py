@@ -46,7 +46,8 @@ class SimulationChecker(ValueChecker):
             if value is None:
                 continue
             if value < 0 or (value == 0 and key != "record_rate"):
-                self.err(p.value.span, f"{what} must be positive")
+                every = " (or 0 Hz: a sample every step)" if key == "record_rate" else ""
+                self.err(p.value.span, f"{what} must be positive{every}")
                 continue
             values[key], spans[key] = value, p.value.span
         step = values.get("dt", DEFAULT_DT)

@@ -337,28 +337,30 @@ def defined_by_both(what: str, files: Sequence[str], distance: int) -> str:
 
 
 def per_second(unit: str, want: Dim) -> str | None:
-    """The unit as written per second where that is wanted and scales unlike the wanted
-    kind's own unit: a turn rate written '20 deg' is meant as '20 deg/s', and '20 rad/s'
-    would turn 57 times as fast."""
+    """The unit to write where a rate ``want`` was written in the unit of what it is a rate
+    of: the written unit per second where it scales unlike the kind's own ('20 deg' is meant
+    as '20 deg/s', and '20 rad/s' would turn 57 times as fast), else the kind's own ('2 rad'
+    as '2 rad/s', '2 m/s' as '2 m/s^2')."""
     if not unit:
         return None
     with contextlib.suppress(ValueError):
         factor, dim = parse_unit(f"{unit}/s")
         usual = next((u for d, u in KINDS.values() if d == want), None)
-        if dim == want and (usual is None or factor != parse_unit(usual)[0]):
-            return f"{unit}/s"
+        if dim == want:
+            return usual if usual is not None and factor == parse_unit(usual)[0] else f"{unit}/s"
     return None
 
 
 def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
     """'mass is a mass (kg), but '3 m' is a length (m)'; a rate written in the unit of
     what it is a rate of is told that unit per second."""
+    unit = written_unit(written)
     for name, (kind_dim, example) in KINDS.items():
-        if kind_dim == dim:
+        if kind_dim == dim:  # its unit shown where it was written without one of its own
             found = (
                 "dimensionless"
                 if name == "dimensionless"
-                else f"{article(name)} {name} ({example})"
+                else f"{article(name)} {name}" + ("" if unit else f" ({example})")
             )
             break
     else:
@@ -366,9 +368,9 @@ def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
     if kind == "dimensionless":
         return f"{what} takes no unit, but '{written}' is {found}"
     told = f"{what} is {article(kind)} {kind} ({unit_hint(kind)}), but '{written}' is {found}"
-    rate = per_second(written_unit(written), KINDS[kind][0])
+    rate = per_second(unit, KINDS[kind][0])
     if rate is not None:
-        number = written[: len(written) - len(written_unit(written))].strip()
+        number = written[: len(written) - len(unit)].strip()
         told += f"; write e.g. '{number} {rate}'" if number else f"; write e.g. '{rate}'"
     return told
 

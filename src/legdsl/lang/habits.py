@@ -69,7 +69,7 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
             return found
     if token is None:
         return None
-    for find_token in (_unit_habit, _decimal_comma, _value_habit):
+    for find_token in (_unit_habit, _decimal_comma, _value_habit, _expression_habit):
         found = find_token(text, masked, pos, kind)
         if found is not None:
             return found
@@ -244,6 +244,26 @@ def _character(text: str, masked: str, pos: int) -> Found | None:
                 "stands here: replace it with an ordinary space"
             ),
         )
+    if ch == "@" and re.search(r"\bset\b", masked[masked.rfind("\n", 0, pos) + 1 : pos]):
+        return (
+            pos,
+            1,
+            "'@' times a command on the command line ('--set speed=2m/s@3s'); in a scene it is "
+            "written 'at 3 s set speed = 2 m/s'",
+        )
+    if unicodedata.category(ch) == "Cc" and ch not in "\t\n\r":
+        return (
+            pos,
+            1,
+            f"a control character (U+{ord(ch):04X}) stands here: remove it (words are apart by "
+            "spaces, tabs and newlines)",
+        )
+    if ch == '"' and '"' not in text[pos + 1 :].split("\n", 1)[0]:
+        return (
+            pos,
+            1,
+            "this string is not closed on its line: end it with '\"' before the line ends",
+        )
     if unicodedata.category(ch) == "No" and unicodedata.numeric(ch, None) is not None:
         value = f"{unicodedata.numeric(ch):.6g}"
         return pos, 1, f"'{ch}' is not a number legdsl reads: write it as a decimal, '{value}'"
@@ -315,6 +335,39 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
     if kind == "DOT" and dotted is not None:  # 'deg.'
         written = dotted.group()
         return pos, 1, f"a unit ends without '.': write '{written}', not '{written}.'"
+    return None
+
+
+_COMPARISON = r"<=|>=|==|!=|<|>"
+
+
+def _expression_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
+    """A chained comparison ('1 s < time < 2 s'), a function read as a unit ('2 min(...)':
+    minutes) and a scene's command written as --set writes it ('... @ 3 s')."""
+    before = masked[:pos].rstrip(" \t")
+    minutes = re.search(rf"({_NUMBER})[ \t]*min$", before)
+    if kind == "LPAR" and minutes is not None:
+        return (
+            before.rfind("min"),
+            3,
+            f"'min' right after a number is the unit minutes: to call the function, multiply, "
+            f"as in '{minutes.group(1)} * min(...)'",
+        )
+    line_start = masked.rfind("\n", 0, pos) + 1
+    here = re.match(_COMPARISON, masked[pos:])
+    if here is not None:
+        clause = re.split(r"[:;(]|\b(?:on|and|or|not)\b", masked[line_start:pos])[-1]
+        first = re.search(rf"^(.*?)\s*({_COMPARISON})\s*(.*?)$", clause.strip())
+        rest = re.match(r"[^:;)\n]*", masked[pos + here.end() :])
+        if first is not None and rest is not None and first.group(1) and first.group(3):
+            a, op, b = first.groups()
+            c = re.split(r"\b(?:and|or)\b", rest.group())[0].strip()
+            return (
+                pos,
+                here.end(),
+                f"comparisons do not chain: join two with 'and', as in "
+                f"'{a} {op} {b} and {b} {here.group()} {c}'",
+            )
     return None
 
 

@@ -220,6 +220,11 @@ def unknown_unit(word: str, number: str | None = None) -> str:
     other = other_system(word, number)
     if other is not None:
         return other
+    if re.search(r"\^[-+]?(?:\d*[./]\d|\()", word):  # 'm^2.5', 'm^(1/2)'
+        return (
+            f"'{word}' has a power that is not a whole number: a unit's powers are whole, as "
+            "in 'm^2' or 's^-1' (a square root of a unit has no unit in legdsl)"
+        )
     symbols = ", ".join(UNITS)
     message = (
         f"'{word}' is not a unit legdsl knows: a unit is made of the symbols {symbols} "

@@ -25,6 +25,7 @@ from legdsl.check.values import did_you_mean, per_second
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.lang.habits import unit_after_slash
 from legdsl.lang.units import (
     DIMENSIONLESS,
     KINDS,
@@ -103,7 +104,12 @@ def parse_given(value: str, where: str) -> Given:
         try:
             factor, dim = parse_unit(unit)
         except UnitError:  # with the number, for the value to write instead ('10km/h')
-            raise UsageError(f"{where}: {unknown_unit(unit, number)}") from None
+            told = (
+                unit_after_slash(number, unit[1:])
+                if re.fullmatch(r"/[A-Za-z][\w^*/-]*", unit)
+                else unknown_unit(unit, number)
+            )  # ('6/s', as a file's '6 /s' is told)
+            raise UsageError(f"{where}: {told}") from None
     si = float(number) * factor
     if not math.isfinite(si):
         raise UsageError(f"{where}: {number}{unit} is too large to be a number (it overflows)")
@@ -408,7 +414,10 @@ def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -
         )
     a = by_name[actuator]
     if key not in SETTABLE[a.kind]:
-        raise UsageError(f"--set {name}: a {a.kind} has {', '.join(SETTABLE[a.kind])}")
+        fixed = f"'{key}' is the .leg file's alone (change it there); " if key == "max" else ""
+        raise UsageError(
+            f"--set {name}: {fixed}a {a.kind}'s settings are {', '.join(SETTABLE[a.kind])}"
+        )
     _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
     if key in NON_NEGATIVE and given.value < 0:  # the rule the .leg checker applies
         raise UsageError(
