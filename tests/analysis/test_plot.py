@@ -161,3 +161,32 @@ def test_a_flip_s_pitch_is_drawn_as_the_turn_it_makes(
     assert main(["plot", str(run)]) == 0
     pitch = drawn[0].axes[1].lines[0].get_ydata()
     assert np.all(np.diff(pitch) > 0) and pitch[-1] == pytest.approx(360.0)
+
+
+def test_a_top_view_of_a_long_path_is_no_strip_and_its_words_fit(
+    tmp_path: Path, generated: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A 100 m straight path drawn at true scale squashed the plot to a strip under a title
+    that ran off the picture, with the legend over it: the plot is at least 2.5 inches tall,
+    every title line fits, and the legend is under the axes."""
+    import matplotlib.pyplot as plt
+
+    from legdsl.analysis.plot import plot_top
+
+    run = tmp_path / "run"
+    argv = ["run", str(CREATURES / "biped.leg"), "--controller", "run", "--time", "0.3",
+            "--path", "polyline((0, 0) m, (100, 0) m)", "--out", str(run),
+            "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    figures: list = []
+    monkeypatch.setattr(plt, "close", figures.append)
+    plot_top(run, tmp_path / "top.png")
+    (fig,) = figures
+    ax = fig.axes[0]
+    assert ax.get_position().height * fig.get_figheight() > 2.5
+    assert all(len(line) <= 90 for line in ax.get_title().split("\n"))
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent()
+    assert legend.y1 <= ax.get_window_extent().y0
+    title = ax.title.get_window_extent()
+    assert title.x0 >= 0 and title.x1 <= fig.bbox.width

@@ -7,6 +7,7 @@ that leg is bracketed by vertical dashed lines, as in the paper.
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -306,28 +307,36 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     tr = Trajectory.load(run)
     end = tr.t[-1] if t_to is None else t_to
     window = (tr.t >= t_from) & (tr.t <= end)
-    fig, ax = plt.subplots(figsize=(7, 7))
-    titles = []
     followed = run_followed(run)
-    for k, (spec, spans) in enumerate(followed):
+    drawn = []  # each path's points, then the track: the figure takes their shape
+    for spec, _ in followed:
         geo = PathGeometry(spec)
         s = np.linspace(0.0, geo.length, 400 if spec.shape == "circle" else 2000)
         pts = np.array([geo.at(float(v))[:2] for v in s])
-        if spec.shape != "circle" and geo.closed:
-            pts = np.vstack([pts, pts[:1]])
+        drawn.append(np.vstack([pts, pts[:1]]) if spec.shape != "circle" and geo.closed else pts)
+    track = tr.com[window, :2]
+    span = np.ptp(np.vstack([*drawn, track]), axis=0) + 1.0  # a metre's margin, never 0 wide
+    titles = [
+        textwrap.fill(path_title(spec.name, report), 90)
+        for spec, report in followed_reports(tr, followed, t_from if t_from > 0 else None, t_to)
+        if report["lateral_rms"] is not None
+    ]
+    # 6 inches of plot across; as tall as the ground covered is deep (within 3 to 7), plus
+    # the title's lines above and the legend's below, so a long straight path is no strip
+    lines = sum(t.count("\n") + 1 for t in titles)
+    tall = float(np.clip(6 * span[1] / span[0], 3, 7)) + 0.2 * lines + 1.8
+    fig, ax = plt.subplots(figsize=(7, tall))
+    for k, ((spec, spans), pts) in enumerate(zip(followed, drawn, strict=True)):
         when = ", ".join(f"{a:g} to {b:g} s" for a, b in spans or [])  # a switched run's
         ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, linestyle=("-", "--", ":")[k % 3],
                 label=f"path {spec.name}" + (f" ({when})" if when else ""))  # fmt: skip
-    for spec, report in followed_reports(tr, followed, t_from if t_from > 0 else None, t_to):
-        if report["lateral_rms"] is not None:
-            titles.append(path_title(spec.name, report))
-    ax.plot(tr.com[window, 0], tr.com[window, 1], color="k", linewidth=1, label="centre of mass")
-    ax.plot(tr.com[window, 0][:1], tr.com[window, 1][:1], "o", color="k", label="start")
-    ax.set_aspect("equal")
+    ax.plot(track[:, 0], track[:, 1], color="k", linewidth=1, label="centre of mass")
+    ax.plot(track[:1, 0], track[:1, 1], "o", color="k", label="start")
+    ax.set_aspect("equal", adjustable="datalim")  # true distances, filling the plot
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.grid(True, color="0.9")
-    ax.legend(loc="best", fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8, frameon=False)
     ax.set_title(
         f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
         + ("\n" + "\n".join(titles) if titles else ""),
