@@ -254,19 +254,19 @@ def test_a_foot_that_touched_down_far_under_the_surface_is_named() -> None:
 
     from legdsl.check.source import check_model
     from legdsl.sim.stability import likely_cause
+    from legdsl.sim.trajectory import empty
 
     model = check_model(ROOT / "creatures" / "hopper.leg")
     weight = model.total_mass * 9.81
-    t = np.arange(5) * 0.005
-    contact = np.zeros((5, 1), dtype=np.int8)
-    force = np.zeros((5, 1, 3))
-    contact[3:, 0], force[3, 0, 2] = 1, 500 * weight
-    force[4] = np.nan  # the sample the run diverged in
-    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=(t, contact, force))
+    run = empty(5, 1, 1, 1, 0, q_names=("x",), v_names=("x",), contact_names=("toe",))
+    run.t[:] = np.arange(5) * 0.005
+    run.contact[3:, 0], run.force[3, 0, 2] = 1, 500 * weight
+    run.force[4] = np.nan  # the sample the run diverged in
+    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=run)
     assert cause.startswith("contact 'toe' touched down far under the surface: the ground pushed")
     assert "at t = 0.0150 s, 500 times the creature's weight" in cause
-    contact[:, 0] = 1  # down all along: a blow-up
-    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=(t, contact, force))
+    run.contact[:, 0] = 1  # down all along: a blow-up
+    cause = likely_cause(model, 0.0004, "euler", model.q0, recorded=run)
     assert "touched down" not in cause
 
 

@@ -18,6 +18,8 @@ import unicodedata
 from lark import Token
 
 from legdsl.lang.context import in_expression, in_parentheses, innermost, opening
+from legdsl.lang.expression_slips import NUMBER as _NUMBER
+from legdsl.lang.expression_slips import expression_slip
 from legdsl.lang.spellings import mask
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import value_slip
@@ -55,7 +57,6 @@ _OTHER_KEYWORDS = {
 }  # fmt: skip
 _PYTHON_MODULES = ("np", "numpy", "math", "torch", "jnp", "scipy")
 _FUNCTION_NAMES = {"clip": "clamp", "fabs": "abs", "arctan2": "atan2", "where": "select"}
-_NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
 def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found | None:
@@ -69,7 +70,7 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
             return found
     if token is None:
         return None
-    for find_token in (_unit_habit, _decimal_comma, _value_habit, _expression_habit):
+    for find_token in (_unit_habit, _decimal_comma, _value_habit, expression_slip):
         found = find_token(text, masked, pos, kind)
         if found is not None:
             return found
@@ -335,39 +336,6 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
     if kind == "DOT" and dotted is not None:  # 'deg.'
         written = dotted.group()
         return pos, 1, f"a unit ends without '.': write '{written}', not '{written}.'"
-    return None
-
-
-_COMPARISON = r"<=|>=|==|!=|<|>"
-
-
-def _expression_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
-    """A chained comparison ('1 s < time < 2 s'), a function read as a unit ('2 min(...)':
-    minutes) and a scene's command written as --set writes it ('... @ 3 s')."""
-    before = masked[:pos].rstrip(" \t")
-    minutes = re.search(rf"({_NUMBER})[ \t]*min$", before)
-    if kind == "LPAR" and minutes is not None:
-        return (
-            before.rfind("min"),
-            3,
-            f"'min' right after a number is the unit minutes: to call the function, multiply, "
-            f"as in '{minutes.group(1)} * min(...)'",
-        )
-    line_start = masked.rfind("\n", 0, pos) + 1
-    here = re.match(_COMPARISON, masked[pos:])
-    if here is not None:
-        clause = re.split(r"[:;(]|\b(?:on|and|or|not)\b", masked[line_start:pos])[-1]
-        first = re.search(rf"^(.*?)\s*({_COMPARISON})\s*(.*?)$", clause.strip())
-        rest = re.match(r"[^:;)\n]*", masked[pos + here.end() :])
-        if first is not None and rest is not None and first.group(1) and first.group(3):
-            a, op, b = first.groups()
-            c = re.split(r"\b(?:and|or)\b", rest.group())[0].strip()
-            return (
-                pos,
-                here.end(),
-                f"comparisons do not chain: join two with 'and', as in "
-                f"'{a} {op} {b} and {b} {here.group()} {c}'",
-            )
     return None
 
 

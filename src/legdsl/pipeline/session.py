@@ -42,7 +42,6 @@ from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
-from legdsl.sim.path_tracking import lookahead_notes
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.sizes import start_depth
@@ -219,7 +218,8 @@ class RunSession:
         specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
         if control is not None and controller is not None:  # as given, before any --scale
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
-            for note in lookahead_notes(self.model, modules, specs):
+            told = [*sorted_settings.inputs, *(c.name for c in sorted_settings.schedule)]
+            for note in switching.path_notes(self.model, modules, controller, changes, specs, told):
                 self._tell("note", note)
         if scale is not None:
             options = scaled.scale_options(asked, scale)
@@ -234,10 +234,6 @@ class RunSession:
         if control is not None and controller is not None and changes:
             s = sorted_settings
             check_switch_paths(self.model, [controller, *later], specs)
-            told = [*s.inputs, *(c.name for c in s.schedule)]
-            for note in switching.paths_left(self.model, controller, changes, specs, told):
-                self._tell("note", note)
-            modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             machine = SwitchingMachine(
                 self.model, modules, controller, changes, s.inputs, s.params, s.schedule, specs,
                 s.by_controller,

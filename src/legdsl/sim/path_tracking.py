@@ -14,15 +14,9 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from types import ModuleType
-from typing import TYPE_CHECKING
 
 from legdsl.ir.paths import MEMBERS, PathSpec, Point
-
-if TYPE_CHECKING:
-    from legdsl.ir.model import Model
 
 
 @dataclass(frozen=True)
@@ -316,20 +310,3 @@ def _least_turn(geo: PathGeometry, look: float) -> float:
         abs(turned_to(s + look) - turned_to(s))
         for s in ((a + b) / 2 for a, b in zip(marks, marks[1:], strict=False))
     )
-
-
-def lookahead_notes(
-    model: Model, controls: Mapping[str, ModuleType], given: Sequence[PathSpec]
-) -> list[str]:
-    """``lookahead_note`` of each path a run's controllers (by name) steer by the look-ahead
-    of (read an ``ahead_`` member of), with ``--path``'s ``given`` in place, once each."""
-    from legdsl.sim.switching import paths_for
-
-    notes: list[str] = []
-    for name, module in controls.items():
-        for spec in paths_for(model, name, given):
-            reads = any(key.startswith(f"path.{spec.name}.ahead_") for key in module.SENSORS)
-            note = lookahead_note(spec) if reads else None
-            if note is not None and note not in notes:
-                notes.append(note)
-    return notes

@@ -17,8 +17,6 @@ from collections.abc import Callable, Sequence
 from types import ModuleType
 from typing import Any, Protocol
 
-import numpy as np
-
 from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.contact import ContactEvent, GroundContact
@@ -370,14 +368,10 @@ class Simulation:
             return "fell"
         return None
 
-    def likely_cause(
-        self,
-        err: BaseException | None = None,
-        recorded: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
-    ) -> str:
-        """Why a run diverged (``legdsl.sim.stability.likely_cause``, with the sample times,
-        contact flags and ground forces ``recorded``); a division by zero may be the dynamics' own, at a
-        singular mass matrix, so that is looked at too."""
+    def likely_cause(self, err: BaseException | None = None, run: Trajectory | None = None) -> str:
+        """Why a run diverged (``legdsl.sim.stability.likely_cause``, with what the ``run``
+        recorded); a division by zero may be the dynamics' own, at a singular mass matrix, so
+        that is looked at too."""
         mass = None
         if isinstance(err, ZeroDivisionError):
             with contextlib.suppress(ArithmeticError, ValueError):
@@ -387,7 +381,7 @@ class Simulation:
         with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
             inverse = inverse_inertia_diagonal(self.dyn.mass_matrix(list(self.model.q0)))
             stiff = stiff_now(self.actuators.states, self._stops, inverse, opts.dt, opts.integrator)
-        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff, recorded)
+        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff, run)
 
     # ------------------------------------------------------------ running
     def run(
@@ -463,8 +457,7 @@ class Simulation:
         """The cause of a divergence ``err`` at the state now, with what ``traj`` recorded up to
         it; sets the run's message."""
         state = ", ".join(f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True))
-        recorded = None if traj is None else (traj.t, traj.contact, traj.force)
-        cause = f"{err}. Likely cause: {self.likely_cause(err, recorded)}"
+        cause = f"{err}. Likely cause: {self.likely_cause(err, traj)}"
         self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
         return cause
 

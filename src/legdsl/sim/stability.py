@@ -33,6 +33,7 @@ import numpy as np
 
 from legdsl.ir.model import Model, Pad, Stop, axes_spread
 from legdsl.sim.actuators import ActuatorState
+from legdsl.sim.trajectory import Trajectory
 
 SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
 # A ground force of this many times the creature's weight (a hard landing's is a few) is a
@@ -180,14 +181,13 @@ def likely_cause(
     q: Sequence[float],
     mass_matrix: Sequence[Sequence[float]] | None = None,
     stiff: Sequence[str] = (),
-    recorded: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    recorded: Trajectory | None = None,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
-    too stiff for the step (``stiff``: ``stiff_now``) and what was ``recorded`` just before (the
-    trajectory's sample times, contact flags and ground forces)."""
+    too stiff for the step (``stiff``: ``stiff_now``) and what the run ``recorded`` up to it."""
     causes = list(stiff)
-    if recorded is not None and (pushed := _pushed_deep(model, *recorded)) is not None:
+    if recorded is not None and (pushed := _pushed_deep(model, recorded)) is not None:
         causes.append(pushed)
     if mass_matrix is not None:
         m = np.asarray(mass_matrix, dtype=float)
@@ -245,11 +245,12 @@ def likely_cause(
     return "; ".join(causes)
 
 
-def _pushed_deep(model: Model, t: np.ndarray, contact: np.ndarray, force: np.ndarray) -> str | None:
+def _pushed_deep(model: Model, run: Trajectory) -> str | None:
     """A foot that touched down far under the surface (pushed past ``PUSHED`` weights at
     its first sample down) among the last samples recorded before a divergence, as its
     cause; None if there was none. (A run blowing up pushes hard too, but on feet that were
     down already.)"""
+    t, contact, force = run.t, run.contact, run.force
     weight = model.total_mass * abs(model.gravity[2])
     finite = np.flatnonzero(np.all(np.isfinite(force.reshape(len(force), -1)), axis=1))[-3:]
     if weight <= 0 or not len(finite) or not force.shape[1]:

@@ -44,6 +44,7 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.sim.handover import Clock, Pair, cycle, lifts_off, on_liftoff
 from legdsl.sim.machine import InputChange, Integral, StateMachine, resolve_paths
+from legdsl.sim.path_tracking import lookahead_note
 
 # The four numbers below are for a creature standing REFERENCE_HEIGHT over its lowest foot at
 # the start (the quadruped 0.81 m, the biped 0.83 m); a creature standing h waits and falls
@@ -118,19 +119,30 @@ def check_switch_paths(model: Model, controllers: Sequence[str], given: Sequence
             resolve_paths(model, controllers[0], [spec])  # raises the UsageError saying why
 
 
-def paths_left(
-    model: Model, first: str, switches: Sequence[Switch], given: Sequence[PathSpec],
-    commanded: Iterable[str],
+def path_notes(
+    model: Model, controls: Mapping[str, ModuleType], first: str, switches: Sequence[Switch],
+    given: Sequence[PathSpec], commanded: Iterable[str],
 ) -> list[str]:  # fmt: skip
-    """Notes for each switch from a controller that follows a path to one that follows none:
-    from there the new one steers as its inputs say, and a ``heading`` nobody commanded is its
-    default, which may lie behind the creature (the biped's gallop after a circle turned back
-    to 0 deg at once, spun and fell)."""
+    """Notes on the paths of a run of ``controls`` (by name; ``first`` starts it, ``switches``
+    change it, ``given`` the ``--path`` specs, ``commanded`` the inputs given a value):
+    a lookahead too long for its path's turns (``lookahead_note``; once each, for a path a
+    controller steers by the look-ahead of, reading an ``ahead_`` member), and a switch
+    from a controller that follows a path to one that follows none: from there the new one
+    steers as its inputs say, and a ``heading`` nobody commanded is its default, which may
+    lie behind the creature (the biped's gallop after a circle turned back to 0 deg at once,
+    spun and fell)."""
+    notes: list[str] = []
+    for name, module in controls.items():
+        for spec in paths_for(model, name, given):
+            reads = any(key.startswith(f"path.{spec.name}.ahead_") for key in module.SENSORS)
+            note = lookahead_note(spec) if reads else None
+            if note is not None and note not in notes:
+                notes.append(note)
 
     def follows(name: str) -> bool:
         return any(p.shape != "none" for p in paths_for(model, name, given))
 
-    notes, running, told = [], first, set(commanded)
+    running, told = first, set(commanded)
     for w in sorted(switches, key=lambda w: w.t):
         if follows(running) and not follows(w.controller):
             inputs = {c.name: c.value for c in model.controller(w.controller).inputs}
