@@ -12,6 +12,7 @@ import sys
 import threading
 from collections.abc import Iterable, Iterator
 from types import ModuleType
+from typing import Any
 
 # What a command takes as an order to stop: Ctrl-C and the signals that end it as SIGTERM does
 # (a closed terminal, Ctrl-\\, ulimit -t's soft limit).
@@ -85,3 +86,39 @@ def import_held(name: str) -> ModuleType:
         return module
     with signals_held():
         return importlib.import_module(name)
+
+
+@contextlib.contextmanager
+def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
+    """``handler`` for each of ``signals`` meanwhile, but for one ignored when the process
+    started (``nohup``, a background job's SIGQUIT): that one stays ignored."""
+    previous: dict[int, Any] = {}
+    try:
+        for sig in signals:
+            if signal.getsignal(sig) is not signal.SIG_IGN or sig == signal.SIGINT:
+                previous[sig] = signal.signal(sig, handler)
+    except ValueError:  # not the main thread (main() called from a thread): leave them be
+        pass
+    try:
+        yield
+    finally:
+        _restore(previous)
+
+
+def _restore(previous: dict[int, Any]) -> None:
+    """The handlers ``previous`` put back, all of them, then what ``handler`` raised meanwhile.
+    Blocked as they go back, but one that came just before runs ``handler`` at the next
+    bytecode, which may be anywhere in here: its exception cut the restoring short and left
+    the rest installed, to raise again after the command had ended (SIGTERM held down:
+    "legdsl: terminated", then a traceback at the exit); so it is done again until whole."""
+    raised: BaseException | None = None
+    while True:
+        try:
+            with blocked(previous):
+                for sig, before in previous.items():
+                    signal.signal(sig, before)
+            break
+        except BaseException as e:  # the handler's own, for a signal that came just before
+            raised = raised or e
+    if raised is not None:
+        raise raised

@@ -209,3 +209,32 @@ def test_a_directory_whose_write_was_cut_short_is_not_read(
         assert main(argv) == 2
         assert "was still being written when it stopped" in capsys.readouterr().err
     assert not (tmp_path / "m.bvh").exists()
+
+
+def test_handlers_go_back_whole_though_one_raises_as_they_do(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A signal that came just before the handlers went back runs its handler at the next
+    bytecode, anywhere in the restoring: its exception cut it short and left the rest
+    installed, so a SIGTERM held down raised again after the command had ended ("legdsl:
+    terminated", then a traceback at the exit; CI under load). They all go back, then the
+    exception is raised."""
+    import signal
+
+    from legdsl import signals
+
+    chosen = (signal.SIGUSR1, signal.SIGUSR2)
+    before = [signal.getsignal(s) for s in chosen]
+    real, calls = signal.signal, []
+
+    def landing(sig: int, handler: object) -> object:
+        calls.append(sig)
+        if len(calls) == 3:  # the first handler put back: the pending signal's handler raises
+            raise KeyboardInterrupt
+        return real(sig, handler)
+
+    monkeypatch.setattr(signal, "signal", landing)
+    with pytest.raises(KeyboardInterrupt), signals.handled(chosen, lambda *_: None):
+        pass
+    monkeypatch.undo()
+    assert [signal.getsignal(s) for s in chosen] == before

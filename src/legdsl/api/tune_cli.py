@@ -41,6 +41,7 @@ from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import plain_number, require_controller
+from legdsl.signals import STOPPING, handled
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -234,20 +235,8 @@ class _Stops:
     def installed(self) -> Iterator[_Stops]:
         """Installed for SIGINT and each ending signal but one ignored when legdsl started
         (``nohup``), which stays ignored; not at all off the main thread."""
-        names = ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGXCPU")
-        ending = [getattr(signal, n) for n in names if hasattr(signal, n)]
-        previous: dict[int, Any] = {}
-        try:
-            for sig in (signal.SIGINT, *ending):
-                if sig == signal.SIGINT or signal.getsignal(sig) is not signal.SIG_IGN:
-                    previous[sig] = signal.signal(sig, self)
-        except ValueError:  # not the main thread (main() called from a thread): leave them be
-            pass
-        try:
+        with handled(STOPPING, self):
             yield self
-        finally:
-            for sig, before in previous.items():
-                signal.signal(sig, before)
 
 
 def _say_between(rows: list[dict[str, Any]], tuned_fell: bool) -> None:

@@ -11,7 +11,7 @@ import sys
 from collections.abc import Iterator
 from typing import Any, TextIO
 
-from legdsl.signals import blocked
+from legdsl.signals import handled
 
 OUT_OF_MEMORY = (
     "out of memory: raise the memory limit (ulimit -v) or ask for less "
@@ -171,28 +171,6 @@ def exit_status(cause: str) -> int:
         return 128 + signal.Signals[cause].value
     except KeyError:
         return 130
-
-
-@contextlib.contextmanager
-def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
-    """``handler`` for each of ``signals`` meanwhile, but for one ignored when the process
-    started (``nohup``, a background job's SIGQUIT): that one stays ignored."""
-    previous: dict[int, Any] = {}
-    try:
-        for sig in signals:
-            if signal.getsignal(sig) is not signal.SIG_IGN or sig == signal.SIGINT:
-                previous[sig] = signal.signal(sig, handler)
-    except ValueError:  # not the main thread (main() called from a thread): leave them be
-        pass
-    try:
-        yield
-    finally:
-        # blocked meanwhile: one landing here ran ``handler``, whose exception cut the loop
-        # short and left the rest of them installed, to raise again after the command had
-        # ended (SIGTERM held down: "legdsl: terminated", then a traceback at the exit)
-        with blocked(previous):
-            for sig, before in previous.items():
-                signal.signal(sig, before)
 
 
 # Commands that read a run directory and may write what they draw into it (figure6.png,

@@ -23,8 +23,9 @@ from legdsl.cli.common import (
     Command,
     numeric,
 )
-from legdsl.cli.process import ENDING_SIGNALS, exit_status, handled, sigterm_unwinds
+from legdsl.cli.process import ENDING_SIGNALS, exit_status, sigterm_unwinds
 from legdsl.lang.errors import UsageError
+from legdsl.signals import handled
 
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
     ("--dt", 0.0004, None, "integration step in s, or with its unit: 0.4ms (default: the creature's simulation block, else 0.0004, the paper's)"),
