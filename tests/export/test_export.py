@@ -385,7 +385,9 @@ def test_cli_export_default_name_and_stdout(
     )
     capsys.readouterr()
     assert main(["export", str(CREATURES / "biped.leg"), "--format", "mjcf", "-o", "-"]) == 0
-    assert capsys.readouterr().out == model_to_mjcf(check_model(CREATURES / "biped.leg"))
+    said = capsys.readouterr()
+    assert said.out == model_to_mjcf(check_model(CREATURES / "biped.leg"))
+    assert "wrote standard output (MJCF, creature 'biped', 14 DOF)" in said.err  # as docs say
     bare = ["export", str(CREATURES / "biped.leg"), "--format", "mjcf", "--no-anchor-pads"]
     assert main([*bare, "-o", "-"]) == 0
     out = capsys.readouterr().out

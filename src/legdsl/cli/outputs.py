@@ -107,16 +107,15 @@ def cmd_export(args: argparse.Namespace) -> int:
     text = export_text(model, args.format, args.base, link_mass, args.anchor_pads is not False)
     for note in export_notes(model, args.format, args.file, args.anchor_pads is not False):
         print(f"legdsl: note: {note}", file=sys.stderr)  # what the file leaves out
+    what = f"({args.format.upper()}, creature '{model.name}', {model.nv} DOF)"
     if args.output == "-":
         sys.stdout.write(text)
+        print(f"wrote standard output {what}", file=sys.stderr)  # as /dev/stdout's
         return 0
     out = check_output_file(args.output or default_path(model, args.format), "-o")
     try:
         write_atomic(out, text)
     except OSError as e:
         raise os_error("the export", out, e) from None
-    print(
-        f"wrote {out} ({args.format.upper()}, creature '{model.name}', {model.nv} DOF)",
-        file=messages_for(out),
-    )
+    print(f"wrote {out} {what}", file=messages_for(out))
     return 0
