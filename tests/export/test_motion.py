@@ -267,3 +267,29 @@ def test_the_frame_rate_a_one_frame_refusal_advises_gives_two_frames(span: float
     advice = re.search(r"two frames need --fps (\d+) or more", str(refused.value))
     assert advice, refused.value
     assert len(frame_times(t, float(advice.group(1)))) >= 2
+
+
+def test_footprints_interpolate_the_recording_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each touchdown interpolated the whole recording again (a copy and a running product of
+    every sample for a 3D root): a 30 min quadruped run's export took 7 minutes. One pass now,
+    with the same footprints as one touchdown at a time."""
+    from legdsl.export import motion
+
+    model = check_model(Path(__file__).resolve().parents[2] / "creatures" / "biped.leg")
+    n = 50
+    tr = empty(n, model.nq, model.nv, len(model.contacts), len(model.legs))
+    tr.t[:] = np.arange(n) * 0.01
+    tr.q[:] = np.array(model.q0, dtype=float)
+    tr.q[:, 0] = np.linspace(0.0, 1.0, n)
+    events = [{"kind": "touchdown", "t": 0.005 + 0.04 * k, "contact": model.contacts[k % 2].name}
+              for k in range(10)]  # fmt: skip
+    kinematics = ModelKinematics(model)
+    calls: list[int] = []
+    real = motion.interpolate_q
+    monkeypatch.setattr(motion, "interpolate_q", lambda *a: calls.append(1) or real(*a))
+    prints = motion.footprints(model, tr, kinematics, events)
+    assert len(calls) == 1 and len(prints) == 10
+    for fp, e in zip(prints, events, strict=True):
+        q = real(model, tr.t, tr.q, np.array([e["t"]]))[0]
+        k = [c.name for c in model.contacts].index(e["contact"])
+        assert fp.position == tuple(kinematics.contact_positions([float(x) for x in q])[k])

@@ -414,9 +414,14 @@ def footprints(
         flags = tr.contact.astype(int)
         rising = np.argwhere(np.diff(flags, axis=0, prepend=0) > 0)
         touchdowns = [(float(tr.t[i]), int(c)) for i, c in rising]
+    touchdowns.sort()
+    if not touchdowns:
+        return ()
+    # all at once: one call per touchdown went over the whole recording each time (a 30 min
+    # run's 9,566 touchdowns of 346,154 samples took 7 minutes)
+    qs = interpolate_q(model, tr.t, tr.q, np.array([t for t, _ in touchdowns]))
     out = []
-    for t, c in sorted(touchdowns):
-        q = interpolate_q(model, tr.t, tr.q, np.array([t]))[0]
+    for (t, c), q in zip(touchdowns, qs, strict=True):
         p = kinematics.contact_positions([float(x) for x in q])[c]
         out.append(Footprint(t - float(tr.t[0]), c, (float(p[0]), float(p[1]), float(p[2]))))
     return tuple(out)
