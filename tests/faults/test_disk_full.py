@@ -416,6 +416,15 @@ def test_a_run_whose_recording_the_disk_may_not_hold_is_told_before_it_runs(
     monkeypatch.setattr(shutil, "disk_usage", lambda p: usage._replace(free=10**9))
     code, err = _run(capsys, argv)
     assert code == 0 and "note" not in err, err
+    # a disk with nine tenths of what the files take free is told so too (their size was
+    # reckoned as the recording's in memory, and told at under half of that: a 10 min run
+    # needing 61 MB on 21 MB free was not)
+    written = sum(f.stat().st_size for f in (tmp_path / "run").iterdir())
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage._replace(free=int(0.9 * written)))
+    code, err = _run(capsys, argv)
+    assert code == 0 and "recording may take about" in err, err
+    told = float(err.split("may take about ")[1].split(" MB")[0]) * 1e6
+    assert written <= told <= 2.5 * written  # at least what the files take, and not far off
 
 
 def test_a_full_disk_names_the_file_of_the_run_directory() -> None:
