@@ -257,9 +257,9 @@ def space_note(path: Path, flag: str, options: RunOptions, model: Model) -> str 
     trajectory.npz and .csv ``ON_DISK`` times that): a full disk refuses it only after the
     run. A note, not a refusal: a long run may be meant to be stopped early, and what it
     recorded by then may fit."""
-    need = run_samples(options) * sample_bytes(model)
+    recording = run_samples(options) * sample_bytes(model)
     budget = recording_budget()
-    need = ON_DISK * (min(need, budget) if budget is not None else need)
+    need = ON_DISK * (min(recording, budget) if budget is not None else recording)
     free = free_bytes(path)
     if free is None or free >= need:  # None: the system does not say; the write will tell
         return None
