@@ -234,10 +234,13 @@ class Batch:
             # this, left them running on freed memory (a segfault; random API interrupts, seed
             # 20013). Held, so that a second Ctrl-C cannot cut the joins short.
             stop[0] = 1  # read by C between budgets; the copies already done are unaffected
-            with signals_held():
-                for w in workers:
-                    if w.ident is not None:  # started
-                        w.join()
+            try:
+                with signals_held():
+                    for w in workers:
+                        if w.ident is not None:  # started
+                            w.join()
+            except (KeyboardInterrupt, Interrupted) as sig:  # held until joined, then raised:
+                interrupted = interrupted or signal_of(sig)  # the copies came back all the same
         wall = time.perf_counter() - start
         return Copies(self, loop.capacity, traj, blocks, structs, codes, wall, interrupted)
 
