@@ -196,3 +196,21 @@ def test_a_run_is_held_while_a_command_draws_from_it(
     monkeypatch.setattr(plot, "plot_run", while_drawing)
     assert main(["plot", str(run)]) == 0
     assert tried == [False]  # held
+
+
+def test_a_long_write_is_told_before_it_starts(
+    tmp_path: Path, generated: Path, capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:  # fmt: skip
+    """The bar said "done", then a 30 min run's files took a silent minute to write: a write
+    of ``SAY_WRITING`` seconds or more is told first, with its size and time."""
+    from legdsl.cli import run as run_command
+
+    argv = ["run", str(ROOT / "creatures" / "hopper.leg"), "--time", "0.5s", "--out",
+            str(tmp_path / "run"), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    assert "legdsl: writing" not in capsys.readouterr().err  # a moment's: nothing to say
+    monkeypatch.setattr(run_command, "SAY_WRITING", 0.0)
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert f"legdsl: writing {tmp_path / 'run'}/ (about " in err and " MB, about " in err

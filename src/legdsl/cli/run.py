@@ -156,6 +156,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         interrupts.simulating = False  # from here on a signal waits for the directory
         run.scene = args.scene
+        _say_writing(run, out)
         try:
             out = run.write(out)
         except OSError as e:
@@ -183,6 +184,28 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
+
+
+# What writing a run's files takes, measured (the CSV's text most of it): 10 to 18 MB/s, and
+# twice the recording in memory (``legdsl.pipeline.options.ON_DISK``)
+WRITTEN_PER_SECOND = 15e6
+SAY_WRITING = 5.0  # s: a write this long is told before it starts (a 30 min run's: a minute)
+
+
+def _say_writing(run: Any, out: Path) -> None:
+    """A line before a long write: the bar had said "done" (or stopped at a Ctrl-C), and a
+    30 min run's files then took a silent minute to write."""
+    from legdsl.pipeline.options import ON_DISK
+
+    tr = run.result.trajectory
+    size = ON_DISK * len(tr) * tr.row_bytes()
+    if size / WRITTEN_PER_SECOND >= SAY_WRITING:
+        print(
+            f"legdsl: writing {out}/ (about {size / 1e6:.0f} MB, "
+            f"about {size / WRITTEN_PER_SECOND:.0f} s)",
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def add_run_parser(sub: Any) -> Command:
