@@ -190,3 +190,26 @@ def test_a_top_view_of_a_long_path_is_no_strip_and_its_words_fit(
     assert legend.y1 <= ax.get_window_extent().y0
     title = ax.title.get_window_extent()
     assert title.x0 >= 0 and title.x1 <= fig.bbox.width
+
+
+def test_a_window_of_too_many_stances_leaves_their_lines_out_and_says_so(
+    tmp_path: Path, generated: Path, monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:  # fmt: skip
+    """A 30 min run's 2,390 dashed stance pairs were a grey wall over Figure 6, its footfall
+    bars ran together, and nothing said to draw a window: past ``MOST_STANCES`` the lines
+    are left out, the title says how many there were, and a note gives a window."""
+    from legdsl.analysis import plot
+
+    run = tmp_path / "run"
+    argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "3",
+            "--out", str(run), "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 0
+    assert main(["plot", str(run)]) == 0
+    assert "note" not in capsys.readouterr().err
+    monkeypatch.setattr(plot, "MOST_STANCES", 3)
+    assert main(["plot", str(run)]) == 0
+    err = capsys.readouterr().err
+    assert "stances of leg 'main' in 3 s: too many to tell apart" in err and "--from 0 --to" in err
+    assert main(["plot", str(run), "--from", "2.5"]) == 0  # a window of a few: marked again
+    assert "note" not in capsys.readouterr().err

@@ -75,6 +75,28 @@ def picture_format(out: Path) -> str:
     return Path(out).suffix[1:].lower() or "png"
 
 
+# Stances past this many are not marked (a 30 min run's 2,390 dashed pairs were a grey wall
+# over the curves); ``crowded`` says so, with the window to give instead.
+MOST_STANCES = 200
+
+
+def crowded(run: Path, t_from: float = 0.0, t_to: float | None = None) -> str | None:
+    """A note for a window with more stances than a figure can show, else None."""
+    tr = Trajectory.load(run)
+    if not tr.leg_names or not len(tr):
+        return None
+    end = tr.t[-1] if t_to is None else t_to
+    n = sum(1 for a, b in stance_phases(tr, 0) if not (b < t_from or a > end))
+    if n <= MOST_STANCES:
+        return None
+    seconds = (end - t_from) * MOST_STANCES / n / 8  # 25 stances
+    return (
+        f"{n} stances of leg '{tr.leg_names[0]}' in {end - t_from:.0f} s: too many to tell "
+        f"apart in the figures (their lines are left out, the footfall bars run together); "
+        f"draw a few seconds of it, e.g. --from {t_from:g} --to {t_from + seconds:.3g}"
+    )
+
+
 def plot_run(
     run: Path,
     out: Path,
@@ -129,13 +151,12 @@ def plot_run(
     joints.set_ylabel("leg joint angles (deg)")
     joints.set_xlabel("time (s)")
 
-    if tr.leg_names:
-        for start, stop in stance_phases(tr, 0):
-            if stop < t_from or start > end:
-                continue
-            for ax in axes:
-                ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
-                ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
+    stances = [(a, b) for a, b in stance_phases(tr, 0) if not (b < t_from or a > end)] \
+        if tr.leg_names else []  # fmt: skip
+    for start, stop in stances if len(stances) <= MOST_STANCES else ():
+        for ax in axes:
+            ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
+            ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
     for t_switch, controller in switch_times(run):  # controller changes (legdsl run --switch)
         if t_from <= t_switch <= end:
             for ax in axes:
@@ -146,9 +167,11 @@ def plot_run(
         height.set_xlim(t[0], t[-1])
     creature = run.name
     fig.suptitle(
-        f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
-        if tr.leg_names
-        else creature
+        creature
+        if not tr.leg_names
+        else f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
+        if len(stances) <= MOST_STANCES
+        else f"{creature}: {len(stances)} stances of leg '{tr.leg_names[0]}', too many to mark"
     )
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)

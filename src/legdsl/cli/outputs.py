@@ -26,6 +26,7 @@ from legdsl.pipeline.outputs import (
 
 def cmd_plot(args: argparse.Namespace) -> int:
     from legdsl.analysis.plot import (
+        crowded,
         first_leg_angles,
         plot_footfall,
         plot_run,
@@ -64,6 +65,8 @@ def cmd_plot(args: argparse.Namespace) -> int:
         with atomic_same_name(top) as tmp:
             plot_top(run, tmp, args.t_from, args.t_to)
         print(f"wrote {top} (top view)", file=say)
+    if (note := crowded(run, args.t_from, args.t_to)) is not None:
+        print(f"legdsl: note: {note}", file=sys.stderr)
     return 0
 
 
