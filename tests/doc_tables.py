@@ -15,6 +15,7 @@ import pytest
 
 from legdsl.analysis.metrics import compute_metrics
 from legdsl.analysis.results import GaitMetrics
+from legdsl.analysis.table2 import virtual_legs
 from legdsl.pipeline import scaled
 from legdsl.pipeline.session import Run, RunSession
 
@@ -125,6 +126,14 @@ def run_creature(
 def metrics(run: Run, start: float, **options: str) -> GaitMetrics:
     """``legdsl metrics DIR --from START`` (``joint=``, ``against=`` as ``--joint``, ``--against``)."""
     return compute_metrics(run.result.trajectory, t_from=start, **options)
+
+
+def table2_metrics(run: Run, creature: str, gait: str, start: float) -> GaitMetrics:
+    """``legdsl metrics DIR --from START --table2 GAIT``: a gait of Table 2 measured on virtual
+    legs (the bound's front and rear pairs) has them found from the creature's hips, and its
+    strides start at the reference pair's touchdowns (legdsl.pipeline.measure.measure_run)."""
+    groups, first = virtual_legs(gait, _SESSIONS[creature].model)
+    return metrics(run, start, groups=groups, leg=first) if groups else metrics(run, start)
 
 
 def run_command(creature: str, controller: str, settings: Sequence[str], time: float) -> str:
