@@ -7,6 +7,7 @@ import csv
 import json
 import math
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -551,3 +552,31 @@ def test_a_metric_no_run_measured_is_said(capsys: pytest.CaptureFixture[str]) ->
     assert capsys.readouterr().err.endswith("every run fell or diverged\n")
     _say_unmeasured([{"outcome": "ok", "cot": 0.5}], "cot", args, novel, Path("s"))
     assert capsys.readouterr().err == ""
+
+
+def test_the_time_left_is_reckoned_from_the_first_row(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Before the first row the workers start and compile, and rows come back in waves: a
+    sweep of 75 s said '24m08s left' at its first row. The pace is taken from the first row
+    on, once a second has gone by since it."""
+    from legdsl.api import sweep
+
+    jobs = [sweep.Job(k, "x.leg", None, "hop", {"speed": 1.0}, {"speed": "m/s"}, (), 1.0, 0.0,
+                      "g", None) for k in range(20)]  # fmt: skip
+    arrivals = iter([14.8] + [14.9] * 7 + [16.0] * 8 + [17.1] * 4)  # waves of 8 rows
+    now = {"t": 0.0}
+
+    def rows(todo: list, pool: object) -> Iterator[dict]:
+        for job in todo:
+            now["t"] = next(arrivals)
+            yield {"run": job.index, "speed": 1.0, "outcome": "ok"}
+
+    monkeypatch.setattr(sweep, "run_jobs", rows)
+    monkeypatch.setattr(sweep, "Workers", lambda *a: contextlib.nullcontext())
+    monkeypatch.setattr(sweep.time, "monotonic", lambda: now["t"])
+    told: list = []
+    sweep.run_sweep(jobs, tmp_path / "sweep.csv", 2, lambda d, n, left: told.append(left))
+    assert told[:8] == [None] * 8  # the first wave: no pace yet
+    assert told[8] == pytest.approx((16.0 - 14.8) / 8 * 11)  # 0.15 s a row, 11 to go
+    assert all(left is None or left < 60 for left in told)

@@ -280,7 +280,7 @@ def run_sweep(
     jobs: Sequence[Job],
     table: Path,
     workers: int,
-    progress: Callable[[int, int, float], None] | None = None,
+    progress: Callable[[int, int, float | None], None] | None = None,
     dask: str | None = None,
 ) -> list[dict[str, Any]]:
     """Run the jobs not yet in ``table`` (CSV), appending each row as it finishes, on
@@ -300,7 +300,7 @@ def run_sweep(
             fresh.touch()
             for row in done:
                 _append(fresh, columns, row)
-    started = time.monotonic()
+    first = math.nan  # when the first run came back
     # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
     with Workers(min(workers, len(todo)), dask) as pool:
         for count, row in enumerate(run_jobs(todo, pool), 1):
@@ -309,8 +309,13 @@ def run_sweep(
                 raise KeyboardInterrupt
             _append(table, columns, row)
             if progress is not None:
-                elapsed = time.monotonic() - started
-                progress(len(done) + count, len(jobs), elapsed / count * (len(todo) - count))
+                # the pace since the first row: before it the workers start and compile (a
+                # sweep of 75 s said '24m08s left' at its first row), and rows come in waves
+                now = time.monotonic()
+                first = now if count == 1 else first
+                pace = (now - first) / (count - 1) if now - first >= 1.0 else math.nan
+                left = pace * (len(todo) - count)
+                progress(len(done) + count, len(jobs), None if math.isnan(left) else left)
     return read_table(table)
 
 
@@ -377,7 +382,7 @@ def seconds(flag: str, value: str | float, least: str = "positive") -> float:
     return read_seconds(flag, value, least) if isinstance(value, str) else value
 
 
-def progress_bar(done: int, total: int, left: float) -> None:
+def progress_bar(done: int, total: int, left: float | None) -> None:
     progress_line(done, total, "runs", left)
 
 
