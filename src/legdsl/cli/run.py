@@ -218,7 +218,8 @@ def add_run_parser(sub: Any) -> Command:
         f"{EXIT_DIVERGED} the simulation diverged, {EXIT_FELL} the creature fell, "
         f"{EXIT_INTERRUPTED} interrupted by Ctrl-C ({EXIT_TERMINATED} by SIGTERM, 128 + the "
         "signal's number by SIGHUP, SIGQUIT or SIGXCPU); the run "
-        "directory is written in every case, with what was recorded.",
+        "directory is written in every case once the simulation starts, with what was recorded "
+        "(a Ctrl-C during the compile leaves none).",
         epilog="Example: legdsl run creatures/quadruped.leg --time 3 --drop 0.3 --out runs/drop",
     )
     r.add_argument("file", metavar="FILE", help="a .leg file")
