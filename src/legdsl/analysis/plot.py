@@ -80,13 +80,19 @@ def picture_format(out: Path) -> str:
 MOST_STANCES = 200
 
 
-def crowded(run: Path, t_from: float = 0.0, t_to: float | None = None) -> str | None:
+def _stances_in(tr: Trajectory, t_from: float, end: float) -> list[tuple[float, float]]:
+    """The first leg's stances that reach into the window (none without legs)."""
+    if not tr.leg_names:
+        return []
+    return [(a, b) for a, b in stance_phases(tr, 0) if not (b < t_from or a > end)]
+
+
+def crowded(tr: Trajectory, t_from: float = 0.0, t_to: float | None = None) -> str | None:
     """A note for a window with more stances than a figure can show, else None."""
-    tr = Trajectory.load(run)
-    if not tr.leg_names or not len(tr):
+    if not len(tr):
         return None
     end = tr.t[-1] if t_to is None else t_to
-    n = sum(1 for a, b in stance_phases(tr, 0) if not (b < t_from or a > end))
+    n = len(_stances_in(tr, t_from, end))
     if n <= MOST_STANCES:
         return None
     seconds = (end - t_from) * MOST_STANCES / n / 8  # 25 stances
@@ -151,8 +157,7 @@ def plot_run(
     joints.set_ylabel("leg joint angles (deg)")
     joints.set_xlabel("time (s)")
 
-    stances = [(a, b) for a, b in stance_phases(tr, 0) if not (b < t_from or a > end)] \
-        if tr.leg_names else []  # fmt: skip
+    stances = _stances_in(tr, t_from, end)
     for start, stop in stances if len(stances) <= MOST_STANCES else ():
         for ax in axes:
             ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)

@@ -40,7 +40,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     run = Path(args.dir)
     if args.output:
         named_as(args.output, "--output", PICTURES, "a PNG picture (or .svg, .pdf)")
-    Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
+    tr = Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
     out = check_output_file(args.output or run / "figure6.png", "--output")
     say = messages_for(args.output)
     room_for("draw the run", ROOM_TO_DRAW)
@@ -65,7 +65,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
         with atomic_same_name(top) as tmp:
             plot_top(run, tmp, args.t_from, args.t_to)
         print(f"wrote {top} (top view)", file=say)
-    if (note := crowded(run, args.t_from, args.t_to)) is not None:
+    if (note := crowded(tr, args.t_from, args.t_to)) is not None:
         print(f"legdsl: note: {note}", file=sys.stderr)
     return 0
 

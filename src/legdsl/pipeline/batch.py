@@ -454,6 +454,7 @@ class Copies:
         model = sim.model
         q, v = self.blocks["q"][k, : model.nq], self.blocks["v"][k, : model.nv]
         sim.move_to(q.tolist(), v.tolist(), float(s.t))
+        trajectory = self.trajectory(k)
         status, cause, sim.message = "ok", "", ""
         try:
             if self.interrupted and code not in (DONE, CHECK, NONFINITE, RAISED):
@@ -472,11 +473,11 @@ class Copies:
             elif code == RAISED:
                 raise ERRORS[int(s.err)]()
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
-            status, cause = "diverged", sim.diverged(err, self.trajectory(k))
+            status, cause = "diverged", sim.diverged(err, trajectory)
         events = sorted(self._contact_events(k) + self._state_events(k), key=lambda e: e["t"])
         stops = self.blocks["stop_time"][k]
         return RunResult(
-            trajectory=self.trajectory(k),
+            trajectory=trajectory,
             events=events,
             status=status,
             message=sim.message,
