@@ -31,7 +31,7 @@ def run(generated: Path) -> legdsl.api.Run:
         ("animate", "", "this is a directory; give a file name"),
         ("plot", "fig", "this writes a PNG, SVG or PDF; give a name ending in .png"),
         ("plot", "fig.jpg", "this writes a PNG, SVG or PDF; give a name ending in .png"),
-        ("animate", "run.mp4", "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"),
+        ("animate", "run.mp4", "the HTML player (a video: legdsl animate DIR --video FILE.mp4)"),
     ],
 )
 def test_a_path_that_is_a_directory_or_misnamed_is_refused(

@@ -58,3 +58,14 @@ def test_the_standard_library_is_named_alike_from_any_copy_of_legdsl(tmp_path: P
     assert (
         shown_file(str(STDLIB.resolve() / "nothing_of_ours.leg"), source) == "nothing_of_ours.leg"
     )
+
+
+def test_the_docs_example_quotes_the_hoppers_generated_module() -> None:
+    """docs/controllers.md shows the origins of the hopper's FLIGHT action: the lines it
+    quotes are the generated module's own (a moved line in hopper.leg moves them)."""
+    doc = (ROOT / "docs" / "controllers.md").read_text(encoding="utf-8")
+    quoted = re.findall(r"^ {12}(\S+ +creatures/hopper\.leg:\S+ > \S+)$", doc, re.M)
+    generated = (ROOT / "generated" / "hopper" / "control_hop.py").read_text(encoding="utf-8")
+    assert len(quoted) == 2
+    for line in quoted:
+        assert f"        {line}\n" in generated, line

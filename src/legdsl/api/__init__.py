@@ -415,7 +415,7 @@ class Run:
         """The self-contained HTML player of this run (in the run's directory by default)."""
         from legdsl.export.player import write_player
 
-        player = "the HTML player (a video: legdsl animate DIR -o FILE.mp4)"
+        player = "the HTML player (a video: legdsl animate DIR --video FILE.mp4)"
         out = (
             an_output("animate()", path, (".html", ".htm"), player)
             if path is not None
