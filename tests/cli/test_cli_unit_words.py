@@ -31,7 +31,11 @@ HOPPER = str(Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg")
         (["--set", "speed=9km/h"], "write '2.5 m/s' or '0.15 km/min'"),
         (
             ["--drop", "5%"],
-            "--drop 5%: a percentage is written as a plain number: '0.5', not '50%'",
+            "--drop 5%: a percentage is written as a plain number: '0.05', not '5%'",
+        ),
+        (
+            ["--set", "k=30%"],  # the user's own number, as language.md says
+            "--set 'k=30%': a percentage is written as a plain number: '0.3', not '30%'",
         ),
     ],
 )

@@ -25,6 +25,7 @@ from legdsl.lang.units import (
     UnitError,
     looks_like_unit,
     parse_unit,
+    percentage,
     suggest_unit,
     unit_pattern,
     unknown_unit,
@@ -312,7 +313,7 @@ def _slip(text: str, pos: int) -> str | None:
             "starts with '#' and runs to the end of the line"
         )
     if text.startswith("%", pos) and text[:pos][-1:].isdigit():  # not '5 % 2', a remainder
-        return "a percentage is written as a plain number: '0.5', not '50%'"
+        return percentage(re.findall(r"[\d.]+$", text[:pos])[0])
     if pos < len(text) and not text[pos].isascii() and text[pos].isalpha():
         return (
             f"'{text[pos]}' is not a letter of a name: names are made of the letters a-z and "

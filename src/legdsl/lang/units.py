@@ -13,6 +13,7 @@ import itertools
 import math
 import re
 from dataclasses import dataclass
+from decimal import Decimal
 
 Dim = tuple[int, int, int, int]  # exponents of kg, m, s, rad
 
@@ -212,11 +213,21 @@ def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
     )
 
 
+def percentage(number: str | None) -> str:
+    """The message for a number written as a percentage: the plain number to write instead,
+    the user's own (``number``, the digits before '%') where it reads as one."""
+    try:
+        plain = format(Decimal(number or "").scaleb(-2).normalize(), "f")
+    except ArithmeticError:
+        return "a percentage is written as a plain number: '0.5', not '50%'"
+    return f"a percentage is written as a plain number: '{plain}', not '{number}%'"
+
+
 def unknown_unit(word: str, number: str | None = None) -> str:
     """The message for a word written as a unit that is none; ``number``, the number
     written before it, if known, for the value to write instead."""
     if word == "%":  # '--set k=30%', as a file's '30%' is told
-        return "a percentage is written as a plain number: '0.5', not '50%'"
+        return percentage(number)
     other = other_system(word, number)
     if other is not None:
         return other
