@@ -24,7 +24,8 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
   made dimensionless like the other terms,
 
 and a run that falls or diverges at ``t`` of ``T`` scores ``2 + (T - t) / T`` instead: more
-the earlier it ends, always worse than any run that lasts. CMA-ES (the ``cma`` package)
+the earlier it ends, always worse than any run that lasts (one that lasts without a whole
+stride in its window scores 2: said so in the report, and warned of at the start). CMA-ES (the ``cma`` package)
 searches the parameters scaled to [0, 1] within their bounds, from the file's values, with
 ``--seed``; each generation's runs go to parallel processes. It writes ``OUT/NAME.leg``,
 the input with only the tuned values changed, ``OUT/tune.json`` (the best values, the
@@ -37,6 +38,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -51,6 +53,8 @@ from legdsl.api.workers import Workers
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.pipeline.optional import import_whole
 from legdsl.sim.run_loop import Interrupted
+
+NO_STRIDE = "no whole stride"  # a run that lasted without one in its window
 
 # how a tune ended early, by what stopped it (``tune.json``'s "ended"; else "finished")
 STOPPED_BY: dict[type[BaseException], str] = {
@@ -140,10 +144,13 @@ def tune(
     say: Callable[[str], None] = print,
     dask: str | None = None,
     journal: Journal | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
     """Run CMA-ES; the history, the best values (SI) and the start's and best runs' rows. With
     a ``journal``, each generation is written down as it ends, and the generations it already
-    holds are taken from it instead of being run again."""
+    holds are taken from it instead of being run again. ``warn`` (else standard error, after
+    ``legdsl: warning:``) is told of a scoring window too short for a stride of the start."""
+    warn = warn or (lambda text: print(f"legdsl: warning: {text}", file=sys.stderr))
     cma = import_whole("cma")  # a Ctrl-C there leaves it importable again
 
     def values_of(x: Sequence[float]) -> dict[str, float]:
@@ -219,6 +226,8 @@ def tune(
                 (start_rows,) = runs(pool, [start], objective.speeds)
             begun = (score(start_rows, objective), start_rows)
             say(f"start: objective {begun[0]:.4g}")
+            if short := short_window(start_rows, objective):  # the search could not see it
+                warn(short)
             if history:
                 assert best is not None
                 say(f"generations 1 to {len(history)} from before: so far {best[0]:.4g}")
@@ -297,8 +306,9 @@ def unsettled(
     """(command, running speed the search scored, running speed over twice the time) at each
     tuned speed where the two differ by more than 1% of the command (of the slowest other
     command for 0, as ``score`` takes it), or the longer run did not last (its speed NaN), or
-    measured no stride where the scored one did; not where the scored run itself did not
-    last."""
+    measured no stride where the scored one did, or one where the scored one did not (its
+    window too short: a stilt scored without a stride at 1 m/s ran 1.482 over twice the time,
+    unsaid); not where the scored run itself did not last."""
     moving = [abs(s) for s in speeds if s]
     found = []
     for short, long, speed in zip(scored, longer, speeds, strict=True):
@@ -309,9 +319,41 @@ def unsettled(
         # either, measured nothing to compare (it was said to have fallen)
         if long["outcome"] != "ok" or (math.isfinite(a) and not math.isfinite(b)):
             found.append((speed, a, math.nan))
-        elif math.isfinite(a) and abs(b - a) > 0.01 * (abs(speed) or min(moving, default=1.0)):
+        elif math.isfinite(b) and (  # moved, or measured a stride where the scored did not
+            not math.isfinite(a) or abs(b - a) > 0.01 * (abs(speed) or min(moving, default=1.0))
+        ):
             found.append((speed, a, b))
     return found
+
+
+def short_window(rows: Sequence[dict[str, Any]], objective: Objective) -> str | None:
+    """What to say where runs of the file's own values lasted without a whole stride in the
+    scoring window (``--from`` to ``--time``): they have no running speed, each scores 2 as a
+    run falling at its very end would, and the search cannot tune those speeds (a stilt's 0.7 s
+    stride in a 1 s window at 1 m/s left a tune of 1 and 2 m/s tuning 2 alone, unsaid)."""
+    none = [(s, r) for s, r in zip(objective.speeds, rows, strict=True)
+            if r["outcome"] == "ok" and not math.isfinite(float(r["running_speed"]))]  # fmt: skip
+    if not none:
+        return None
+    at = ", ".join(f"{s:g}" for s, _ in none)
+    window = objective.duration - objective.start
+    text = (f"the scoring window, from --from {objective.start:g} s to --time {objective.duration:g} s "
+            f"({window:.3g} s), held no whole stride of the file's own values at {at} m/s: a "
+            "run without a stride has no running speed and scores 2 there, as a run falling at "
+            "its very end would, so the search cannot tune that speed; ")  # fmt: skip
+    strides = [float(r.get("run_stride_duration", math.nan)) for _, r in none]
+    if not all(map(math.isfinite, strides)):  # no stride over the whole run either
+        return text + ("it made no whole stride over the whole run either: see with legdsl run "
+                       "whether it steps at all (a longer window would not help)")  # fmt: skip
+    stride = max(strides)
+    need = math.ceil(3 * stride / 0.5) * 0.5  # three strides hold two whole ones, wherever
+    if need <= window:  # strides that came late in the run: a window twice as long, then
+        need = math.ceil(2 * window / 0.5) * 0.5
+    fix = f"--time {objective.start + need:g}"
+    if objective.duration - need >= 0:
+        fix += f" (or --from {objective.duration - need:g})"
+    return text + (f"a stride there takes about {stride:.2g} s over the whole run: give a "
+                   f"window of three strides or more, {fix}")  # fmt: skip
 
 
 def halfway_speeds(speeds: Sequence[float]) -> list[float]:
@@ -369,6 +411,9 @@ def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound
         lines.append(
             f"  at {before['speed']:<6.4g}    {tune_speed(before):<20} {tune_speed(after)}"
         )
+    if NO_STRIDE in "\n".join(lines[-len(result["start"]["runs"]) :]):  # why an objective of 2
+        lines.append(f"  ({NO_STRIDE}: none from --from to --time, so no speed measured; "
+                     "scored 2 at that speed, as a run falling at its very end)")  # fmt: skip
     lines.append("energy per metre (J/m), cost of transport (-)   start          tuned")
     for before, after in zip(result["start"]["runs"], result["best"]["runs"], strict=True):
         lines.append(f"  at {before['speed']:<6.4g}    {_energy(before):<20} {_energy(after)}")
@@ -401,9 +446,12 @@ def _energy(row: dict[str, Any]) -> str:
 
 
 def tune_speed(row: dict[str, Any]) -> str:
-    """A run's measured speed and, if it did not last, how it ended."""
+    """A run's measured speed and, if it did not last, how it ended; one that lasted without a
+    whole stride in its window says so (it was "n/a", beside an objective of a fall)."""
     speed = float(row.get("running_speed", math.nan))
     spread = float(row.get("running_speed_std", math.nan))
+    if not math.isfinite(speed) and row["outcome"] == "ok":
+        return NO_STRIDE
     text = f"{speed:.4g}" if math.isfinite(speed) else "n/a"
     if math.isfinite(speed) and math.isfinite(spread):  # a mean on the command may swing about it
         text += f" ± {spread:.2g}"

@@ -18,6 +18,7 @@ from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, actuator_settings, bare_in_si, parse_axis, seconds, units_of
 from legdsl.api.sweep_cli import writer_lock
 from legdsl.api.tune import (
+    NO_STRIDE,
     Bound,
     Objective,
     dump,
@@ -281,21 +282,39 @@ def _say_longer(result: dict[str, Any], objective: Objective) -> None:
         at = ", ".join(f"{speed:g}" for speed, _, _ in moved)
         longer_at = {row["speed"]: row for row in rows}
         scored_at = dict(zip(objective.speeds, result["best"]["runs"], strict=True))
-        longer = ", ".join(_ran(long, longer_at[speed]) for speed, _, long in moved)
-        scored = ", ".join(_ran(short, scored_at[speed]) for speed, short, _ in moved)
+        where = len(moved) > 1  # each speed named where there are several
+        longer = _and(_did(long, longer_at[speed], speed, where) for speed, _, long in moved)
+        scored = _and(_ran(short, scored_at[speed], speed) for speed, short, _ in moved)
         print(f"legdsl: note: the tuned speed had not settled by --time {objective.duration:g} "
-              f"at {at} m/s: over {since:g} to {twice:g} s it runs {longer}, against {scored} "
+              f"at {at} m/s: over {since:g} to {twice:g} s it {longer}, against {scored} "
               f"scored over {since:g} to {objective.duration:g} s; tune with a longer --time "
               f"({twice:g})", file=sys.stderr)  # fmt: skip
 
 
-def _ran(speed: float, row: dict[str, Any]) -> str:
-    """A run's speed, or why it has none: it fell or diverged, or lasted without a whole
-    stride in the window (it was said to have fallen, and a scored one's speed was 'nan')."""
+def _and(parts: Iterator[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    items = list(parts)
+    return items[0] if len(items) == 1 else f"{', '.join(items[:-1])} and {items[-1]}"
+
+
+def _did(speed: float, row: dict[str, Any], command: float, where: bool) -> str:
+    """What a longer run did, to follow "it": "runs 1.482 (+48.2%)", "fell at 5.608 s", "has
+    no whole stride", and with ``where``, "at 1 m/s" after it (it printed "it runs fell")."""
+    at = f" at {command:g} m/s" if where else ""
     if math.isfinite(speed):
-        return f"{speed:.4g}"
+        return f"runs {_ran(speed, row, command)}{at}"
     outcome = str(row["outcome"])
-    return "no whole stride" if outcome == "ok" else outcome.partition(" at ")[0]
+    return f"has {NO_STRIDE}{at}" if outcome == "ok" else f"{outcome}{at}"
+
+
+def _ran(speed: float, row: dict[str, Any], command: float = 0.0) -> str:
+    """A run's speed, off a ``command`` by how much (as the report's speeds are, relative to
+    it; none for 0), or why it has none: it fell or diverged, or lasted without a whole stride
+    in the window (it was said to have fallen, and a scored one's speed was 'nan')."""
+    if math.isfinite(speed):
+        return f"{speed:.4g}" + (f" ({(speed - command) / abs(command):+.1%})" if command else "")
+    outcome = str(row["outcome"])
+    return NO_STRIDE if outcome == "ok" else outcome.partition(" at ")[0]
 
 
 def _say_deaf(rows: list[dict[str, Any]]) -> None:
