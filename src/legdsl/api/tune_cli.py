@@ -104,7 +104,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
     bounds = _bounds(args, controller, source, actuator_settings(model))
-    speeds = _speeds(args.speeds, _speed_input(args.controller, controller).dim)
+    speeds = _speeds(args.speeds, _speed_input(args.controller, controller, model).dim)
     _check_search(args)
     out = Path(args.out)
     if (out / source.name).resolve() == source.resolve():
@@ -391,11 +391,16 @@ def _bounds(
     return bounds
 
 
-def _speed_input(name: str, controller: Controller) -> Constant:
-    """The controller's input ``speed``, a running speed: the objective is its error."""
+def _speed_input(name: str, controller: Controller, model: Model | None = None) -> Constant:
+    """The controller's input ``speed``, a running speed: the objective is its error. Without
+    one, the refusal says what to do (it named the lack alone): rename an input in m/s, declare
+    one, or tune another controller of the ``model`` that has one."""
     speed = next((c for c in controller.inputs if c.name == "speed"), None)
     if speed is None:
-        raise UsageError(f"tune: controller '{name}' has no input 'speed' to command")
+        raise UsageError(
+            f"tune: controller '{name}' has no input 'speed' to command (the objective is the "
+            f"running speed's error from it); {_how_to_command(controller, model)}"
+        )
     if speed.dim != KINDS["velocity"][0]:
         raise UsageError(
             f"tune: the input 'speed' of controller '{name}' is {describe(speed.dim)}, not a "
@@ -403,6 +408,22 @@ def _speed_input(name: str, controller: Controller) -> Constant:
             "controller whose speed is in m/s"
         )
     return speed
+
+
+def _how_to_command(controller: Controller, model: Model | None) -> str:
+    """What to do for a controller without an input ``speed``."""
+    velocity = KINDS["velocity"][0]
+    named = [c.name for c in controller.inputs if c.dim == velocity]
+    if named:  # vel, v_des...: the tune commands 'speed' by name
+        fix = f"rename its input '{named[0]}' (a speed in m/s) to 'speed'"
+    else:
+        fix = ("declare one in it, 'input speed = 1 m/s', and steer its gait by it (as "
+               "creatures/hopper.leg's hop does)")  # fmt: skip
+    others = [c.name for c in (model.controllers if model is not None else ())
+              if any(i.name == "speed" and i.dim == velocity for i in c.inputs)]  # fmt: skip
+    if others:
+        fix += f", or tune a controller of the file that has one ({', '.join(others)})"
+    return fix
 
 
 def _check_search(args: argparse.Namespace) -> None:
