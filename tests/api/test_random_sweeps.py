@@ -362,7 +362,8 @@ def check_case(case: Case, folder: Path, generated: Path) -> int:
     table = out / "sweep.csv"
     before = _rows(table)
     columns = before[0].split(",")
-    rows = [dict(zip(columns, x.split(","), strict=True)) for x in before[1:]]
+    # a metric not measured is an empty cell: NaN, as float() reads 'nan'
+    rows = [dict(zip(columns, [c or "nan" for c in x.split(",")], strict=True)) for x in before[1:]]
     rng = np.random.default_rng(len(rows))
     for row in rng.choice(rows, size=min(ROWS, len(rows)), replace=False):
         _same_as_a_run(case, row, columns, folder, generated)

@@ -531,7 +531,8 @@ def test_the_table_has_the_speeds_spread_and_an_older_table_resumes(tmp_path: Pa
         "running_speed",
         "running_speed_std",
     ]
-    assert rows[0]["running_speed_std"] == ""  # the older row: not measured then
+    assert math.isnan(rows[0]["running_speed_std"])  # the older row: not measured then,
+    assert table.read_text().splitlines()[1].split(",")[6] == ""  # its cell empty
     assert isinstance(rows[1]["running_speed_std"], float) and rows[1]["running_speed_std"] >= 0
 
 

@@ -339,7 +339,7 @@ def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:
             writer = csv.DictWriter(f, fieldnames=columns)
             if size == 0:
                 writer.writeheader()
-            writer.writerow({c: row.get(c, "") for c in columns})
+            writer.writerow({c: _cell(row.get(c, "")) for c in columns})
             f.flush()
             os.fsync(f.fileno())
     except OSError as e:  # a full disk: no half row left, and the table named
@@ -349,6 +349,13 @@ def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:
             else:
                 table.unlink()
         raise refused(OSError(e.errno, e.strerror, str(table)), table) from None
+
+
+def _cell(value: Any) -> Any:
+    """A row's value as its table cell: a metric the run did not measure (NaN) is empty, as
+    docs/controllers.md says of a speed error without a commanded speed (it was 'nan'), and
+    as CSV readers (pandas, a spreadsheet) take a missing value."""
+    return "" if isinstance(value, float) and math.isnan(value) else value
 
 
 def read_table(table: Path) -> list[dict[str, Any]]:
@@ -377,7 +384,10 @@ def read_table(table: Path) -> list[dict[str, Any]]:
 
 
 def _typed(text: str) -> Any:
-    """A table cell as the number it holds, else as text."""
+    """A table cell as the number it holds, else as text; an empty one (a metric not measured,
+    or a column the table did not have yet) as NaN, as a table that wrote 'nan' read back."""
+    if not text:
+        return math.nan
     try:
         return int(text)
     except ValueError:
