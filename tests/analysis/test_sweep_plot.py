@@ -67,3 +67,32 @@ def test_falls_are_crosses_in_draws_and_lines(tmp_path: Path, drawn: list[Figure
     fell = [row("fell at 1.000 s", speed=s) for s in (0.5, 1.0)]
     plot_sweep(fell, ["speed"], "speed_error", tmp_path / "l.png")
     assert [x for x, _ in crosses(drawn[1].axes[0])] == [0.5, 1.0]
+
+
+def ticks(axis: object) -> list[str]:
+    return [t.get_text() for t in axis.get_ticklabels()]  # type: ignore[attr-defined]
+
+
+def test_a_heat_maps_cells_are_labelled_with_the_swept_values(
+    tmp_path: Path, drawn: list[Figure]
+) -> None:
+    """An outside stilt's sweep of k_speed 0.04, 0.07 and 0.1 was ticked 0.04, 0.06, 0.08 and
+    0.1 (its speeds 0.25 to 2.25 by 0.25): values no run had, between the cells."""
+    rows = [row(speed=s, k_speed=k) for s in (0.5, 1.0, 1.5, 2.0) for k in (0.04, 0.07, 0.1)]
+    plot_sweep(rows, ["speed", "k_speed"], "speed_error", tmp_path / "s.png")
+    ax = drawn[0].axes[0]
+    assert list(ax.get_yticks()) == [0.04, 0.07, 0.1] and ticks(ax.yaxis) == ["0.04", "0.07", "0.1"]
+    assert list(ax.get_xticks()) == [0.5, 1.0, 1.5, 2.0] and ticks(ax.xaxis) == [
+        "0.5",
+        "1",
+        "1.5",
+        "2",
+    ]
+    values = [0.5 + 2.5 * i / 19 for i in range(20)]
+    many = [row(a=a, b=b) for a in values for b in range(30)]
+    plot_sweep(many, ["a", "b"], "speed_error", tmp_path / "m.png")  # some cells' values
+    ax = drawn[1].axes[0]
+    assert 2 <= len(ax.get_xticks()) <= 7 and 2 <= len(ax.get_yticks()) <= 12  # room for them
+    step = values.index(ax.get_xticks()[1])  # every step-th value, from the first
+    assert list(ax.get_xticks()) == values[::step]
+    assert ticks(ax.xaxis) == [f"{v:.4g}" for v in values[::step]]
