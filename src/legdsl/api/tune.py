@@ -379,6 +379,8 @@ def why_stopped(conditions: dict[str, Any]) -> str:
 
 def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | None = None) -> Path:
     plt = pyplot()
+    from matplotlib.ticker import MaxNLocator
+
     fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
     gens = [h["generation"] for h in history]
     ax.plot(gens, [h["best"] for h in history], "o-", label="best of the generation")
@@ -386,9 +388,14 @@ def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | No
     if start is not None:
         ax.axhline(start, color="grey", lw=1, ls=":", label="the file's own values")
     ax.set_xlabel("generation")
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))  # no generation 1.5
+    if gens:  # half a generation either side: one generation alone was ticked 0.945 to 1.05
+        ax.set_xlim(min(gens) - 0.5, max(gens) + 0.5)
     ax.set_ylabel("objective")
     ax.set_yscale("log")
-    ax.legend()
+    # below the axes: inside, it hid the generations' points it fell on
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, fontsize="small",
+              frameon=False)  # fmt: skip
     fig.tight_layout()
     with atomic_same_name(out) as drawn:  # matplotlib writes in place: no half PNG
         fig.savefig(drawn)
