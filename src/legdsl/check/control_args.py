@@ -79,6 +79,8 @@ class ArgumentProbe(NameResolver):
             set(self._reported_at_call),
             self.each_count,
             self.probing,
+            {k: list(v) for k, v in self.untyped_records.items()},
+            {k: list(v) for k, v in self.record_uses.items()},
         )
 
     def restore(self, saved: tuple[object, ...]) -> None:
@@ -90,6 +92,8 @@ class ArgumentProbe(NameResolver):
             self._reported_at_call,
             self.each_count,
             self.probing,
+            self.untyped_records,
+            self.record_uses,
         ) = saved  # type: ignore[assignment]
 
     def blame(

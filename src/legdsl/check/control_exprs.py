@@ -266,7 +266,18 @@ class ExprChecker(NameResolver):
                 hint = gram_for_gravity(exprs) or _unit_left_out(values, exprs)
                 self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH
+        for value in values:
+            self.record_use(value, found)
         return found
+
+    def record_use(self, value: ir.Expr, dim: Type) -> None:
+        """A record of no known unit yet (its writes are bare 0s, itself...) used where
+        ``dim`` is needed: a unit it may take (``controller.elaborate``)."""
+        while isinstance(value, ir.Unary) or (isinstance(value, ir.Call) and value.func == "abs"):
+            value = value.operand if isinstance(value, ir.Unary) else value.args[0]
+        unknown = isinstance(value, ir.Named) and value.kind == "record" and value.type is None
+        if unknown and isinstance(value, ir.Named) and isinstance(dim, tuple):
+            self.record_uses.setdefault(value.name, []).append(dim)
 
     def call(self, e: ast.ECall, local: dict[str, Value], event: bool) -> ir.Expr | None:
         name = e.func.name

@@ -53,6 +53,7 @@ class Opaque:
 
 
 Value = ir.Expr | ir.Thing | Opaque
+UntypedWrite = tuple[ast.RecordStmt, ir.Expr, tuple[tuple[ast.InvokeStmt, ast.ActionDef], ...]]
 
 
 @dataclass(frozen=True)
@@ -124,6 +125,10 @@ class NameResolver:
         self.calls: list[tuple[ast.InvokeStmt, ast.ActionDef]] = []
         self.alias_uses: list[AliasUse] = []
         self.record_types: dict[str, list[tuple[Type, Span]]] = {}
+        # record -> its writes that tell no unit: the statement, its value and the calls it
+        # is reached through; None for one that failed (record_readers.tell_unknown_unit)
+        self.untyped_records: dict[str, list[UntypedWrite | None]] = {}
+        self.record_uses: dict[str, list[Dim]] = {}  # record of no known unit -> units used as
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo

@@ -35,6 +35,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 out += self.assign(s, local)
             elif isinstance(s, ast.RecordStmt):
                 value = self.number(s.value, local)
+                self.untyped_write(s, value)
                 if value is not None:
                     self.record_types.setdefault(s.name.name, []).append((value.type, s.span))
                     out.append(ir.Record(s.name.name, value, s.span))
@@ -61,6 +62,17 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 if each is not None:
                     out.append(each)
         return out
+
+    def untyped_write(self, s: ast.RecordStmt, value: ir.Expr | None) -> None:
+        """Keeps a record's write whose value tells no unit (a bare 0, the record itself),
+        or None for one that failed, its mistake told (``record_readers.tell_unknown_unit``)."""
+        if value is not None and value.type is not None:
+            return
+        failed = value is None or any(
+            isinstance(x, ir.Named) and x.kind == "opaque" for x in ir.leaves(value)
+        )
+        writes = self.untyped_records.setdefault(s.name.name, [])
+        writes.append(None if failed or value is None else (s, value, tuple(self.calls)))
 
     def each(self, s: ast.EachStmt, local: dict[str, Value]) -> ir.Each | None:
         """``each LEG in GROUP { ... }``: the body checked once, LEG standing for a member of
@@ -124,6 +136,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
         want = KINDS[setting_kind(key.name, rotary)][0]
         if value is None:
             return []
+        self.record_use(value, want)
         if not fits(value.type, want):
             self.err(
                 s.value.span,
@@ -240,6 +253,8 @@ class Elaborator(ExprChecker, LegMotionProbe):
         ok = legs is not None and not opaque
         for name, value in s.goals:
             goal = self.number(value, local)
+            if goal is not None:
+                self.record_use(goal, ir.LENGTH)
             if goal is not None and not fits(goal.type, ir.LENGTH):
                 self.err(
                     value.span,

@@ -19,7 +19,7 @@ from legdsl.check.control_shared import expand_includes, extend_bases, shared_pa
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.control_words import describe_type
 from legdsl.check.paths import check_path
-from legdsl.check.record_readers import settle_by_readers
+from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import (
@@ -287,6 +287,13 @@ class ControllerChecker:
         for _ in range(_RECORD_PASSES):
             trial, trial_states = self.elaborate_pass(scope, rows, self.diag.trial())
             settled = self.record_types(trial, records, report=False)
+            # a dimension learned is kept: a value that fails with it (the record compared
+            # with a mass in its own definition) tells none, and is reported against it; one
+            # that no value tells (a bare 0, the record itself) is the first its uses need
+            settled = {
+                n: t or scope.records.get(n) or next(iter(trial.record_uses.get(n, [])), None)
+                for n, t in settled.items()
+            }
             if settled == scope.records:
                 break
             scope.records = settled
@@ -344,6 +351,8 @@ class ControllerChecker:
                         "a record keeps one dimension",
                     )
             out[name] = found
+            if found is None and report and el.scope.records.get(name) is None:
+                tell_unknown_unit(el, name)  # nor do its uses tell it
         return out
 
     def check_unreached(

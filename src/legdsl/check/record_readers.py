@@ -8,6 +8,12 @@ far from the call and not naming it. So when a controller has mistakes, each rec
 written in an action is tried with the other dimensions: if exactly one leaves only
 mistakes that are told at a call's argument (control_args), the record is given it, and
 the call's body, no longer agreeing with it, names the argument at fault.
+
+A record whose writes tell no unit (a bare 0, which fits any, and records of no known unit,
+itself among them) takes the one its first use gives it (``record mark = 0`` read as
+``mark > 1 s``: a time), and its other uses are checked against it. One whose uses tell
+none either could be compared with anything: that is an error at its first write, saying
+how to give it one.
 """
 
 from __future__ import annotations
@@ -17,6 +23,7 @@ from collections.abc import Callable
 from legdsl.check.control_args import candidates
 from legdsl.check.control_names import Scope
 from legdsl.check.control_stmts import Elaborator
+from legdsl.ir import controller as ir
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 
@@ -74,3 +81,34 @@ def _within(span: Span, outer: Span) -> bool:
         outer.end_line,
         outer.end_col,
     )
+
+
+def tell_unknown_unit(el: Elaborator, name: str) -> None:
+    """The error for a record of no known unit, at its first write (or the user's call that
+    leads to it); none if a write failed, its own mistake being the one to fix."""
+    writes = el.untyped_records.get(name, [])
+    if not writes or any(w is None for w in writes):
+        return
+    first = writes[0]
+    assert first is not None
+    stmt, value, calls = first
+    leaves = list(ir.leaves(value))
+    read = dict.fromkeys(x.name for x in leaves if isinstance(x, ir.Named) and x.kind == "record")
+    zero = any(isinstance(x, ir.Num) and x.type is None for x in leaves)
+    parts = ["a bare 0, which fits any unit"] if zero else []
+    parts += [f"'{r}' itself" if r == name else f"'{r}', of no known unit" for r in read]
+    fix = (
+        "write the 0 with the unit the record is meant to have, as in '0 m'"
+        if zero and not calls
+        else "record a value of known unit into it"
+    )
+    saved, el.calls = el.calls, list(calls)
+    try:
+        el.err(
+            stmt.value.span,
+            f"the unit of 'record {name}' cannot be told: what is recorded into it "
+            f"({', and '.join(parts) or 'a number of any unit'}) has none, nor does any use "
+            f"give it one, so its uses cannot be checked; {fix}",
+        )
+    finally:
+        el.calls = saved
