@@ -186,8 +186,9 @@ def test_a_top_view_of_a_long_path_is_no_strip_and_its_words_fit(
     assert ax.get_position().height * fig.get_figheight() > 2.5
     assert all(len(line) <= 90 for line in ax.get_title().split("\n"))
     fig.canvas.draw()
-    legend = ax.get_legend().get_window_extent()
-    assert legend.y1 <= ax.get_window_extent().y0
+    (legend,) = fig.legends  # the figure's, under the axes and their x label
+    legend = legend.get_window_extent()
+    assert legend.y1 <= ax.xaxis.label.get_window_extent().y0
     title = ax.title.get_window_extent()
     assert title.x0 >= 0 and title.x1 <= fig.bbox.width
 
@@ -213,3 +214,39 @@ def test_a_window_of_too_many_stances_leaves_their_lines_out_and_says_so(
     assert "stances of leg 'main' in 3 s: too many to tell apart" in err and "--from 0 --to" in err
     assert main(["plot", str(run), "--from", "2.5"]) == 0  # a window of a few: marked again
     assert "note" not in capsys.readouterr().err
+
+
+def test_a_top_views_labels_are_inside_the_picture(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A tall quadruped's trot turning left from 3 s: its y (m) label was cut off at the left
+    edge, tight_layout having measured the tick labels before the equal aspect widened the y
+    limits to -0.5 (wider labels). Its track, from 0 to 4.9 m in x and -0.062 to 3.008 m in y."""
+    import matplotlib.pyplot as plt
+
+    from legdsl.analysis.plot import plot_top
+
+    run = _run(tmp_path)
+    from legdsl.sim.trajectory import Trajectory
+
+    tr = Trajectory.load(run)
+    track = np.array([(0.0, 0.0), (0.038, 0.0), (0.229, 0.0), (0.565, -0.016), (0.754, 0.017),
+                      (1.202, -0.062), (1.487, 0.041), (2.171, 0.095), (2.911, 0.316),
+                      (3.614, 0.794), (4.185, 1.412), (4.604, 2.082), (4.831, 2.834),
+                      (4.899, 3.0076)])  # fmt: skip
+    at = np.linspace(0, len(track) - 1, len(tr.t))
+    for k in range(2):
+        tr.com[:, k] = np.interp(at, np.arange(len(track)), track[:, k])
+    tr.save(run)
+    figures: list = []
+    monkeypatch.setattr(plt, "close", figures.append)
+    plot_top(run, tmp_path / "top.png")
+    (fig,) = figures
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    for text in (ax.yaxis.label, ax.xaxis.label, ax.title, *fig.legends):
+        box = text.get_window_extent()
+        assert box.x0 >= 0 and box.y0 >= 0, (text, box)
+        assert box.x1 <= fig.bbox.width and box.y1 <= fig.bbox.height, (text, box)
+    drawn = ax.get_tightbbox()  # the tick labels drawn too
+    assert drawn.x0 >= 0 and drawn.x1 <= fig.bbox.width, drawn

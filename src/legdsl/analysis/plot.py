@@ -353,7 +353,9 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     # the title's lines above and the legend's below, so a long straight path is no strip
     lines = sum(t.count("\n") + 1 for t in titles)
     tall = float(np.clip(6 * span[1] / span[0], 3, 7)) + 0.2 * lines + 1.8
-    fig, ax = plt.subplots(figsize=(7, tall))
+    # laid out as drawn: the equal aspect moves the limits then, and their wider tick labels
+    # pushed "y (m)" off the picture's edge after tight_layout had measured the old ones
+    fig, ax = plt.subplots(figsize=(7, tall), layout="constrained")
     for k, ((spec, spans), pts) in enumerate(zip(followed, drawn, strict=True)):
         when = ", ".join(f"{a:g} to {b:g} s" for a, b in spans or [])  # a switched run's
         ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, linestyle=("-", "--", ":")[k % 3],
@@ -364,13 +366,14 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.grid(True, color="0.9")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8, frameon=False)
+    # under the x label, whatever the plot's height (anchored at a share of the axes' height,
+    # it left a gap under a tall plot and came close to the label under a short one)
+    fig.legend(loc="outside lower center", ncol=2, fontsize=8, frameon=False)
     ax.set_title(
         f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
         + ("\n" + "\n".join(titles) if titles else ""),
         fontsize=9,
     )
-    fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
