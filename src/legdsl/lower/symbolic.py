@@ -16,6 +16,7 @@ from typing import TypeAlias
 
 from sympy import Add, Expr, Float, Integer, Symbol, nan, oo, zoo
 
+from legdsl.check.magnitudes import overflow_message
 from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError
 from legdsl.lower import recursions
@@ -141,12 +142,7 @@ def _refuse_overflow(
         if not all(math.isfinite(x) for x in moments):
             span = body.span
             break
-    raise LegError.at(
-        span,
-        f"creature '{model.name}' gives its dynamics numbers past a double (1.8e308), such as "
-        "a mass times a length squared; write it on a smaller scale (lengths and masses "
-        "nearer 1 m and 1 kg: 'legdsl scale FILE --by L' rescales it whole)",
-    )
+    raise LegError.at(span, overflow_message(model.name))
 
 
 def _finite(value: Expr) -> bool:
