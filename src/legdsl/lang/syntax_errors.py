@@ -368,6 +368,25 @@ def _planeless_mirror(text: str, token: Token) -> tuple[int, str] | None:
     return (found.start(), found.group(1)) if found and token.type == "LBRACE" else None
 
 
+_BRACELESS = re.compile(
+    r"^[ \t]*(ground|simulation)(?=[ \t]*(?:#[^\n]*)?\n|[ \t]+[A-Za-z_])(?!\s*\{)", re.M
+)
+_BLOCK_EXAMPLE = {
+    "ground": "ground { normal spring(k = 3e4 N/m, b = 300 N*s/m) }",
+    "simulation": "simulation { dt 0.4 ms }",
+}
+
+
+def _braceless_block(text: str, pos: int) -> tuple[int, str] | None:
+    """A 'ground' or 'simulation' block opened without its '{' before ``pos``: the parser
+    reads its settings as a property's words and fails a line or two later. (start, word)"""
+    masked = mask(text)
+    found = next(reversed(list(_BRACELESS.finditer(masked, 0, pos + 1))), None)
+    if found is None or any(c in masked[found.end() : pos] for c in "{};"):
+        return None
+    return found.start(1), found.group(1)
+
+
 def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     """The user's syntax error as a ``LegError``: where, and in the friendliest words we have."""
     at_end = isinstance(err, UnexpectedEOF) or (
@@ -411,7 +430,12 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     semi = missing_semicolon(text, pos, token, expected_words) if pos is not None else None
     if semi is not None and friendly is not None and "table row reads" not in friendly:
         semi = None  # the table's own sentence; it said a row's ':' was missing in an action
-    if mirror is not None:
+    block = _braceless_block(text, pos) if pos is not None and unit is None else None
+    if block is not None:
+        span = offset_span(file, text, block[0], len(block[1]))
+        message = (f"a '{{' is missing after '{block[1]}': its settings go in braces, as in "
+                   f"'{_BLOCK_EXAMPLE[block[1]]}'")  # fmt: skip
+    elif mirror is not None:
         span = offset_span(file, text, mirror[0], len("mirror"))
         message = (f"'mirror' needs its plane on its line: 'mirror sagittal' (y to -y, left to "
                    f"right) or 'mirror frontal' (x to -x, front to back); the next line's "
