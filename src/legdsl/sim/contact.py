@@ -89,6 +89,13 @@ class GroundContact:
         t2 = (n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0])
         return t1, t2
 
+    def directions(self, p: Vec) -> list[Vec]:
+        """The directions of the ground's springs on a contact at ``p``: the surface's normal
+        under it, then its tangents (one for a planar creature)."""
+        n = self.surface(p[0], p[1])[1]
+        t1, t2 = self._tangents(n)
+        return [n, t1] if self.planar else [n, t1, t2]
+
     def depth(self, p: Vec) -> tuple[float, Vec]:
         o, n = self.surface(p[0], p[1])
         return n[0] * (o[0] - p[0]) + n[1] * (o[1] - p[1]) + n[2] * (o[2] - p[2]), n

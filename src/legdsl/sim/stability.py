@@ -182,10 +182,12 @@ def likely_cause(
     mass_matrix: Sequence[Sequence[float]] | None = None,
     stiff: Sequence[str] = (),
     recorded: Trajectory | None = None,
+    contacts: Sequence[tuple[float, float]] | None = None,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
-    too stiff for the step (``stiff``: ``stiff_now``) and what the run ``recorded`` up to it."""
+    too stiff for the step (``stiff``: ``stiff_now``), what the run ``recorded`` up to it and
+    each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``)."""
     causes = list(stiff)
     if recorded is not None and (pushed := _pushed_deep(model, recorded)) is not None:
         causes.append(pushed)
@@ -212,21 +214,8 @@ def likely_cause(
                 f"grow without bound; give it axes that this motion keeps away from that, or "
                 f"limits on {middle.name} with a stop short of it"
             )
-    g = model.ground
-    if g is not None and model.contacts:
-        lightest = min(model.body(c.body).mass for c in model.contacts)
-        # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
-        normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
-        stiffness = max(normal, g.tangent.k)
-        if stiffness > 0:
-            critical = 2.0 / math.sqrt(stiffness / lightest)
-            if integrator == "euler" and dt > 0.5 * critical:
-                causes.append(
-                    f"the step {dt:g} s is too large for the contact stiffness "
-                    f"{stiffness:g} N/m on a {lightest:g} kg foot (explicit stability needs "
-                    f"dt < {critical:.2g} s); try a step of {critical / 4:.1g} s (--dt, or dt in the "
-                    f"simulation block) or --integrator rk4"
-                )
+    if (ground := ground_too_stiff(model, dt, integrator, contacts)) is not None:
+        causes.append(ground)
     for d in model.dofs:
         if d.limits is None:
             continue
@@ -243,6 +232,55 @@ def likely_cause(
             "block) or --integrator rk4"
         )
     return "; ".join(causes)
+
+
+# The ground's bound is told past this share of it: a contact's effective mass changes as the
+# creature moves, and the pad of eq. (6) stiffens as it compresses.
+GROUND_MARGIN = 0.5
+
+
+def ground_too_stiff(
+    model: Model,
+    dt: float,
+    integrator: str,
+    contacts: Sequence[tuple[float, float]] | None = None,
+) -> str | None:
+    """The ground's springs too stiff or too damped for the step, as a cause of a divergence;
+    None if the step is within ``GROUND_MARGIN`` of every bound. A contact's normal and tangent
+    springs act on its effective mass in their direction (``contacts[i]``: the inverse of each,
+    1/kg, from J M^-1 J^T where the dynamics gave it; else the lightest contact body's mass,
+    which a light leg's tip, turning about the leg's centre of mass, can be far under) as an
+    actuator on a coordinate does: ``too_stiff``'s bounds (Jury's test) are theirs."""
+    g = model.ground
+    if g is None or not model.contacts:
+        return None
+    if contacts is None:
+        lightest = 1.0 / min(model.body(c.body).mass for c in model.contacts)
+        contacts = [(lightest, lightest)] * len(model.contacts)
+    # The pad of eq. (6) starts at slope k / thickness and stiffens as it compresses.
+    normal = g.normal.k / g.normal.thickness if isinstance(g.normal, Pad) else g.normal.k
+    springs: list[ActuatorState] = []
+    inverse: list[float] = []
+    for contact, masses in zip(model.contacts, contacts, strict=True):
+        for direction, k, b, inv in (("normal", normal, g.normal.b, masses[0]),
+                                     ("tangent", g.tangent.k, g.tangent.b, masses[1])):  # fmt: skip
+            springs.append(ActuatorState(f"{direction} spring on contact '{contact.name}'",
+                                         "spring", 0, len(inverse), k, b, 0.0, 0.0, None))  # fmt: skip
+            inverse.append(inv)
+    found = too_stiff(springs, inverse, dt / GROUND_MARGIN, integrator, set())
+    if not found:
+        return None
+    worst = min(found, key=lambda f: f.dt_limit)
+    spring = springs[[s.name for s in springs].index(worst.actuator)]
+    mass, limit = 1.0 / inverse[spring.v_index], worst.dt_limit
+    rk4 = integrator != "rk4" and not too_stiff(springs, inverse, dt / GROUND_MARGIN, "rk4", set())
+    return (
+        f"the step {dt * 1e3:.3g} ms is too large for the contact stiffness: the ground's "
+        f"{worst.actuator} (k = {spring.gain:.4g} N/m, b = {spring.damping:.4g} N*s/m) acts on "
+        f"an effective mass of {mass:.3g} kg there, and explicit stability needs dt < "
+        f"{below(limit * 1e3)} ms; try a step of {limit / 4 * 1e3:.1g} ms (--dt, or dt in the "
+        f"simulation block){' or --integrator rk4' if rk4 else ''}"
+    )
 
 
 def _pushed_deep(model: Model, run: Trajectory) -> str | None:
