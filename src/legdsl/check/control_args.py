@@ -4,7 +4,9 @@ An action's parameters declare no dimension: the body is checked with what each 
 gives. When that check fails, the body is checked again, silently, with one numeric
 argument at a time given another dimension; if exactly one argument makes the body agree,
 and only with certain dimensions, the mistake is that argument's and is reported at it,
-named, instead of at an expression deep inside the action.
+named, instead of at an expression deep inside the action. When no one argument does, two
+of different dimensions exchanged may (kv given for kp and kp for kv): the two are told as
+swapped.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import replace
+from itertools import combinations
 
 from legdsl.check.control_names import Blame, NameResolver, Value
 from legdsl.check.control_words import describe_type
@@ -113,8 +116,34 @@ class ArgumentProbe(NameResolver):
         if len(found) > 1:  # several would do: the one meant as a named kind (a length...)
             found = [b for b in found if any(d in _KIND_DIMS for d in b.fits)]
         if len(found) != 1:
-            return None
+            return self.swapped(args, check, used_at)
         return self.with_other_motion(found[0], args, check)
+
+    def swapped(
+        self, args: list[Value], check: Callable[[list[Value]], object], used_at: Span
+    ) -> Blame | None:
+        """The one pair of numeric arguments of different dimensions that, exchanged, make
+        ``check`` clean (kv given for kp and kp for kv)."""
+        numbers = [i for i, v in enumerate(args) if isinstance(v, ir.Expr) and v.type is not None]
+        found: list[Blame] = []
+        for i, j in combinations(numbers, 2):
+            a, b = args[i], args[j]
+            assert isinstance(a, ir.Expr) and isinstance(b, ir.Expr)
+            if a.type == b.type or not isinstance(a.type, tuple) or not isinstance(b.type, tuple):
+                continue
+            trial = list(args)
+            trial[i], trial[j] = retyped(a, b.type), retyped(b, a.type)
+            if self.clean_with(trial, check):
+                found.append(Blame(i, a, (b.type,), used_at, swapped=j))
+        return found[0] if len(found) == 1 else None
+
+    def corrected(self, given: list[Value], blame: Blame) -> None:
+        """``given`` as the blame says it should be, so that the body is checked as if right."""
+        given[blame.index] = retyped(blame.given, blame.fits[0])
+        if blame.swapped is not None:
+            other = given[blame.swapped]
+            assert isinstance(other, ir.Expr) and isinstance(blame.given.type, tuple)
+            given[blame.swapped] = retyped(other, blame.given.type)
 
     def with_other_motion(
         self, blame: Blame, args: list[Value], check: Callable[[list[Value]], object]
@@ -154,11 +183,21 @@ class ArgumentProbe(NameResolver):
     ) -> bool:
         """Whether the call checks clean with argument ``index`` of dimension ``dim``
         (None: of any dimension); with ``only_at``, clean there."""
-        first = len(self.error_spans)
         trial = list(args)
         value = trial[index]
         assert isinstance(value, ir.Expr)
         trial[index] = ir.Named("opaque", "argument", None) if dim is None else retyped(value, dim)
+        return self.clean_with(trial, check, only_at)
+
+    def clean_with(
+        self,
+        trial: list[Value],
+        check: Callable[[list[Value]], object],
+        only_at: Span | None = None,
+    ) -> bool:
+        """Whether the call checks clean with the arguments ``trial``; with ``only_at``,
+        clean there."""
+        first = len(self.error_spans)
         saved = self.snapshot()
         self.probing = True
         try:
@@ -170,8 +209,33 @@ class ArgumentProbe(NameResolver):
             return only_at not in self.error_spans[first:]
         return not diag.items
 
+    def report_swap(self, s: ast.InvokeStmt, action: ast.ActionDef, blame: Blame) -> None:
+        """At the two arguments: their names and places, what each is, and how the action
+        uses each."""
+        assert blame.swapped is not None
+        i, j = blame.index, blame.swapped
+        first, second = s.args[i].span, s.args[j].span
+        texts = [_text(self.diag.sources, x.span) for x in (s.args[i], s.args[j])]
+        a, b = (f"'{t}'" if len(t) <= _SHOWN else "it" for t in texts)
+        given = [describe_type(blame.given.type), describe_type(blame.fits[0])]
+        names = [action.params[i].name, action.params[j].name]
+        adjacent = j == i + 1 and all(len(t) <= _SHOWN for t in texts)
+        fix = f": '{texts[1]}, {texts[0]}'" if adjacent else ", each in the other's place"
+        self.blamed += 1
+        self.err(
+            Span(first.file, first.line, first.col, second.end_line, second.end_col, first.within),
+            f"arguments '{names[0]}' ({_ordinal(i + 1)}) and '{names[1]}' ({_ordinal(j + 1)}) "
+            f"of action '{action.name.name}' look swapped: {a} is {given[0]} and {b} "
+            f"{given[1]}, but the action uses '{names[0]}' as {given[1]} and "
+            f"'{names[1]}' as {given[0]} ({place_of(blame.used_at)}); write them the other "
+            f"way round{fix}",
+        )
+
     def report_blame(self, s: ast.InvokeStmt, action: ast.ActionDef, blame: Blame) -> None:
         """At the argument: its name and place in the signature, and the dimension it needs."""
+        if blame.swapped is not None:
+            self.report_swap(s, action, blame)
+            return
         arg = s.args[blame.index]
         text = _text(self.diag.sources, arg.span)
         needed = " or ".join(describe_type(d) for d in blame.fits)

@@ -66,6 +66,7 @@ class Blame:
     used_at: Span
     # the actuators read, whether they are rotary, and what would fit were they the other motion
     otherwise: tuple[tuple[str, ...], bool, tuple[Dim, ...]] | None = None
+    swapped: int | None = None  # the argument given in its place, and it in that one's
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,6 @@ The top layer of the controller checker (on ``control_exprs`` and ``control_name
 
 from __future__ import annotations
 
-from legdsl.check.control_args import retyped
 from legdsl.check.control_exprs import ExprChecker, fits, gram_for_gravity, unit_advice
 from legdsl.check.control_names import Opaque, Value, what_it_is
 from legdsl.check.control_words import describe_type, expression_text
@@ -216,7 +215,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
             return ir.Do(s.action.name, tuple(body), s.span)
         # the argument is at fault: said at it, and the body checked as if it were right
         self.report_blame(s, action, blame)
-        given[blame.index] = retyped(blame.given, blame.fits[0])
+        self.corrected(given, blame)
         check(given)
         return None
 

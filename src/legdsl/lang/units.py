@@ -129,15 +129,33 @@ def unit_pattern() -> str:
 
 
 def describe(dim: Dim) -> str:
-    """A human name for a dimension, e.g. 'linear stiffness (N/m)'."""
+    """A human name for a dimension, e.g. 'linear stiffness (N/m)'; one no kind names in the
+    units people write it in: with a newton where it has one ('N*m*s', 'N*m/s'), else in
+    base units ('kg*m^-1')."""
     for name, (kind_dim, example) in KINDS.items():
         if kind_dim == dim:
             return name if name == "dimensionless" else f"{name} ({example})"
+    newtons = newton_unit(dim)
+    if newtons is not None:
+        return newtons
     parts = []
     for symbol, exp in zip(("kg", "m", "s", "rad"), dim, strict=True):
         if exp:
             parts.append(symbol if exp == 1 else f"{symbol}^{exp}")
     return "*".join(parts) or "dimensionless"
+
+
+def newton_unit(dim: Dim) -> str | None:
+    """A dimension with one kilogram and a time of s^-1 or less in newtons, as the gains are
+    written ('N*m*s' for kg*m^2/s, 'N*m/s' for kg*m^2/s^3, 'N*s/m/rad'); None for another
+    (a mass, an inertia: no newton in them)."""
+    kg, m, s, rad = dim
+    if kg != 1 or s > -1:
+        return None
+    rest = tuple(zip(("m", "s", "rad"), (m - 1, s + 2, rad), strict=True))
+    up = "".join(f"*{n}" if e == 1 else f"*{n}^{e}" for n, e in rest if e > 0)
+    down = "".join(f"/{n}" if e == -1 else f"/{n}^{-e}" for n, e in rest if e < 0)
+    return f"N{up}{down}"
 
 
 @dataclass(frozen=True)
