@@ -241,7 +241,13 @@ def test_a_foot_under_the_ground_is_a_user_error(
     argv = ["run", str(leg), "--generated", str(generated), "--out", str(out)]
     code, err = _run(capsys, argv)
     assert code == 2
-    assert "contact 'toe' of creature 'hopper' starts 0.3 m under the ground" in err
+    line = text[: text.index("z = 0.95 m")].count("\n") + 1
+    # at the root's 'initial', the line to change, with its caret (it named the file alone)
+    assert (
+        f"hopper.leg:{line}:5: error: contact 'toe' of creature 'hopper' starts 0.3 m under the ground"
+        in err
+    )
+    assert "\n        initial x = 0 m, z = 0.5 m, pitch = 0 deg\n        ^~~~~~~\n" in err
     assert "--drop" in err and not out.exists()
     code, _ = _run(capsys, [*argv, "--drop", "0.1", "--time", "0.05"])  # lifted: fine
     assert code == 0
@@ -272,7 +278,9 @@ def test_a_root_welded_to_the_world_cannot_be_dropped(
     assert "--drop lifts a free root, but creature 'rig' is welded to the world" in err
     code, err = _run(capsys, argv)
     assert code == 2
-    assert "contact 'paw' of creature 'rig' starts 0.05 m under the ground" in err
+    assert (
+        "rig.leg:3:14: error: contact 'paw' of creature 'rig' starts 0.05 m under the ground" in err
+    )
     assert "raise the point after 'fixed at' of its root body 'frame'" in err
     assert "--drop" not in err
     leg.write_text(RIG.replace("0.4 m)", "0.5 m)"))

@@ -27,7 +27,7 @@ from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.fingerprints import creature_fingerprint
 from legdsl.files import file_sha256, remove, write_atomic, writing_alone
-from legdsl.ir.model import Model, Pad, setting_kind
+from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, UsageError
@@ -40,11 +40,11 @@ from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.pipeline.start_pose import check_start
 from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
-from legdsl.sim.sizes import start_depth
 from legdsl.sim.stability import (
     TooStiff,
     inverse_inertia_diagonal,
@@ -258,32 +258,8 @@ class RunSession:
                     self.source_sha256)  # fmt: skip
 
     def _check_start(self, sim: Simulation) -> None:
-        """A contact that starts under the ground is a mistake in the initial pose: the ground
-        spring would launch the body. Deeper than ``start_depth`` is refused (exit 2), or than
-        half a paw pad's thickness: the pad's force grows without bound as a foot sinks
-        through it, so a small creature's thin pad throws it up from less than 1 cm."""
-        if self.model.ground is None:
-            return
-        normal = self.model.ground.normal
-        allowed = start_depth(sim.standing_height())
-        if isinstance(normal, Pad):
-            allowed = min(allowed, normal.thickness / 2)
-        under = [(name, -h) for name, h in sim.contact_heights() if h < -allowed]
-        if not under:
-            return
-        name, depth = max(under, key=lambda c: c[1])
-        welded = self._welded()
-        fix = (
-            f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
-            "with --drop H (the lowest foot H metres above the ground)"
-            if welded is None
-            else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
-            f"{depth:.3g} m in the .leg file"
-        )
-        raise UsageError(
-            f"{self.source}: contact '{name}' of creature '{self.model.name}' starts "
-            f"{depth:.3g} m under the ground (the ground would throw the body up); {fix}"
-        )
+        """A contact that starts under the ground is refused at the line that places it."""
+        check_start(self.model, sim, self.source)
 
     def _welded(self) -> str | None:
         """The root body's name when it is welded to the world (no z to lift), else None."""

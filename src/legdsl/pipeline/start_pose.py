@@ -1,0 +1,73 @@
+"""A contact that starts under the ground: a mistake in the initial pose, told at its line.
+
+The ground spring would launch the body. Deeper than ``start_depth`` is refused (exit 2), or
+than half a paw pad's thickness: the pad's force grows without bound as a foot sinks through
+it, so a small creature's thin pad throws it up from less than 1 cm. The error is at the
+root body's ``initial`` (its ``fixed at`` when welded), the line to change, when the run
+starts from the file's pose (a batch copy's own start is told as a mistake of the call).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+from legdsl.ir.model import Model, Pad
+from legdsl.lang.errors import Diagnostic, LegError, Span, UsageError
+from legdsl.lang.spellings import mask, offset_span
+from legdsl.sim.sizes import start_depth
+
+
+def check_start(model: Model, sim: Any, source: str | Path) -> None:
+    if model.ground is None:
+        return
+    normal = model.ground.normal
+    allowed = start_depth(sim.standing_height())
+    if isinstance(normal, Pad):
+        allowed = min(allowed, normal.thickness / 2)
+    under = [(name, -h) for name, h in sim.contact_heights() if h < -allowed]
+    if not under:
+        return
+    name, depth = max(under, key=lambda c: c[1])
+    root = next(j for j in model.joints if j.parent is None)
+    welded = root.child if root.kind == "fixed" else None
+    fix = (
+        f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
+        "with --drop H (the lowest foot H metres above the ground)"
+        if welded is None
+        else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
+        f"{depth:.3g} m in the .leg file"
+    )
+    message = (
+        f"contact '{name}' of creature '{model.name}' starts {depth:.3g} m under the ground "
+        f"(the ground would throw the body up); {fix}"
+    )
+    body = next(b for b in model.bodies if b.parent is None)
+    try:
+        text = Path(body.span.file).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        text = None
+    from_file = [float(x) for x in sim.q] == list(model.q0)  # not a copy's or a scene's start
+    if text is None or body.span.line <= 0 or not from_file:
+        raise UsageError(f"{source}: {message}")
+    span = _placed_at(text, body.span, "fixed" if welded else "initial")
+    raise LegError([Diagnostic(span, message + body.span.within)], {span.file: text})
+
+
+def _placed_at(text: str, body: Span, word: str) -> Span:
+    """The root body's ``word`` (its 'initial' or 'fixed'), or else its declaration."""
+    lines = text.split("\n")
+    start = sum(len(line) + 1 for line in lines[: body.line - 1]) + body.col - 1
+    masked = mask(text)
+    depth, end = 0, len(masked)
+    for i in range(start, len(masked)):  # the body's block: to its closing brace
+        if masked[i] == "{":
+            depth += 1
+        elif masked[i] == "}":
+            depth -= 1
+            if depth == 0:
+                end = i
+                break
+    found = re.compile(rf"\b{word}\b").search(masked, start, end)
+    return offset_span(body.file, text, found.start(), len(word)) if found else body
