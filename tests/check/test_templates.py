@@ -194,3 +194,20 @@ def test_a_mirrored_instance_at_the_tip_of_a_body_of_another(tmp_path: Path) -> 
     assert model.joint("wrist_b").origin == pads["pad_b"] == model.body("lower_l").tip
     left, right = model.body("palm_l").direction, model.body("palm_r").direction
     assert right == (left[0], -left[1], left[2])  # the palm itself is mirrored
+
+
+def test_an_instance_refused_for_its_arguments_is_the_only_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The quadruped's rear right leg without its HIP: the instance is the mistake, and the
+    gaits' roles on leg 'rr' it would have declared are no news (each was an 'unknown leg
+    'rr'' before it, two of them in a used file when the gaits came through 'use')."""
+    text = (ROOT / "creatures" / "quadruped.leg").read_text(encoding="utf-8")
+    rr = "instance rr = leg(S = rr, HIP = (-0.39 m, 0.12 m, 0 m)) mirror sagittal"
+    assert rr in text
+    leg = tmp_path / "quadruped.leg"
+    leg.write_text(text.replace(rr, "instance rr = leg(S = rr) mirror sagittal"), "utf-8")
+    assert main(["check", str(leg)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1, err
+    assert "instance 'rr' of template 'leg' does not give 'HIP'" in err

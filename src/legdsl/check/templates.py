@@ -52,6 +52,8 @@ class MirrorPart:
 class Expansion:
     items: tuple[ast.CreatureItem, ...]  # the creature's items, every instance expanded
     mirrors: tuple[MirrorPart, ...]
+    # the legs refused instances would have declared: a controller's role on one is no news
+    unmade_legs: tuple[ast.Ident, ...] = ()
 
 
 def expand(decl: ast.CreatureDecl, diag: Diagnostics, planar: bool) -> Expansion:
@@ -110,6 +112,7 @@ class _Expander:
         self.templates: dict[str, ast.TemplateDecl] = {}
         self.instances: dict[str, ast.InstanceDecl] = {}
         self.owner: dict[str, str] = {}  # a name declared by an instance -> that instance
+        self.unmade_legs: list[ast.Ident] = []
 
     def expand(self, items: tuple[ast.CreatureItem, ...]) -> Expansion:
         for t in (i for i in items if isinstance(i, ast.TemplateDecl)):
@@ -134,7 +137,8 @@ class _Expander:
             if mirrored:
                 mirrors.append(self.mirror_part(item, copy))
         out += _by_kind(run)
-        return Expansion(tuple(out), tuple(_at_tips(m, out) for m in mirrors))
+        mirrored = tuple(_at_tips(m, out) for m in mirrors)
+        return Expansion(tuple(out), mirrored, tuple(self.unmade_legs))
 
     def template(self, t: ast.TemplateDecl) -> None:
         first = self.templates.get(t.name.name)
@@ -205,7 +209,10 @@ class _Expander:
         mirrored = inst.mirror is not None and self.mirror_ok(
             here(inst.mirror.span), inst, template
         )
-        if not ok:
+        if not ok:  # its legs' names, as far as the arguments given make them
+            probe = _Substitution(args, within, Diagnostics({}))
+            legs = (i for i in template.items if isinstance(i, ast.LegDecl))
+            self.unmade_legs += [ast.Ident(probe.name(i.name), inst.name.span) for i in legs]
             return None
         sub = _Substitution(args, within, self.diag)
         copy: list[ast.TemplateItem] = [sub.node(i) for i in template.items]
