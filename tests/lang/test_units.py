@@ -242,7 +242,9 @@ def test_an_unknown_unit_reads_as_a_files_does(text: str, told: str) -> None:
     [
         # another system's unit in the denominator (it was "not a unit legdsl knows" with the
         # list of symbols, and a file's '10 km/h' was told of 'h' alone, with no value)
-        ("10", "km/h", "'km/h' is not a unit legdsl knows; it writes times in s, ms, min: "
+        # (and named the 'h' it lacks: a speed is not a time)
+        ("10", "km/h", "'km/h' is not a unit legdsl knows: it has no 'h'; it writes times in "
+         "s, ms, min: "
          "write '2.7777777778 m/s' or '0.1666666667 km/min'"),
         ("60", "rev/h", "write '0.1047197551 rad/s' or '1 rev/min'"),
         ("2", "ft/s^2", "it writes lengths in m, cm, mm, km: write '0.6096 m/s^2'"),

@@ -310,7 +310,7 @@ def other_system(word: str, number: str | None) -> str | None:
         power = atom.group(2) or ""
         exponent = int(power[1:]) if power else 1
         factor *= scale ** (-exponent if i and parts[i - 1] == "/" else exponent)
-        converted.append((i, base, power, exponent, why))
+        converted.append((i, base, power, exponent, why, atom.group(1)))
         unit += base + power
     if not converted:
         return None
@@ -318,10 +318,13 @@ def other_system(word: str, number: str | None) -> str | None:
         to_si, dim = parse_unit(unit)
     except (UnitError, ValueError):
         return None
-    at, base, power, exponent, why = converted[0]
-    said = f"'{word}' is not a unit legdsl knows{why}"
+    at, base, power, exponent, why, symbol = converted[0]
     family = _family(base)
-    message = said + (f"; it writes {family[0]} in {family[1]}" if family else "")
+    said = f"'{word}' is not a unit legdsl knows{why}"
+    if len(parts) > 1 and not why:  # 'km/h': the part it lacks (a speed is not a time)
+        said += ": it has no " + ", ".join(f"'{c[-1]}'" for c in converted)
+    told = family is not None and len(converted) == 1
+    message = said + (f"; it writes {family[0]} in {family[1]}" if family and told else "")
     if number is None:
         return message + f"; write the value in {unit}"
     value = float(number) * factor
