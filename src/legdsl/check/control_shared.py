@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterable
+from dataclasses import dataclass
 from pathlib import Path
 
 from legdsl.check.templates import respan
@@ -30,6 +31,18 @@ from legdsl.lang.errors import Diagnostics, Span
 
 Declared = ast.InputDecl | ast.ParamDecl | ast.SignalDecl
 _WORDS: dict[type, str] = {ast.InputDecl: "input", ast.ParamDecl: "param", ast.SignalDecl: "signal"}
+
+
+@dataclass(frozen=True)
+class Extension:
+    """A derived controller's own declarations against its base's (``check.derived``)."""
+
+    base: str  # the base's name
+    replaced: tuple[tuple[Declared, Declared], ...]  # (its own, the base's of that name)
+    added: tuple[Declared, ...]  # its own, of names the base does not declare
+    inherited: tuple[Declared, ...]  # the base's (its parts' too)
+
+
 _ARTICLED: dict[type, str] = {
     ast.InputDecl: "an input",
     ast.ParamDecl: "a parameter",
@@ -193,11 +206,13 @@ def extend_bases(
     diag: Diagnostics,
     parts: dict[str, ast.SharedDecl] | None = None,
     used: UsedControllers | None = None,
+    extensions: dict[int, Extension] | None = None,
 ) -> list[ast.ControllerDecl]:
     """The controllers with every ``extends`` resolved (bases first, chains followed); one
     that extends an unknown controller, or itself through a chain, is reported and left out.
     A derived controller's own items beat the parts it includes, which beat its base's.
-    A base not in the controller's own file is the nearest used file's (``used``)."""
+    A base not in the controller's own file is the nearest used file's (``used``).
+    ``extensions``: filled with each derived controller's ``Extension``, by its id."""
     written = list(decls)
     here = written[0].span.file if written else ""
     # each declaration resolved once, by itself: two of one name (each for its creature, or
@@ -272,10 +287,45 @@ def extend_bases(
         if base is None:
             return None
         given = _included_keys(decl.items, parts or {})
-        return _merged(decl, base, diag, origin, given, writer)
+        merged = _merged(decl, base, diag, origin, given, writer)
+        if extensions is not None:
+            extensions[id(merged)] = _extension(decl, base, parts or {})
+        return merged
 
     resolved_all = [resolve(d, ()) for d in written]
     return [d for d in resolved_all if d is not None]
+
+
+def _extension(
+    decl: ast.ControllerDecl, base: ast.ControllerDecl, parts: dict[str, ast.SharedDecl]
+) -> Extension:
+    inherited = _declared(base.items, parts)
+    by_name = {(type(item), item.name.name): item for item in inherited}
+    own = [item for item in decl.items if isinstance(item, Declared)]
+    replaced = [(item, by_name[type(item), item.name.name]) for item in own
+                if (type(item), item.name.name) in by_name]  # fmt: skip
+    names = {item.name.name for item in inherited}
+    added = [item for item in own if item.name.name not in names]
+    return Extension(base.name.name, tuple(replaced), tuple(added), tuple(inherited))
+
+
+def _declared(
+    items: Iterable[ast.ControllerItem],
+    parts: dict[str, ast.SharedDecl],
+    seen: frozenset[str] = frozenset(),
+) -> list[Declared]:
+    """The inputs, parameters and signals ``items`` declare, those of the parts they include
+    (and those parts include) too."""
+    found: list[Declared] = []
+    for item in items:
+        if isinstance(item, Declared):
+            found.append(item)
+        elif isinstance(item, ast.IncludeDecl):
+            for ident in item.names:
+                part = parts.get(ident.name)
+                if isinstance(part, ast.SharedDecl) and ident.name not in seen:
+                    found += _declared(part.items, parts, seen | {ident.name})
+    return found
 
 
 def _included_keys(

@@ -9,17 +9,19 @@ people what a name can be and which members each kind of thing has.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable
+import functools
+from collections.abc import Collection
 from dataclasses import replace
 
 from legdsl.check.control_names import Opaque, Scope, Value
 from legdsl.check.control_roles import check_aliases, reachable_bindings
 from legdsl.check.control_scan import dotted_members
-from legdsl.check.control_shared import expand_includes, extend_bases, shared_parts
+from legdsl.check.control_shared import Extension, expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.control_words import describe_type
+from legdsl.check.derived import check_derived
 from legdsl.check.paths import check_path
-from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
+from legdsl.check.record_readers import collect_records, settle_by_readers, tell_unknown_unit
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import (
@@ -430,27 +432,6 @@ class ControllerChecker:
         return reached
 
 
-def collect_records(
-    tables: list[ast.TableDecl], actions: Iterable[ast.ActionDef]
-) -> dict[str, Span]:
-    """The names recorded in the table's rows and in these actions' bodies, in that order."""
-    found: dict[str, Span] = {}
-
-    def walk(stmts: tuple[ast.Stmt, ...]) -> None:
-        for s in stmts:
-            if isinstance(s, ast.RecordStmt):
-                found.setdefault(s.name.name, s.name.span)
-            elif isinstance(s, ast.EachStmt):
-                walk(s.body)
-
-    for t in tables:
-        for row in t.rows:
-            walk(row.actions)
-    for action in actions:
-        walk(action.body)
-    return found
-
-
 def _kind_word(value: Value) -> str:
     if isinstance(value, ir.Legs):
         return "role" if value.role is not None else "leg"
@@ -498,7 +479,8 @@ def check_controllers(
         lib[a.name.name] = a
     attached: dict[str, list[ir.Controller]] = {m.name: [] for m in models}
     seen: dict[str, Span] = {}
-    for decl in extend_bases(tree.controllers, diag, parts, used):
+    extensions: dict[int, Extension] = {}  # a derived controller's declarations and its base's
+    for decl in extend_bases(tree.controllers, diag, parts, used, extensions):
         model = owning_creature(decl, "controller run", tree, models, diag)
         if model is None:
             continue
@@ -511,7 +493,19 @@ def check_controllers(
             continue
         seen[key] = decl.name.span
         broken = (broken_legs or {}).get(model.name, set())
-        checked = ControllerChecker(decl, model, lib, parts, diag, broken).check()
+        run = functools.partial(_run, model=model, library=lib, parts=parts, broken=broken)
+        checked = check_derived(decl, extensions.get(id(decl)), diag, run)
         if checked is not None:
             attached[model.name].append(checked)
     return [replace(m, controllers=tuple(attached[m.name])) for m in models]
+
+
+def _run(
+    decl: ast.ControllerDecl,
+    diag: Diagnostics,
+    model: Model,
+    library: dict[str, ast.ActionDef],
+    parts: dict[str, ast.SharedDecl],
+    broken: Collection[str],
+) -> ir.Controller | None:
+    return ControllerChecker(decl, model, library, parts, diag, broken).check()
