@@ -58,6 +58,7 @@ from legdsl.sim.c_backend import (
 )
 from legdsl.sim.c_library import address
 from legdsl.sim.c_machine import pull_machine, state_events
+from legdsl.sim.energy_check import told
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
 from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, signal_of
@@ -476,7 +477,7 @@ class Copies:
             status, cause = "diverged", sim.diverged(err, trajectory)
         events = sorted(self._contact_events(k) + self._state_events(k), key=lambda e: e["t"])
         stops = self.blocks["stop_time"][k]
-        return RunResult(
+        result = RunResult(
             trajectory=trajectory,
             events=events,
             status=status,
@@ -487,6 +488,7 @@ class Copies:
             cause=cause,
             stop_time={dof: round(float(stops[i]), 9) for i, dof in enumerate(sim.stop_dofs)},
         )
+        return told(sim, result)  # an energy rise without a source: as a single run tells it
 
     def _run_in_python(self, k: int) -> Run:
         """Copy ``k`` run as a single run (it needed Python on the way)."""

@@ -10,7 +10,6 @@ A run that stops early keeps everything it recorded up to then.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -19,7 +18,9 @@ from typing import Any, Protocol
 
 from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
+from legdsl.sim.causes import cause_at
 from legdsl.sim.contact import ContactEvent, GroundContact
+from legdsl.sim.energy_check import told
 from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
 from legdsl.sim.run_loop import (
     CHECK_INTERVAL,
@@ -37,7 +38,6 @@ from legdsl.sim.run_loop import (
     steps_per_sample,
 )
 from legdsl.sim.sizes import too_fast
-from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
 from legdsl.sim.trajectory import Trajectory
 
 Vec = tuple[float, float, float]
@@ -369,19 +369,8 @@ class Simulation:
         return None
 
     def likely_cause(self, err: BaseException | None = None, run: Trajectory | None = None) -> str:
-        """Why a run diverged (``legdsl.sim.stability.likely_cause``, with what the ``run``
-        recorded); a division by zero may be the dynamics' own, at a singular mass matrix, so
-        that is looked at too."""
-        mass = None
-        if isinstance(err, ZeroDivisionError):
-            with contextlib.suppress(ArithmeticError, ValueError):
-                mass = self.dyn.mass_matrix(self.q)
-        opts = self.options
-        stiff: list[str] = []
-        with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
-            inverse = inverse_inertia_diagonal(self.dyn.mass_matrix(list(self.model.q0)))
-            stiff = stiff_now(self.actuators.states, self._stops, inverse, opts.dt, opts.integrator)
-        return likely_cause(self.model, opts.dt, opts.integrator, self.q, mass, stiff, run)
+        """Why a run diverged at the state now, with what the ``run`` recorded (``cause_at``)."""
+        return cause_at(self, self.q, err, run)
 
     # ------------------------------------------------------------ running
     def run(
@@ -424,7 +413,7 @@ class Simulation:
         wall = time.perf_counter() - wall0
         if progress is not None:
             progress(self.t, opts.duration)
-        return RunResult(
+        result = RunResult(
             trajectory=loop.traj.head(loop.recorded),
             events=self._all_events(),
             status=loop.status,
@@ -435,6 +424,7 @@ class Simulation:
             cause=cause,
             stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
         )
+        return told(self, result)  # an energy rise without a source is a divergence
 
     def new_loop(self, rows: int) -> RunLoop:
         """The loop of a run from now, its recording ``rows`` long at first (at most the run's

@@ -1,0 +1,132 @@
+"""A drop reported from outside (tests/good/outside/blob.leg): a 1 kg body on a 0.1 kg leg,
+dropped onto a stiff, damped ground with the hip held at 2 deg. At the default 0.4 ms step the
+ground's tangent damper on the leg's tip (an effective mass of 4 g: the leg turns about its
+centre of mass at the hip) feeds energy in: the total leaps from 25.8 J to 1153 J in one step,
+the hip turns at 1500 rad/s between two checks of the divergence rule, and the run used to end
+as an ordinary fall (exit 4). The energy check (``legdsl.sim.energy_check``) tells it as a
+divergence, with the rise and the step the ground allows, on both backends alike; at 0.02 ms
+the same drop lands and ends ok."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import OUTSIDE
+from runtime_helpers import needs_c_compiler
+
+from legdsl.cli import main
+from legdsl.sim.energy_check import RISE, unexplained_rise
+from legdsl.sim.trajectory import empty
+
+LEG = OUTSIDE / "blob.leg"
+DROP = ["--time", "0.5", "--set", "hip_servo.setpoint=2deg"]
+RISE_LINE = (
+    "legdsl: the simulation diverged at t = 0.3208 s: the total energy rose from 25.75 J at "
+    "t = 0.3204 s to 1153 J at t = 0.3208 s (one sample later) with only 42.5 J of actuator "
+    "work between, and nothing else in a creature adds energy. Likely cause: the step 0.4 ms "
+    "is too large for the contact stiffness: the ground's tangent spring on contact 'toe' "
+    "(k = 1e+04 N/m, b = 100 N*s/m) acts on an effective mass of 0.00402 kg there, and "
+    "explicit stability needs dt < 0.0803 ms; try a step of 0.02 ms (--dt, or dt in the "
+    "simulation block). After it the run fell at t = 0.3300 s: the root tilted 66.2 deg from "
+    "upright (limit 60 deg)"
+)
+
+
+@pytest.fixture(scope="module")
+def gen(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One generated tree for the module: the blob is compiled once."""
+    return tmp_path_factory.mktemp("blob_generated")
+
+
+def run(out: Path, gen: Path, backend: str, *more: str) -> int:
+    return main(["run", str(LEG), *DROP, *more, "--backend", backend, "--generated", str(gen),
+                 "--out", str(out)])  # fmt: skip
+
+
+@needs_c_compiler
+def test_the_drop_at_the_default_step_is_told_as_a_divergence_of_its_energy(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    said = {}
+    for backend in ("python", "c"):
+        assert run(tmp_path / backend, gen, backend, "--record-rate", "0") == 3
+        out, err = capsys.readouterr()
+        assert RISE_LINE in err.splitlines()
+        status = next(row for row in out.splitlines() if row.strip().startswith("status"))
+        assert status.split(None, 1)[1] == "diverged: " + RISE_LINE.removeprefix("legdsl: ")
+        said[backend] = json.loads((tmp_path / backend / "run.json").read_text())
+    info = said["python"]
+    assert said["c"] == info
+    assert (tmp_path / "c" / "trajectory.npz").read_bytes() == (
+        tmp_path / "python" / "trajectory.npz"
+    ).read_bytes()  # the run itself is as it was: its fall at 0.33 s, every sample
+    assert info["status"] == "diverged" and info["message"] == RISE_LINE.removeprefix("legdsl: ")
+    assert info["cause"].startswith("the total energy rose from 25.75 J at t = 0.3204 s")
+    assert info["ended_at"] == 0.33 and info["steps"] == 825  # where the fall stopped it
+
+
+@needs_c_compiler
+def test_the_rise_is_seen_at_the_default_record_rate_too(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A sample every 13 steps misses the peak (1153 J): the one after it holds 126 J."""
+    assert run(tmp_path / "r", gen, "c") == 3
+    err = capsys.readouterr().err
+    assert "the total energy rose from 10.78 J at t = 0.3172 s to 125.8 J at t = 0.3224 s" in err
+    assert "try a step of 0.02 ms" in err
+
+
+@needs_c_compiler
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_at_a_step_the_ground_allows_the_drop_ends_ok(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str], backend: str
+) -> None:
+    assert run(tmp_path / "r", gen, backend, "--dt", "0.02ms") == 0
+    out, err = capsys.readouterr()
+    assert "energy rose" not in out + err and "diverged" not in out + err
+    info = json.loads((tmp_path / "r" / "run.json").read_text())
+    assert info["status"] == "ok" and "cause" not in info
+
+
+@needs_c_compiler
+def test_a_divergence_found_while_running_names_the_grounds_step(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """At 0.1 ms the hip passes 1000 rad/s at a check: the likely cause gives the step the
+    ground allows on the leg's tip (it compared the stiffness alone with the leg's whole mass,
+    which allowed 3 ms, and said nothing of it)."""
+    assert run(tmp_path / "r", gen, "c", "--dt", "0.1ms") == 3
+    err = capsys.readouterr().err
+    assert "a velocity reached 2.09e+03 rad/s (hip; the limit is 1e+03 rad/s)" in err
+    assert "the step 0.1 ms is too large for the contact stiffness" in err
+    assert "effective mass of 0.00399 kg there" in err and "try a step of 0.02 ms" in err
+
+
+def _recording(kinetic: list[float], elastic: list[float], work: list[float]):
+    n = len(kinetic)
+    traj = empty(n, 1, 1, 0, 0, 1, total_mass=1.0, gravity=9.81)
+    traj.t[:] = np.arange(n) * 0.005
+    traj.com[:, 2] = 1.0  # a floor of 0.1 * 9.81 J
+    traj.potential[:] = 5.0
+    traj.kinetic[:], traj.elastic[:] = kinetic, elastic
+    traj.work_positive[:, 0], traj.work_negative[:, 0] = work, 0.0
+    return traj
+
+
+def test_only_a_rise_without_a_source_is_told() -> None:
+    """Energy a controller stores in a spring (a setpoint moved: no work) and energy the
+    actuators' work gives are the creature's own; a leap past both is not."""
+    calm = [1.0, 1.0, 1.0, 1.0, 1.0]
+    assert unexplained_rise(_recording(calm, [0.0] * 5, [0.0] * 5)) is None
+    # a servo's setpoint moved at the third sample: it stores 30 J, then gives them back as
+    # work (its force along its coordinate's motion)
+    stored, released = [0.0, 0.0, 30.0, 20.0, 10.0], [0.0, 0.0, 0.0, 10.0, 20.0]
+    assert unexplained_rise(_recording([1.0, 1.0, 1.0, 11.0, 21.0], stored, released)) is None
+    worked = [1.0, 1.0, 31.0, 31.0, 31.0]
+    assert unexplained_rise(_recording(worked, [0.0] * 5, [0.0, 0.0, 30.0, 30.0, 30.0])) is None
+    rise = unexplained_rise(_recording(worked, [0.0] * 5, [0.0, 0.0, 1.0, 1.0, 1.0]))
+    assert rise is not None and (rise.start, rise.end) == (1, 2) and rise.ratio > RISE
+    assert rise.said().startswith("the total energy rose from 6 J at t = 0.0050 s to 36 J at")
