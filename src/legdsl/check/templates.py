@@ -137,8 +137,8 @@ class _Expander:
             if mirrored:
                 mirrors.append(self.mirror_part(item, copy))
         out += _by_kind(run)
-        mirrored = tuple(_at_tips(m, out) for m in mirrors)
-        return Expansion(tuple(out), mirrored, tuple(self.unmade_legs))
+        parts = tuple(_at_tips(m, out) for m in mirrors)
+        return Expansion(tuple(out), parts, tuple(self.unmade_legs))
 
     def template(self, t: ast.TemplateDecl) -> None:
         first = self.templates.get(t.name.name)
