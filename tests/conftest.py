@@ -44,7 +44,17 @@ def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
 
 @pytest.fixture(scope="session", autouse=True)
 def _shared_generated(tmp_path_factory: pytest.TempPathFactory) -> None:
-    _SHARED.append(tmp_path_factory.mktemp("shared-generated"))
+    """The folder the outside creatures compile into, shared by the xdist workers as the C
+    cache is: a creature's sympy lowering (seconds) is done by the first worker to need it
+    and found by the others (modules are written whole, under a rename, so a worker never
+    reads half of one; two compiling at once both write the same bytes)."""
+    import os
+
+    base = tmp_path_factory.getbasetemp()
+    shared = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    folder = shared / "shared-generated"
+    folder.mkdir(exist_ok=True)
+    _SHARED.append(folder)
 
 
 @functools.cache
