@@ -170,12 +170,16 @@ class RunSession:
         (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
-        if asked.drop is not None and self._welded() is not None:
+        welded = self._welded()
+        if welded is not None and (asked.drop is not None or asked.fall_height is not None):
+            drop = asked.drop is not None  # a welded root never falls (docs/runtime.md)
             raise UsageError(
-                f"--drop lifts a free root, but creature '{self.model.name}' is welded to the "
-                f"world (its root body '{self._welded()}' is 'fixed'): to start it higher, "
-                "move the point after 'fixed at' in the .leg file"
-            )
+                ("--drop lifts a free root" if drop else "--fall-height stops a run whose "
+                 "root falls") + f", but creature '{self.model.name}' is welded to the world "
+                f"(its root body '{welded}' is 'fixed'): "
+                + ("to start it higher, move the point after 'fixed at' in the .leg file"
+                   if drop else "it never falls; leave --fall-height out")
+            )  # fmt: skip
         if asked.drop is not None and not self.model.contacts:
             raise UsageError(  # it lifts the lowest contact: without one it would do nothing
                 f"--drop lifts the creature until its lowest contact is H above the ground, but "
