@@ -6,6 +6,7 @@ temporary one (``plot()`` said its run.json was missing); a series asked for by 
 
 from __future__ import annotations
 
+import re
 import shutil
 from pathlib import Path
 
@@ -79,3 +80,19 @@ def test_a_series_is_read_only_so_the_run_stays_as_recorded(run: legdsl.api.Run)
     shifted = run["t"].copy()
     shifted += 1
     assert run.to_pandas().index[0] == start
+
+
+def test_a_run_without_samples_is_told_so_by_what_would_show_it(
+    run: legdsl.api.Run, tmp_path: Path
+) -> None:
+    """A copy stopped before its first sample (Ctrl-C in run_copies): animate() was an
+    IndexError from inside the player, metrics() a table of NaN, plot() a message naming a
+    temporary folder the user never made."""
+    empty = legdsl.api.Run(
+        run.model, run.trajectory.head(0), {**run.info, "status": "interrupted"}, run._dynamics
+    )
+    told = "this run of 'hopper' recorded no samples (it ended interrupted before its first)"
+    for call in (empty.animate, empty.plot, empty.metrics):
+        with pytest.raises(UsageError, match=rf"^{call.__name__}\(\) {re.escape(told)}"):
+            call()
+    assert list(tmp_path.iterdir()) == []

@@ -366,6 +366,7 @@ class Run:
         ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together;
         ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise);
         ``friction_edge`` as ``--friction-edge``."""
+        self._recorded("metrics()")
         t_from = window_time("start", start)
         t_to = None if end is None else window_time("end", end)
         groups, shortest = metrics_groups(groups), min_stance_time(min_stance)
@@ -401,6 +402,7 @@ class Run:
         PNG in the run's directory by default)."""
         from legdsl.analysis.plot import first_leg_angles, plot_run
 
+        self._recorded("plot()")
         t_from = window_time("start", start)
         from legdsl.pipeline.outputs import PICTURES  # as legdsl plot -o
 
@@ -415,6 +417,7 @@ class Run:
         """The self-contained HTML player of this run (in the run's directory by default)."""
         from legdsl.export.player import write_player
 
+        self._recorded("animate()")
         player = "the HTML player (a video: legdsl animate DIR --video FILE.mp4)"
         out = (
             an_output("animate()", path, (".html", ".htm"), player)
@@ -443,6 +446,12 @@ class Run:
 
     def __getstate__(self) -> dict[str, Any]:  # pickle: the module goes as its file
         return pickling.picklable(self.__dict__)
+
+    def _recorded(self, call: str) -> None:
+        """A run without a sample (a copy stopped before it started) has nothing to show."""
+        if not len(self):
+            raise UsageError(f"{call} this run of '{self.model.name}' recorded no samples "
+                             f"(it ended {self.status} before its first); run it again")  # fmt: skip
 
     def _motion(self) -> Any:
         if self._dynamics is None:  # came through pickle
