@@ -40,3 +40,20 @@ def test_an_angle_goes_in_radians(generated: Path) -> None:
     stand = quad.controllers["trot"].params["stand"]
     run = quad.run(controller="trot", set={"stand": stand}, time=0.01)
     assert run.info["settings"]["params"] == {"stand": float(stand)}
+
+
+@pytest.mark.parametrize(
+    ("given", "told"),
+    [
+        ({"set": {"speed": float("nan")}}, "set 'speed': nan is not a finite number; give"),
+        ({"set": {"speed": "nan m/s"}}, "set 'speed': 'nan m/s' is not a finite number; give"),
+        ({"set": {"kv": "-inf N*m*s/rad"}}, "set 'kv': '-inf N*m*s/rad' is not a finite number"),
+        ({"switch": {float("nan"): "hop"}}, "run(): switch= maps times to controllers"),
+    ],
+)
+def test_a_value_that_is_no_finite_number_is_told_as_written(pogo, given, told) -> None:
+    """A NaN or an infinity from Python was told in the command line's words about text the
+    user never wrote ('--set 'speed=nanm/s'', '--switch nans=hop')."""
+    with pytest.raises(UsageError) as caught:
+        pogo.run(controller="hop", time=0.02, **given)
+    assert str(caught.value).startswith(told), caught.value

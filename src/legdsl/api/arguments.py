@@ -5,6 +5,7 @@ options with their units, paths, thread counts, ``set=`` entries. A wrong one is
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -147,6 +148,10 @@ def setting_text(name: str, value: object) -> str:
                          f"{{'speed': '2 m/s'}} (or a Quantity), not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
     meaning = f"set {name!r}: give a value with its unit as text, e.g. {{'speed': '2 m/s'}}"
+    if re.match(r"\s*[-+]?(?:nan|inf(?:inity)?)(?![a-z])", str(value), re.I):  # not 'speed=nanm/s'
+        raise UsageError(
+            f"set {name!r}: {value!r} is not a finite number; {meaning[len(f'set {name!r}: ') :]}"
+        )
     text = str(value).replace(" ", "") if isinstance(value, str) else repr(a_float(value, meaning))
     return f"{key}={text}" + (f"@{when.replace(' ', '')}" if at else "")
 

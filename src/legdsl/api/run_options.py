@@ -5,6 +5,7 @@ one's finer step)."""
 
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Mapping
 from dataclasses import fields
@@ -103,6 +104,8 @@ def session_args(
 
 def _a_time(key: object) -> bool:
     """A switch's time: a text with its unit, or a number of seconds (as ``time=`` takes)."""
+    if isinstance(key, numbers.Real) and not math.isfinite(key):  # it read as '--switch nans'
+        return False
     return isinstance(key, str | numbers.Real) and not isinstance(key, bool)
 
 
