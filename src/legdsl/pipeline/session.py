@@ -18,7 +18,7 @@ from __future__ import annotations
 import itertools
 import json
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -171,15 +171,16 @@ class RunSession:
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
         welded = self._welded()
-        if welded is not None and (asked.drop is not None or asked.fall_height is not None):
-            drop = asked.drop is not None  # a welded root never falls (docs/runtime.md)
+        if welded is not None and asked.drop is not None:
             raise UsageError(
-                ("--drop lifts a free root" if drop else "--fall-height stops a run whose "
-                 "root falls") + f", but creature '{self.model.name}' is welded to the world "
-                f"(its root body '{welded}' is 'fixed'): "
-                + ("to start it higher, move the point after 'fixed at' in the .leg file"
-                   if drop else "it never falls; leave --fall-height out")
-            )  # fmt: skip
+                f"--drop lifts a free root, but creature '{self.model.name}' is welded to the "
+                f"world (its root body '{welded}' is 'fixed'): to start it higher, "
+                "move the point after 'fixed at' in the .leg file"
+            )
+        if welded is not None and asked.fall_height is not None:  # it never falls (runtime.md)
+            self._tell("note", f"--fall-height is left out: creature '{self.model.name}' is "
+                       f"welded to the world (its root body '{welded}' is 'fixed'): it never falls")  # fmt: skip
+            asked = replace(asked, fall_height=None)
         if asked.drop is not None and not self.model.contacts:
             raise UsageError(  # it lifts the lowest contact: without one it would do nothing
                 f"--drop lifts the creature until its lowest contact is H above the ground, but "
