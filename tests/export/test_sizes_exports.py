@@ -227,3 +227,15 @@ def test_the_usd_floor_of_a_mite_is_mite_sized(mite: Scaled) -> None:
     points = np.array(UsdGeom.Mesh(floor).GetPointsAttr().Get())
     # the run covers 4 mm; its area plus 10 mite sizes is about a centimetre each way
     assert np.ptp(points[:, :2], axis=0).max() < 0.05
+
+
+def test_a_1cm_hoppers_anchor_pads_are_within_mujocos_floor(tmp_path: Path) -> None:
+    """Its bodies are above MuJoCo's inertia floor, but its pad (a solid sphere of 1e-7 kg
+    and a 0.2 mm radius) was written with 5.8e-16 kg m^2 and MuJoCo refused the file; a pad's
+    made-up inertia is raised to the floor."""
+    mujoco = pytest.importorskip("mujoco")
+    out = tmp_path / "tiny.xml"
+    leg = ROOT / "tests" / "good" / "outside" / "tiny_hopper.leg"
+    assert main(["export", str(leg), "--format", "mjcf", "-o", str(out)]) == 0
+    mj = mujoco.MjModel.from_xml_path(str(out))
+    assert mj.body_inertia[mj.body("toe_pad").id].min() >= 1e-14

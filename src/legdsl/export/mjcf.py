@@ -63,7 +63,12 @@ from legdsl.export.mjcontact import (
     contact_parameters,
     stop_parameters,
 )
-from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
+from legdsl.export.mjpads import (
+    MUJOCO_SMALLEST_INERTIA,
+    AnchorPad,
+    anchor_pads,
+    carrier_inertials,
+)
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model
 from legdsl.lang.errors import LegError
@@ -71,10 +76,6 @@ from legdsl.lang.errors import LegError
 TIMESTEP = 0.0004  # s, the paper's integration step, for a creature without its own dt
 CONTACT_RADIUS = 0.005  # m: the sphere touches the floor when the contact point is this high
 RADIUS_PER_LINK = 0.02  # a small creature's spheres: this times its longest link
-# kg m^2: MuJoCo refuses a fullinertia with a smaller eigenvalue ("inertia must have positive
-# eigenvalues"; measured with MuJoCo 3: 1e-14 loads, 3e-15 does not). MuJoCo has no units: in
-# SI a creature of a few millimetres (a 0.7 mm mite's bodies: 1e-17 kg m^2) is below it.
-MUJOCO_SMALLEST_INERTIA = 1e-14
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
 NO_SLIP_FRICTION = 10.0
 FLOOR_RGBA = "0.85 0.85 0.8 1"
@@ -124,6 +125,8 @@ def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str
     bodies, free_joint = mjcf_names(model)
     timestep, radius = mujoco_timestep(model), contact_radius(model)
     anchors = anchor_pads(model, timestep, radius) if pads else ()
+    if not drawing:  # a body MuJoCo refuses as declared, before what its pads take from it
+        _loadable_inertias(model, {b.name: (b.mass, b.com, b.inertia) for b in model.bodies})
     inertials = carrier_inertials(model, anchors)
     if not drawing:
         _loadable_inertias(model, inertials)

@@ -74,6 +74,12 @@ class AnchorPad:
     inertia: float  # about each axis through the pad's origin (a solid sphere)
 
 
+# kg m^2: MuJoCo refuses a fullinertia with a smaller eigenvalue ("inertia must have positive
+# eigenvalues"; measured with MuJoCo 3: 1e-14 loads, 3e-15 does not). MuJoCo has no units: in
+# SI a creature of a few millimetres (a 0.7 mm mite's bodies: 1e-17 kg m^2) is below it.
+MUJOCO_SMALLEST_INERTIA = 1e-14
+
+
 def pad_mass(k: float, b: float, timestep: float) -> float:
     """The pad's mass and its slides' armature: see PAD_STEP_EIGENVALUE."""
     return max(b * timestep / PAD_STEP_EIGENVALUE, k * (timestep / PAD_STEP_EIGENVALUE) ** 2)
@@ -117,7 +123,8 @@ def anchor_pads(model: Model, timestep: float, radius: float) -> tuple[AnchorPad
                 k=ground.tangent.k,
                 b=ground.tangent.b,
                 mass=mass,
-                inertia=0.4 * mass * radius**2,
+                # a solid sphere's, or MuJoCo's least (a 1 cm hopper's pad: 6e-16, refused)
+                inertia=max(0.4 * mass * radius**2, MUJOCO_SMALLEST_INERTIA),
             )
         )
     return tuple(pads)
