@@ -10,6 +10,7 @@ the same drop lands and ends ok."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -103,6 +104,21 @@ def test_a_divergence_found_while_running_names_the_grounds_step(
     assert "a velocity reached 2.09e+03 rad/s (hip; the limit is 1e+03 rad/s)" in err
     assert "the step 0.1 ms is too large for the contact stiffness" in err
     assert "effective mass of 0.00399 kg there" in err and "try a step of 0.02 ms" in err
+
+
+@needs_c_compiler
+def test_a_batchs_copy_that_ran_to_its_end_is_told_as_its_single_run(gen: Path) -> None:
+    """A copy C ran to its end is taken as ok without its result: one whose energy rose is
+    looked at, and told as the single run tells it."""
+    import legdsl
+
+    blob = legdsl.load(LEG, generated=gen)
+    hip = {"hip_servo.setpoint": ([2.0, 0.0], "deg")}
+    copies = blob.run_copies(2, None, vary=hip, time=0.4, dt=0.0004, fall_tilt=math.pi)
+    single = blob.run(set={"hip_servo.setpoint": "2 deg"}, time=0.4, fall_tilt=math.pi)
+    assert copies.status.tolist() == ["diverged", "ok"] and single.status == "diverged"
+    assert copies[0].info["message"] == single.info["message"]
+    assert "After it the run ran on to its end at t = 0.4000 s" in single.info["message"]
 
 
 def _recording(kinetic: list[float], elastic: list[float], work: list[float]):

@@ -58,7 +58,7 @@ from legdsl.sim.c_backend import (
 )
 from legdsl.sim.c_library import address
 from legdsl.sim.c_machine import pull_machine, state_events
-from legdsl.sim.energy_check import told
+from legdsl.sim.energy_check import told, unexplained_rise
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
 from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, signal_of
@@ -365,8 +365,8 @@ class Copies:
         for k in range(n):
             if k in self._reruns:
                 status[k] = self._reruns[k].status
-            elif codes[k] != DONE:
-                status[k] = self.result(k).status
+            elif codes[k] != DONE or unexplained_rise(self.trajectory(k)) is not None:
+                status[k] = self.result(k).status  # one that ran to its end may have diverged
         self.status = status.astype(str)
 
     def __len__(self) -> int:
