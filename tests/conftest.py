@@ -5,7 +5,7 @@ import shutil
 import types
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
@@ -127,3 +127,20 @@ def compile_text(tmp_path: Path, text: str) -> tuple[Model, types.ModuleType]:
     path.write_text(text, encoding="utf-8")
     compiled = compile_model(path)
     return compiled.model, load_module(compiled.text("dynamics.py"), compiled.name)
+
+
+@pytest.fixture
+def drawn(monkeypatch: pytest.MonkeyPatch) -> list[Any]:
+    """The matplotlib figures saved during the test, in order (the drawing functions close
+    them after saving, so a test reads their axes here)."""
+    from matplotlib.figure import Figure
+
+    figures: list[Any] = []
+    save = Figure.savefig
+
+    def keep(self: Figure, *args: object, **kwargs: object) -> None:
+        figures.append(self)
+        save(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    return figures

@@ -5,24 +5,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import pytest
 from matplotlib.figure import Figure
 
 from legdsl.analysis.sweep_plot import MOST_PANELS, plot_sweep
-
-
-@pytest.fixture
-def drawn(monkeypatch: pytest.MonkeyPatch) -> list[Figure]:
-    """The figures plot_sweep saves (it closes them after)."""
-    figures: list[Figure] = []
-    save = Figure.savefig
-
-    def keep(self: Figure, *args: object, **kwargs: object) -> None:
-        figures.append(self)
-        save(self, *args, **kwargs)
-
-    monkeypatch.setattr(Figure, "savefig", keep)
-    return figures
 
 
 def crosses(ax: object) -> list[tuple[float, float]]:

@@ -13,20 +13,6 @@ from matplotlib.figure import Figure
 from legdsl.api.tune import plot_history
 
 
-@pytest.fixture
-def drawn(monkeypatch: pytest.MonkeyPatch) -> list[Figure]:
-    """The figures plot_history saves (it closes them after)."""
-    figures: list[Figure] = []
-    save = Figure.savefig
-
-    def keep(self: Figure, *args: object, **kwargs: object) -> None:
-        figures.append(self)
-        save(self, *args, **kwargs)
-
-    monkeypatch.setattr(Figure, "savefig", keep)
-    return figures
-
-
 def history(n: int) -> list[dict[str, float]]:
     return [{"generation": g, "best": 0.5 / g, "mean": 1.0 / g} for g in range(1, n + 1)]
 

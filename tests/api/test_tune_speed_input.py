@@ -8,26 +8,15 @@ import re
 from pathlib import Path
 
 import pytest
+from test_tune import NO_PARAMS
 
 from legdsl.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 
-ARM = """creature arm {
-  planar
-  gravity 9.81 m/s^2
-  body base fixed at (0 m, 1 m) { mass 5 kg  inertia 0.1 kg*m^2 }
-  body upper on base via revolute shoulder at (0 m, 0 m) {
-    length 0.4 m  com 0.2 m  mass 1 kg  inertia 0.02 kg*m^2
-  }
-  actuator s on shoulder servo(kp = 50 N*m/rad, kv = 2 N*m*s/rad)
-}
-controller hold {
-  input speed = 1 m/s
-  table {
-    state A on time_in_state > 0.2 s: s.setpoint = 30 deg
-  }
-}
+ARM = (
+    NO_PARAMS
+    + """
 controller swing {
   param amp = 30 deg
   table {
@@ -36,6 +25,7 @@ controller swing {
   }
 }
 """
+)
 
 
 def tune(source: Path, controller: str, param: str, out: Path) -> int:
