@@ -4,7 +4,9 @@
 from a ``legdsl.sim.simulate.Simulation``: the mass matrix at a singular pose, the actuators
 and joint stops too stiff for the step, and each contact's effective masses under the
 ground's springs (``contact_inverse_masses``), which a light leg's tip, turning about the
-leg's centre of mass, can have far under its body's mass.
+leg's centre of mass, can have far under its body's mass. A foot that was down and slid
+under a step's or box's top edge (``under_edge``) is found from the feet's positions at the
+last few samples, which the recording has not: from its poses, with the dynamics.
 """
 
 from __future__ import annotations
@@ -15,8 +17,22 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.sim.stability import inverse_inertia_diagonal, likely_cause, stiff_now
+from legdsl.ir.model import Pad
+from legdsl.sim.contact import pad_force
+from legdsl.sim.stability import (
+    CLEAR_IT,
+    PUSHED,
+    TOPS_ONLY,
+    inverse_inertia_diagonal,
+    likely_cause,
+    stiff_now,
+)
 from legdsl.sim.trajectory import Trajectory
+
+# The ground under a foot that rose by more than this share of the lowest step's or box's
+# height between two samples went under a top's edge; the last this many samples are looked at.
+EDGE = 0.1
+EDGE_SAMPLES = 4
 
 
 def contact_inverse_masses(sim: Any, q: Sequence[float]) -> list[tuple[float, float]] | None:
@@ -45,12 +61,15 @@ def cause_at(
     q: Sequence[float],
     err: BaseException | None = None,
     run: Trajectory | None = None,
+    through: Trajectory | None = None,
 ) -> str:
     """``likely_cause`` at pose ``q`` (the state a divergence stopped at, or the sample an
     energy rise started from), with what the ``run`` recorded up to it. A division by zero
     may be the dynamics' own, at a singular mass matrix, so that is looked at too; the
     actuators are checked at their settings now and the inertia of the initial pose, the
-    contacts at the last finite sample recorded (a diverged state's pose is any)."""
+    contacts at the last finite sample recorded (a diverged state's pose is any). A foot
+    pushed under a step's edge is looked for in ``through`` (what the run recorded past ``q``,
+    up to an energy rise's end, where the push is; ``run`` if None)."""
     model, opts = sim.model, sim.options
     mass = None
     if isinstance(err, ZeroDivisionError):
@@ -66,4 +85,66 @@ def cause_at(
         if len(finite):
             pose = run.q[finite[-1]].tolist()
     contacts = contact_inverse_masses(sim, pose)
-    return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts)
+    edge = under_edge(sim, through if through is not None else run)
+    return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts,
+                        [edge] if edge is not None else [])  # fmt: skip
+
+
+def under_edge(sim: Any, run: Trajectory | None) -> str | None:
+    """A foot down already whose ground rose abruptly under it (by more than ``EDGE`` of the
+    lowest step's or box's height, between two of the last ``EDGE_SAMPLES`` samples) and that
+    the ground pushed past ``PUSHED`` weights: it slid under a top's edge, and is under the top
+    at once (the ground has no side faces). The push is the one recorded where the foot is down
+    still; where it was thrown out between the samples, the least it was: the ground's spring
+    alone at the depth under the top the foot was at before. The largest such push, as a
+    cause; None if there was none, or no step or box."""
+    model = sim.model
+    g = model.ground
+    flats = [f for f in g.terrain if f.kind in ("step", "box")] if g is not None else []
+    weight = model.total_mass * abs(model.gravity[2])
+    if (
+        g is None
+        or run is None
+        or sim.ground is None
+        or not flats
+        or not weight > 0
+        or not run.force.shape[1]
+    ):
+        return None
+    finite = np.all(np.isfinite(run.q), axis=1)
+    rows = np.flatnonzero(finite & np.all(np.isfinite(run.force.reshape(len(run), -1)), axis=1))
+    rows = rows[-EDGE_SAMPLES:]
+    try:
+        feet = [sim.dyn.contact_positions(run.q[i].tolist()) for i in rows]
+        ground = [[sim.ground.height(p[0], p[1]) for p in at] for at in feet]
+    except (ArithmeticError, ValueError):
+        return None
+    least = EDGE * min(abs(f.get("height")) for f in flats)
+    normal = g.normal
+    found = None
+    for k in range(1, len(rows)):
+        a, b = rows[k - 1], rows[k]
+        for c, name in enumerate(sim.contact_names):
+            rose = ground[k][c] - ground[k - 1][c]
+            if b != a + 1 or run.contact[a, c] == 0 or not rose > least:
+                continue
+            if run.contact[b, c] != 0:
+                push, least_, how = float(np.linalg.norm(run.force[b, c])), "", ""
+            else:  # thrown out between the samples
+                depth = ground[k][c] - feet[k - 1][c][2]
+                spring = pad_force(normal, depth) if isinstance(normal, Pad) else normal.k * depth
+                push = spring if depth > 0 else 0.0
+                least_ = f" at least (its spring alone, {depth * 100:.3g} cm under the top)"
+                how = ", and was thrown out"
+            if push > PUSHED * weight and (found is None or push > found[0]):
+                found = (push, least_, how, name, rose, float(run.t[a]), float(run.t[b]))
+    if found is None:
+        return None
+    push, least_, how, name, rose, t0, t1 = found
+    kinds = sorted({f.kind for f in flats}, reverse=True)  # step, box
+    return (
+        f"contact '{name}' went under the edge of a {' or '.join(kinds)} (the ground under it "
+        f"rose {rose * 100:.3g} cm between t = {t0:.4f} s and t = {t1:.4f} s) and was pushed "
+        f"with {push:.3g} N{least_}, {push / weight:.0f} times the creature's weight{how}; "
+        f"{TOPS_ONLY}; {CLEAR_IT}"
+    )

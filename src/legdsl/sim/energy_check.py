@@ -21,7 +21,7 @@ the bound (their largest rise past it is under a hundredth of the scale, at 0.4 
 
 ``told`` looks at a run that ended ok or fell (a divergence found while it ran is told
 already) and tells such a rise as a divergence, with its likely cause at the sample the rise
-started from (``legdsl.sim.causes``). It reads the recorded samples alone, which both backends
+started from (``legdsl.sim.causes``), or a foot the ground pushed under a step's edge by its end. It reads the recorded samples alone, which both backends
 record bit for bit alike, so the run's steps, its recording and the C runtime are as they
 were, and both backends tell the same.
 """
@@ -129,7 +129,9 @@ def told(sim: Any, result: RunResult) -> RunResult:
         return result
     traj = result.trajectory
     start = traj.q[rise.start].tolist()
-    cause = f"{rise.said()}. Likely cause: {cause_at(sim, start, None, traj.head(rise.start + 1))}"
+    # the cause at the rise's start, and a foot pushed under a step's edge through its end
+    likely = cause_at(sim, start, None, traj.head(rise.start + 1), traj.head(rise.end + 1))
+    cause = f"{rise.said()}. Likely cause: {likely}"
     then = f"fell at t = {result.sim_time:.4f} s: {result.message}"
     if result.status == "ok":
         then = f"ran on to its end at t = {result.sim_time:.4f} s"

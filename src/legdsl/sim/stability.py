@@ -39,6 +39,13 @@ SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as si
 # A ground force of this many times the creature's weight (a hard landing's is a few) is a
 # foot far under the surface: one that ran into a box's side face is put under its top at once.
 PUSHED = 20.0
+# What a foot under a step's or box's top is told (the side faces are not modelled).
+TOPS_ONLY = (
+    "the ground has their top faces only: a foot under a top's edge is under its top at once"
+)
+CLEAR_IT = (
+    "move the terrain, or have the creature clear it (a higher or earlier jump, a slower approach)"
+)
 # A ball joint whose turned axes span less than this (1 at right angles; their first and last
 # within about 3 deg of lining up) is near gimbal lock, where its rates grow without bound.
 NEAR_LOCK = 0.05
@@ -183,12 +190,14 @@ def likely_cause(
     stiff: Sequence[str] = (),
     recorded: Trajectory | None = None,
     contacts: Sequence[tuple[float, float]] | None = None,
+    found: Sequence[str] = (),
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
     too stiff for the step (``stiff``: ``stiff_now``), what the run ``recorded`` up to it and
-    each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``)."""
-    causes = list(stiff)
+    each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``), with
+    the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``)."""
+    causes = [*found, *stiff]
     if recorded is not None and (pushed := _pushed_deep(model, recorded)) is not None:
         causes.append(pushed)
     if mass_matrix is not None:
@@ -306,9 +315,5 @@ def _pushed_deep(model: Model, run: Trajectory) -> str | None:
     )
     terrain = model.ground.terrain if model.ground is not None else ()
     if any(f.kind in ("step", "box") for f in terrain):
-        return (
-            f"{said}, as a foot that runs into the side of a step or box does (the ground has "
-            "their top faces only: a foot under a top's edge is under its top at once); move the "
-            "terrain, or have the creature clear it (a higher or earlier jump, a slower approach)"
-        )
+        return f"{said}, as a foot that runs into the side of a step or box does ({TOPS_ONLY}); {CLEAR_IT}"
     return f"{said}; land softer (a slower approach, a softer leg) or give the ground a pad"
