@@ -114,8 +114,31 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
         low, high = parts[0].strip(), parts[1].strip()
         fix = (f"write {name}={high}:{low}" if lo > hi else "give HI above LO"
                + (f", or --grid {name}={low} for one value" if kind != "param" else ""))  # fmt: skip
+        unit = _one_end_bare(low, high)
+        if unit is not None:  # '-30cm:-10': the bare end is SI, not the other's unit
+            bare = low if _BARE.fullmatch(low) else high
+            ends = [v + unit if v == bare else v for v in (low, high)]
+            if _number(ends[0], want, kind, name) < _number(ends[1], want, kind, name):
+                fix = (f"{fix}; or, '{bare}' being read in SI units for want of one, "
+                       f"{name}={ends[0]}:{ends[1]}")  # fmt: skip
         raise UsageError(f"--{kind} {text!r}: the range needs LO < HI; {fix}")
     return Axis(name, kind, (lo, hi))
+
+
+_BARE = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _one_end_bare(low: str, high: str) -> str | None:
+    """The unit written on one end of a range whose other end is a bare number, or None."""
+    ends = [_BARE.match(v) for v in (low, high)]
+    if any(m is None for m in ends) or (_BARE.fullmatch(low) is None) == (
+        _BARE.fullmatch(high) is None
+    ):
+        return None
+    written = next(
+        v[m.end() :] for v, m in zip((low, high), ends, strict=True) if m and m.end() < len(v)
+    )
+    return written.strip() or None
 
 
 def _number(text: str, want: Dim, kind: str, name: str) -> float:
