@@ -148,6 +148,8 @@ controller hold {
         (["--popsize", "0"], r"--popsize 0: CMA-ES needs at least 2 candidates"),
         (["--speeds", "0"], r"--speeds 0: a speed of 0 has no relative speed error .* add a speed other than 0"),
         (["--speeds", "1kg"], r"--speeds 1kg: speed is a velocity"),
+        # it ran, scored and printed every row twice
+        (["--speeds", "1,2,1m/s"], r"--speeds 1,2,1m/s: 1 m/s is given more than once; give each speed once"),
         (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),

@@ -478,6 +478,10 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
             "own (its drift is taken relative to the slowest other speed); add a speed other "
             "than 0 (m/s)"
         )
+    twice = sorted({f"{v:g}" for v in speeds if speeds.count(v) > 1})
+    if twice:  # it ran, scored and reported each twice
+        raise UsageError(f"--speeds {text}: {', '.join(twice)} m/s is given more than once; "
+                         "give each speed once")  # fmt: skip
     return speeds
 
 
