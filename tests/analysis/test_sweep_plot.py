@@ -40,7 +40,26 @@ def test_a_third_swept_name_gets_a_panel_per_value(tmp_path: Path, drawn: list[F
 def test_too_many_panels_are_one_that_says_so(tmp_path: Path, drawn: list[Figure]) -> None:
     rows = [row(a=a, b=b, c=c) for a in (1, 2) for b in (1, 2) for c in range(MOST_PANELS + 1)]
     plot_sweep(rows, ["a", "b", "c"], "speed_error", tmp_path / "s.png")
-    assert drawn[0].get_suptitle().endswith("; c varies among the dots")
+    assert drawn[0].get_suptitle().replace("\n", " ").endswith("; c varies among the dots")
+
+
+def test_a_grid_name_beside_drawn_ones_is_a_scatter_under_a_title_that_fits(
+    tmp_path: Path, drawn: list[Figure]
+) -> None:
+    """An outside user's `--grid speed=1,2 --lhs kp=... --lhs kv=... --lhs k_speed=...`: each
+    speed ran the same 20 draws, so speed by kp was a full grid and drew a heat map of
+    one-draw stripes (kv and k_speed varying unseen among them), under a title cut off at both
+    edges."""
+    draws = [
+        (100 + 45 * i, 5 + 4.5 * ((7 * i) % 20), 0.05 + 0.017 * ((3 * i) % 20)) for i in range(20)
+    ]
+    rows = [row(speed=s, kp=p, kv=v, k_speed=k) for s in (1, 2) for p, v, k in draws]
+    plot_sweep(rows, ["speed", "kp", "kv", "k_speed"], "speed_error", tmp_path / "s.png")
+    (ax,) = [a for a in drawn[0].axes if a.get_label() != "<colorbar>"]
+    assert ax.collections[0].__class__.__name__ == "PathCollection"  # a scatter, no QuadMesh
+    title = drawn[0]._suptitle
+    box = title.get_window_extent(drawn[0]._get_renderer())
+    assert box.x0 >= 0 and box.x1 <= drawn[0].bbox.width  # inside the picture
 
 
 def test_falls_are_crosses_in_draws_and_lines(tmp_path: Path, drawn: list[Figure]) -> None:

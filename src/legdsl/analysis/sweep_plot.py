@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -45,7 +46,8 @@ def plot_sweep(
     else:
         others = list(names[2:])
         groups = sorted({tuple(as_number(r[n]) for n in others) for r in rows})
-        if len(groups) > MOST_PANELS:  # one panel, saying what varies among its dots
+        mixed = len(groups) > MOST_PANELS
+        if mixed:  # one panel, saying what varies among its dots
             title += f"; {', '.join(others)} var{'y' if len(others) > 1 else 'ies'} among the dots"
             groups, others = [()], []
         cols = min(3, len(groups))
@@ -58,7 +60,7 @@ def plot_sweep(
         image = None
         for ax, group in zip(axes.flat, groups, strict=False):
             inside = [r for r in rows if tuple(as_number(r[n]) for n in others) == group]
-            image = _map(ax, inside, names[0], names[1], metric, scale)
+            image = _map(ax, inside, names[0], names[1], metric, scale, not mixed)
             ax.set_xlabel(label(names[0]))
             ax.set_ylabel(label(names[1]))
             if others:
@@ -67,7 +69,8 @@ def plot_sweep(
         for ax in itertools.islice(axes.flat, len(groups), None):
             ax.set_axis_off()
         fig.colorbar(image, ax=axes.ravel().tolist(), label=label(metric))
-    fig.suptitle(title)
+    # wrapped to the figure's width (a long one ran off both edges)
+    fig.suptitle("\n".join(textwrap.wrap(title, int(fig.get_figwidth() * CHARACTERS_PER_INCH))))
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)
     plt.close(fig)
@@ -92,15 +95,23 @@ def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> N
 
 
 def _map(
-    ax: Any, rows: Sequence[dict[str, Any]], a: str, b: str, metric: str, scale: dict[str, Any]
+    ax: Any,
+    rows: Sequence[dict[str, Any]],
+    a: str,
+    b: str,
+    metric: str,
+    scale: dict[str, Any],
+    heat: bool = True,
 ) -> Any:
-    """A heat map over a full grid of ``a`` and ``b``, else a scatter; falls are crosses."""
+    """A heat map over a full grid of ``a`` and ``b``, else a scatter; falls are crosses.
+    Not ``heat``: a scatter always (other names vary among the runs of a cell: a grid name
+    beside drawn ones made a full grid of stripes, one draw each)."""
     import numpy as np
 
     ok = [str(r["outcome"]) == "ok" for r in rows]
     xs = sorted({as_number(r[a]) for r in rows})
     ys = sorted({as_number(r[b]) for r in rows})
-    if len(xs) * len(ys) == len(rows):  # a full grid: a heat map
+    if heat and len(xs) * len(ys) == len(rows):  # a full grid: a heat map
         grid = np.full((len(ys), len(xs)), np.nan)
         for r, good in zip(rows, ok, strict=True):
             grid[ys.index(as_number(r[b])), xs.index(as_number(r[a]))] = (
@@ -120,6 +131,7 @@ def _map(
     return image
 
 
+CHARACTERS_PER_INCH = 9  # of the title's font, for wrapping it
 X_ROOM, MOST_Y_TICKS = 50, 12  # a panel's width in characters of its labels; rows of labels
 
 
