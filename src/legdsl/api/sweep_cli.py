@@ -37,6 +37,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
+from legdsl.pipeline.report import ProgressLog
 from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
 from legdsl.sim.run_loop import Interrupted
 
@@ -195,7 +196,7 @@ def _sweep_into(
         print(f"legdsl: note: --keep-runs keeps the runs a sweep runs, and every run of "
               f"this one is in {out / 'sweep.csv'} already; to keep them, sweep into "
               "another --out", file=sys.stderr)  # fmt: skip
-    bar = progress_bar if sys.stderr.isatty() else None
+    bar = progress_bar if sys.stderr.isatty() else ProgressLog("sweep", "runs")
     try:
         rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
     except UsageError:  # every run refused (a setting too stiff for the step): the plan it

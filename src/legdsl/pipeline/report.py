@@ -33,6 +33,32 @@ def progress_line(done: float, total: float, unit: str, left: float | None) -> N
           file=sys.stderr, flush=True)  # fmt: skip
 
 
+class ProgressLog:
+    """``progress(done, total, left)`` where standard error is no terminal (a log, a pipe):
+    a line every ``every`` s (and one at the end, after those) instead of a bar written over
+    itself, so long work in a log still says how far it is and the time left; work shorter
+    than ``every`` says nothing."""
+
+    def __init__(self, what: str, unit: str, every: float = 10.0) -> None:
+        self.what, self.unit, self.every = what, unit, every
+        self.last: float | None = None  # the start, then each line's time
+        self.said = False
+
+    def __call__(self, done: float, total: float, left: float | None) -> None:
+        now = time.monotonic()
+        if self.last is None:
+            self.last = now
+        due = now - self.last >= self.every
+        if not (due and done < total) and not (self.said and done >= total):
+            return
+        self.last, self.said = now, True
+        eta = (
+            f", about {int(left // 60)}m{int(left % 60):02d}s left" if left and done < total else ""
+        )
+        print(f"legdsl: {self.what}: {done:g} of {total:g} {self.unit}{eta}", file=sys.stderr,
+              flush=True)  # fmt: skip
+
+
 class ProgressBar:
     """``progress(t, total)`` of a run or a video (``unit`` s), or of work done in shares
     (``unit`` %): ``progress_line`` with the wall time left at the pace since the first call."""
