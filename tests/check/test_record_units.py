@@ -125,3 +125,14 @@ def test_a_library_record_integrating_a_gain_of_0_takes_its_readers_unit(tmp_pat
     text = (ROOT / "creatures" / "hopper.leg").read_text()
     path.write_text(text.replace("trim_speed(next_aim, k_trim)", "trim_speed(next_aim, 0)"))
     assert dict(check_model(path).controller("hop").records)["speed_trim"] == (0, 1, -1, 0)
+
+
+def test_a_record_read_only_by_its_own_writes_needs_no_unit(tmp_path: Path) -> None:
+    """'record r5 = r5' and a 'record idle = 0' nothing reads (a random law, seed 810004)
+    were refused as of no known unit, though no use of them is there to check."""
+    path = tmp_path / "rec.leg"
+    path.write_text(
+        CREATURE + "controller c {\n  table {\n    state A on liftoff(main): record r5 = r5; "
+        "record idle = 0\n    state B on touchdown(main): hip_servo.setpoint = 1 deg\n  }\n}\n"
+    )
+    assert dict(check_model(path).controller("c").records) == {"r5": None, "idle": None}

@@ -130,6 +130,9 @@ class NameResolver:
         # is reached through; None for one that failed (record_readers.tell_unknown_unit)
         self.untyped_records: dict[str, list[UntypedWrite | None]] = {}
         self.record_uses: dict[str, list[Dim]] = {}  # record of no known unit -> units used as
+        # record -> how often it is read, and read in its own writes that tell no unit
+        self.record_reads: dict[str, int] = {}
+        self.self_reads: dict[str, int] = {}
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo
@@ -204,6 +207,7 @@ class NameResolver:
                 self.err(ident.span, self.unknown_name(ident.name, local, read))
             return None
         if isinstance(found, ir.Named) and found.kind == "record":
+            self.record_reads[found.name] = self.record_reads.get(found.name, 0) + 1
             return ir.Named("record", found.name, self.scope.records.get(found.name))
         return found
 

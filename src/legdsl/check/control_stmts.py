@@ -72,6 +72,9 @@ class Elaborator(ExprChecker, LegMotionProbe):
         )
         writes = self.untyped_records.setdefault(s.name.name, [])
         writes.append(None if failed or value is None else (s, value, tuple(self.calls)))
+        leaves = ir.leaves(value) if value is not None else ()
+        own = [x for x in leaves if isinstance(x, ir.Named) and x.name == s.name.name]
+        self.self_reads[s.name.name] = self.self_reads.get(s.name.name, 0) + len(own)
 
     def each(self, s: ast.EachStmt, local: dict[str, Value]) -> ir.Each | None:
         """``each LEG in GROUP { ... }``: the body checked once, LEG standing for a member of

@@ -13,7 +13,8 @@ A record whose writes tell no unit (a bare 0, which fits any, and records of no 
 itself among them) takes the one its first use gives it (``record mark = 0`` read as
 ``mark > 1 s``: a time), and its other uses are checked against it. One whose uses tell
 none either could be compared with anything: that is an error at its first write, saying
-how to give it one.
+how to give it one (a record read by nothing but its own writes, `record r = r`, has no use
+to check, and needs none).
 """
 
 from __future__ import annotations
@@ -89,6 +90,8 @@ def tell_unknown_unit(el: Elaborator, name: str) -> None:
     writes = el.untyped_records.get(name, [])
     if not writes or any(w is None for w in writes):
         return
+    if el.record_reads.get(name, 0) <= el.self_reads.get(name, 0):
+        return  # read only by its own writes ('record r = r'): no use to check
     first = writes[0]
     assert first is not None
     stmt, value, calls = first
