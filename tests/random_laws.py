@@ -371,7 +371,9 @@ class Law:
             return text
         settable = settable or self.creature.settable
         target, d = settable[int(self.rng.integers(len(settable)))]
-        value = self.expr(d, depth)[0]
+        value, const = self.expr(d, depth)
+        if const and d in (STIFF, DAMP, ASTIFF, ADAMP):  # a constant below 0 is refused by the
+            value = f"abs({value})"  # checker (seed 810012: 'l.spring.k = -300 kg*s^-2')
         if self.chance(0.5):  # a setting that keeps the creature in one piece a while
             low = SCALE.get(d, 1.0) * (0 if d in (STIFF, DAMP, ASTIFF, ADAMP) else -0.5)
             high = SCALE.get(d, 1.0) * 1.5
