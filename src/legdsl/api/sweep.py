@@ -40,7 +40,13 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
-from legdsl.pipeline.settings import a_kind, named_si_unit, parse_given, unit_for
+from legdsl.pipeline.settings import (
+    NUMBER_AND_UNIT,
+    a_kind,
+    named_si_unit,
+    parse_given,
+    unit_for,
+)
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
@@ -114,9 +120,9 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
         low, high = parts[0].strip(), parts[1].strip()
         fix = (f"write {name}={high}:{low}" if lo > hi else "give HI above LO"
                + (f", or --grid {name}={low} for one value" if kind != "param" else ""))  # fmt: skip
-        unit = _one_end_bare(low, high)
-        if unit is not None:  # '-30cm:-10': the bare end is SI, not the other's unit
-            bare = low if _BARE.fullmatch(low) else high
+        one = _one_end_bare(low, high)
+        if one is not None:  # '-30cm:-10': the bare end is SI, not the other's unit
+            bare, unit = one
             ends = [v + unit if v == bare else v for v in (low, high)]
             if _number(ends[0], want, kind, name) < _number(ends[1], want, kind, name):
                 fix = (f"{fix}; or, '{bare}' being read in SI units for want of one, "
@@ -125,20 +131,12 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
     return Axis(name, kind, (lo, hi))
 
 
-_BARE = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
-
-
-def _one_end_bare(low: str, high: str) -> str | None:
-    """The unit written on one end of a range whose other end is a bare number, or None."""
-    ends = [_BARE.match(v) for v in (low, high)]
-    if any(m is None for m in ends) or (_BARE.fullmatch(low) is None) == (
-        _BARE.fullmatch(high) is None
-    ):
+def _one_end_bare(low: str, high: str) -> tuple[str, str] | None:
+    """(the bare end, the other's unit) of a range with a unit on one end alone, or None."""
+    split = [NUMBER_AND_UNIT.fullmatch(v) for v in (low, high)]
+    if split[0] is None or split[1] is None or bool(split[0][2]) == bool(split[1][2]):
         return None
-    written = next(
-        v[m.end() :] for v, m in zip((low, high), ends, strict=True) if m and m.end() < len(v)
-    )
-    return written.strip() or None
+    return (low, split[1][2]) if not split[0][2] else (high, split[0][2])
 
 
 def _number(text: str, want: Dim, kind: str, name: str) -> float:

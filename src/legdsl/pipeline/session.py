@@ -40,7 +40,7 @@ from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
-from legdsl.pipeline.start_pose import check_start
+from legdsl.pipeline.start_pose import check_start, welded_root
 from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
@@ -170,7 +170,7 @@ class RunSession:
         (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked)
-        welded = self._welded()
+        welded = welded_root(self.model)
         if welded is not None and asked.drop is not None:
             raise UsageError(
                 f"--drop lifts a free root, but creature '{self.model.name}' is welded to the "
@@ -265,11 +265,6 @@ class RunSession:
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is refused at the line that places it."""
         check_start(self.model, sim, self.source)
-
-    def _welded(self) -> str | None:
-        """The root body's name when it is welded to the world (no z to lift), else None."""
-        root = next(j for j in self.model.joints if j.parent is None)
-        return root.child if root.kind == "fixed" else None
 
     def _check_stiffness(
         self, sim: Simulation, controls: Iterable[ModuleType | None], given: set[str]

@@ -38,7 +38,7 @@ from legdsl.lang.units import (
 from legdsl.sim.machine import InputChange
 from legdsl.sim.switching import starting_values
 
-_NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+NUMBER_AND_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 _TIME: Dim = KINDS["time"][0]
 
 
@@ -60,7 +60,7 @@ def _spaced_unit(value: str) -> str | None:
     """A value whose unit has spaces in it, ``150 N m/rad``, written joined as a unit is
     (``150N*m/rad``); None for a text that is not that."""
     parts = value.split()
-    if len(parts) < 3 or not _NUMBER.fullmatch(parts[0]):
+    if len(parts) < 3 or not NUMBER_AND_UNIT.fullmatch(parts[0]):
         return None
     number, words = parts[0], parts[1:]
     unit = words[0]
@@ -89,7 +89,7 @@ def plain_number(text: str, what: str) -> float:
 
 def parse_given(value: str, where: str) -> Given:
     """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
-    match = _NUMBER.fullmatch(value)
+    match = NUMBER_AND_UNIT.fullmatch(value)
     joined = _spaced_unit(value) if match is None else None
     if joined is not None:
         raise UsageError(f"{where}: a unit is written without spaces, its symbols joined "

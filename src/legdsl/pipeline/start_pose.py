@@ -19,6 +19,12 @@ from legdsl.lang.spellings import mask, offset_span
 from legdsl.sim.sizes import start_depth
 
 
+def welded_root(model: Model) -> str | None:
+    """The root body's name when it is welded to the world (no z to lift), else None."""
+    root = next(j for j in model.joints if j.parent is None)
+    return root.child if root.kind == "fixed" else None
+
+
 def check_start(model: Model, sim: Any, source: str | Path) -> None:
     if model.ground is None:
         return
@@ -30,8 +36,7 @@ def check_start(model: Model, sim: Any, source: str | Path) -> None:
     if not under:
         return
     name, depth = max(under, key=lambda c: c[1])
-    root = next(j for j in model.joints if j.parent is None)
-    welded = root.child if root.kind == "fixed" else None
+    welded = welded_root(model)
     fix = (
         f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
         "with --drop H (the lowest foot H metres above the ground)"
