@@ -198,7 +198,10 @@ def likely_cause(
     each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``), with
     the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``)."""
     causes = [*found, *stiff]
-    if recorded is not None and (pushed := _pushed_deep(model, recorded)) is not None:
+    ground = ground_too_stiff(model, dt, integrator, contacts)
+    # A contact too stiff for the step pushes hard at its first sample down on any landing:
+    # the push then says nothing of how deep the foot came down.
+    if ground is None and recorded is not None and (pushed := _pushed_deep(model, recorded)):
         causes.append(pushed)
     if mass_matrix is not None:
         m = np.asarray(mass_matrix, dtype=float)
@@ -223,7 +226,7 @@ def likely_cause(
                 f"grow without bound; give it axes that this motion keeps away from that, or "
                 f"limits on {middle.name} with a stop short of it"
             )
-    if (ground := ground_too_stiff(model, dt, integrator, contacts)) is not None:
+    if ground is not None:
         causes.append(ground)
     for d in model.dofs:
         if d.limits is None:
