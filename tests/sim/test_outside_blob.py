@@ -67,6 +67,21 @@ def test_the_drop_at_the_default_step_is_told_as_a_divergence_of_its_energy(
     assert info["status"] == "diverged" and info["message"] == RISE_LINE.removeprefix("legdsl: ")
     assert info["cause"].startswith("the total energy rose from 25.75 J at t = 0.3204 s")
     assert info["ended_at"] == 0.33 and info["steps"] == 825  # where the fall stopped it
+    assert info["diverged_at"] == 0.3208  # where the rise ended
+
+
+@needs_c_compiler
+def test_a_sweeps_row_says_where_the_energy_rose(tmp_path: Path, gen: Path) -> None:
+    """The row of a run told diverged by its energy gives the rise's end, as the message does
+    (it gave the fall that stopped the run, 0.330 s; sampled at the default rate, the rise
+    ends at 0.3224 s)."""
+    import legdsl
+    from legdsl.api.sweep import Job, _row
+
+    assert run(tmp_path / "r", gen, "c") == 3
+    job = Job(index=0, source=str(LEG), creature=None, controller="", values={}, units={},
+              fixed=(), duration=0.5, start=0.0, generated=str(gen), keep=None)  # fmt: skip
+    assert _row(job, legdsl.open_run(tmp_path / "r"))["outcome"] == "diverged at 0.322 s"
 
 
 @needs_c_compiler

@@ -270,7 +270,8 @@ def run_batch_of_jobs(jobs: Sequence[Job]) -> list[dict[str, Any]]:
 def _row(job: Job, run: Any) -> dict[str, Any]:
     row: dict[str, Any] = {"run": job.index, **job.values}
     end = float(run.info.get("sim_time", 0.0))  # the last sample may be before it
-    row["outcome"] = "ok" if run.status == "ok" else f"{run.status} at {end:.3f} s"
+    when = float(run.info.get("diverged_at", end))  # an energy rise's end, not the run's
+    row["outcome"] = "ok" if run.status == "ok" else f"{run.status} at {when:.3f} s"
     row["simulated"] = end
     values: dict[str, float] = {}
     row["by_label"] = {}  # every metric by its Table 2 label, for tuning (not in the table)

@@ -459,6 +459,11 @@ class Run:
                 if result.cause
                 else {}
             ),
+            **(
+                {"diverged_at": round(result.diverged_at, 9)}
+                if result.diverged_at is not None
+                else {}
+            ),
             **({"time_on_stops": result.stop_time} if result.stop_time else {}),
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),

@@ -136,4 +136,6 @@ def told(sim: Any, result: RunResult) -> RunResult:
     if result.status == "ok":
         then = f"ran on to its end at t = {result.sim_time:.4f} s"
     message = f"the simulation diverged at t = {rise.t1:.4f} s: {cause}. After it the run {then}"
-    return dataclasses.replace(result, status="diverged", message=message, cause=cause)
+    return dataclasses.replace(
+        result, status="diverged", message=message, cause=cause, diverged_at=rise.t1
+    )

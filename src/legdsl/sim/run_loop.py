@@ -88,6 +88,8 @@ class RunResult:
     sim_time: float
     cause: str = ""  # why a run ended early: a signal, the fall, the divergence
     stop_time: dict[str, float] = field(default_factory=dict)  # s on each joint stop
+    # where an energy rise without a source ended, for a run told diverged after it ran on
+    diverged_at: float | None = None
 
     @property
     def real_time_factor(self) -> float:
