@@ -100,3 +100,28 @@ def test_a_heat_maps_cells_are_labelled_with_the_swept_values(
     step = values.index(ax.get_xticks()[1])  # every step-th value, from the first
     assert list(ax.get_xticks()) == values[::step]
     assert ticks(ax.xaxis) == [f"{v:.4g}" for v in values[::step]]
+
+
+def test_three_random_names_are_one_scatter_not_a_heat_map_per_draw(
+    tmp_path: Path, drawn: list[Figure]
+) -> None:
+    """An outside user's `--random speed --random kp --random stroke --samples 6`: every draw of
+    stroke is its own value, so it drew six panels, each a single one-cell heat map."""
+    rows = [row(speed=0.5 + i / 7, kp=100 + 17 * i, stroke=0.02 + 0.003 * i) for i in range(6)]
+    plot_sweep(rows, ["speed", "kp", "stroke"], "speed_error", tmp_path / "s.png", {},
+               ["speed", "kp", "stroke"])  # fmt: skip
+    (ax,) = [a for a in drawn[0].axes if a.get_label() != "<colorbar>"]
+    assert ax.collections[0].__class__.__name__ == "PathCollection"  # a scatter, no QuadMesh
+    assert len(ax.collections[0].get_offsets()) == 6
+    assert drawn[0].get_suptitle().replace("\n", " ").endswith("; stroke varies among the dots")
+
+
+def test_a_grid_name_beside_random_ones_is_the_panels(tmp_path: Path, drawn: list[Figure]) -> None:
+    """The grid's values are the panels, the draws a scatter in each: never a cell a draw."""
+    rows = [row(speed=s, kp=100 + 17 * i, kv=3 + i) for s in (1, 2) for i in range(3)]
+    plot_sweep(rows, ["speed", "kp", "kv"], "speed_error", tmp_path / "s.png", {"speed": "m/s"},
+               ["kp", "kv"])  # fmt: skip
+    panels = [ax for ax in drawn[0].axes if ax.get_title()]
+    assert [ax.get_title() for ax in panels] == ["speed = 1 m/s", "speed = 2 m/s"]
+    assert all(ax.collections[0].__class__.__name__ == "PathCollection" for ax in panels)
+    assert panels[0].get_xlabel() == "kp" and panels[0].get_ylabel() == "kv"

@@ -2,9 +2,11 @@
 
 A third swept name and more make one panel per combination of their values (up to
 ``MOST_PANELS``), all on one colour scale: drawn over the first two alone, the runs at the
-other values fell on the same cells, and only one of each showed. Runs that fell or diverged
-are red crosses everywhere (in the lines at the foot of the axes, where a metric they never
-measured cannot place them).
+other values fell on the same cells, and only one of each showed. Random or Latin-hypercube
+draws are never cells or panels (each value is its own: six draws of a third name made six
+one-cell heat maps): they are the axes of a scatter, or vary among its dots. Runs that fell
+or diverged are red crosses everywhere (in the lines at the foot of the axes, where a metric
+they never measured cannot place them).
 """
 
 from __future__ import annotations
@@ -25,9 +27,11 @@ def plot_sweep(
     metric: str,
     out: Path,
     units: dict[str, str] | None = None,
+    random_names: Sequence[str] = (),
 ) -> Path:
     """Draw ``metric`` of each row against the swept ``names`` (runs that fell are crosses);
-    ``units`` labels the axes (name -> unit)."""
+    ``units`` labels the axes (name -> unit); ``random_names`` are the names drawn at random
+    or by Latin hypercube (``--random``, ``--lhs``)."""
     given = units or {}
 
     def label(name: str) -> str:
@@ -44,12 +48,18 @@ def plot_sweep(
         ax.set_xlabel(label(names[0]))
         ax.set_ylabel(label(metric))
     else:
-        others = list(names[2:])
+        if len(names) > 2:  # the draws as the axes, the grid's names as the panels
+            names = sorted(names, key=lambda n: n not in random_names)
+        others = [n for n in names[2:] if n not in random_names]
+        varying = [n for n in names[2:] if n in random_names]
         groups = sorted({tuple(as_number(r[n]) for n in others) for r in rows})
-        mixed = len(groups) > MOST_PANELS
-        if mixed:  # one panel, saying what varies among its dots
-            title += f"; {', '.join(others)} var{'y' if len(others) > 1 else 'ies'} among the dots"
-            groups, others = [()], []
+        if len(groups) > MOST_PANELS:
+            groups, others, varying = [()], [], list(names[2:])
+        if varying:  # the title says what varies among the dots
+            title += (
+                f"; {', '.join(varying)} var{'y' if len(varying) > 1 else 'ies'} among the dots"
+            )
+        heat = not varying and not set(names[:2]) & set(random_names)
         cols = min(3, len(groups))
         rows_of = math.ceil(len(groups) / cols)
         fig, axes = plt.subplots(rows_of, cols, figsize=(4.2 * cols + 1.2, 3.6 * rows_of + 0.6),
@@ -60,7 +70,7 @@ def plot_sweep(
         image = None
         for ax, group in zip(axes.flat, groups, strict=False):
             inside = [r for r in rows if tuple(as_number(r[n]) for n in others) == group]
-            image = _map(ax, inside, names[0], names[1], metric, scale, not mixed)
+            image = _map(ax, inside, names[0], names[1], metric, scale, heat)
             ax.set_xlabel(label(names[0]))
             ax.set_ylabel(label(names[1]))
             if others:

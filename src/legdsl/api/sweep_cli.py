@@ -217,7 +217,8 @@ def _sweep_into(
 
     def draw() -> None:
         with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
-            plot_sweep(rows, [a.name for a in axes], metric, drawn, units)
+            plot_sweep(rows, [a.name for a in axes], metric, drawn, units,
+                       [a.name for a in axes if a.kind != "grid"])  # fmt: skip
 
     try:
         _parquet(rows, out / "sweep.parquet")
