@@ -10,6 +10,8 @@ from anim_runs import creature_run, generated_dir
 from conftest import CREATURES
 
 from legdsl.cli import main
+from legdsl.export.animate import parse_size
+from legdsl.lang.errors import UsageError
 
 
 @pytest.fixture
@@ -168,3 +170,20 @@ def test_an_export_at_the_recorded_rate_says_so(
     assert float(told.group(1)) == pytest.approx(1.0 / frame_time, rel=1e-8)
     assert main(["export-motion", str(run_dir), "--fps", "30", "-o", str(out), *gen()]) == 0
     assert "per second" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("size", "said"),
+    [
+        ("8192x4320", "too large; a video is at most 7680 pixels wide and 4320 high"),
+        ("7682x100", "too large; a video is at most 7680 pixels wide"),
+        ("640x5000", "too large; a video is at most 7680 pixels wide and 4320 high"),
+        ("32x32", "too small; a video is at least 64x64 pixels"),
+    ],
+)
+def test_a_size_out_of_range_is_said_to_be_too_large_or_small(size: str, said: str) -> None:
+    """A well-written size out of range was told to 'write WIDTHxHEIGHT', as if mistyped."""
+    with pytest.raises(UsageError) as caught:
+        parse_size(size)
+    assert said in str(caught.value) and "WIDTHxHEIGHT" not in str(caught.value)
+    assert parse_size("7680x4320") == (7680, 4320)

@@ -51,11 +51,25 @@ def parse_overlays(text: str) -> tuple[str, ...]:
     return names
 
 
+VIDEO_SIZE = (64, 64), (7680, 4320)  # pixels: the least, and 8K UHD, the largest
+
+
 def parse_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
-    if not match or not (64 <= int(match.group(1)) <= 7680 and 64 <= int(match.group(2)) <= 4320):
+    if not match:
         raise UsageError(f"--size {text!r}: write WIDTHxHEIGHT in pixels, e.g. 960x540")
     width, height = int(match.group(1)), int(match.group(2))
+    (least_w, least_h), (most_w, most_h) = VIDEO_SIZE
+    # a size well written but out of range is said so: told the format, 8192x4320 looked for a typo
+    if width > most_w or height > most_h:
+        raise UsageError(
+            f"--size {text.strip()}: too large; a video is at most {most_w} pixels wide and "
+            f"{most_h} high (--size {most_w}x{most_h}, 8K)"
+        )
+    if width < least_w or height < least_h:
+        raise UsageError(
+            f"--size {text.strip()}: too small; a video is at least {least_w}x{least_h} pixels"
+        )
     if width % 2 or height % 2:  # H.264's colour planes are half size: 961x541 was drawn 960x540
         raise UsageError(
             f"--size {text}: a video's width and height are even numbers of pixels; "
