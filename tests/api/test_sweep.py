@@ -87,7 +87,7 @@ def test_another_sweep_is_told_what_differs(
     (out / "sweep.json").write_text(json.dumps(plan))
     assert sweep(out, generated) == 2
     err = capsys.readouterr().err
-    assert "holds another sweep (with other the swept values (--grid," in err, err
+    assert "holds another sweep (other swept values (--grid," in err, err
     assert "--time" not in err.partition("choose")[0]
 
 

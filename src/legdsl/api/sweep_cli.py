@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from legdsl.analysis.sweep_plot import as_number, plot_sweep
+from legdsl.api.run_options import run_options
 from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
@@ -138,7 +139,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # compile once here, so that the workers never race to write generated/NAME/
     from legdsl.api import load
 
-    load(args.file, args.creature, args.generated).session.control(args.controller)
+    session = load(args.file, args.creature, args.generated).session
+    session.control(args.controller)
+    _refuse_too_stiff(session, args, axes, dims, combos)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
@@ -146,6 +149,53 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         return _sweep_into(out, args, model, controller, axes, dims, combos)
     finally:  # an API caller may sweep into the same --out again in this process
         lock.close()
+
+
+STIFFNESS = ("k", "b", "kp", "kv")  # the settings an explicit step may be too large for
+
+
+def _refuse_too_stiff(
+    session: Any,
+    args: argparse.Namespace,
+    axes: list[Any],
+    dims: dict[str, Dim],
+    combos: list[dict[str, float]],
+) -> None:
+    """The first run, and each swept stiffness or damping too large for the step, refused
+    before the plan is recorded: found at its run, it stopped the sweep part-way with its rows
+    and sweep.json kept, and the corrected command was refused as another sweep. A larger
+    value is never more stable, so each actuator's largest swept values alone are prepared."""
+    by_actuator: dict[str, list[str]] = {}
+    for a in axes:
+        actuator, _, key = a.name.partition(".")
+        if key in STIFFNESS:
+            by_actuator.setdefault(actuator, []).append(a.name)
+    tried = [combos[0]] + [
+        dict(zip(names, values, strict=True))
+        for names in by_actuator.values()
+        for values in _largest(sorted({tuple(c[n] for n in names) for c in combos}))
+    ]
+    units = units_of(dims)
+    options = run_options(session.model, args.time, {})
+    session.note = None  # its runs' notes are the sweep's rows
+    for k, values in enumerate(tried):
+        given = [f"{n}={v!r}{units[n]}" for n, v in values.items()]
+        try:
+            session.prepare(args.controller, [*given, *args.set], options=options)
+        except UsageError as e:
+            shown = ", ".join(f"{n} = {v:g} {units[n]}".rstrip() for n, v in values.items())
+            which = f"its runs at {shown}" if k else f"its first run ({shown})"
+            raise UsageError(f"sweep: {which}: {e}") from None
+
+
+def _largest(points: list[tuple[float, ...]]) -> list[tuple[float, ...]]:
+    """The sorted points no other is at least as large as in every coordinate (one or two:
+    a spring's k and b, a servo's kp and kv)."""
+    front: list[tuple[float, ...]] = []
+    for p in reversed(points):  # by the first coordinate, largest first
+        if not front or p[-1] > front[-1][-1]:
+            front.append(p)
+    return front
 
 
 def _sweep_into(
@@ -265,8 +315,8 @@ def _say_unmeasured(
 
 # the plan's parts as the command gives them, to say which differ from the one in OUT
 _PLAN_WORDS = {
-    "file": "the .leg file", "controller": "--controller", "time": "--time", "from": "--from",
-    "set": "--set", "runs": "the swept values (--grid, --random, --lhs, --samples, --seed)",
+    "file": ".leg file", "controller": "--controller", "time": "--time", "from": "--from",
+    "set": "--set", "runs": "swept values (--grid, --random, --lhs, --samples, --seed)",
     "creature_digest": "creature (the .leg file changed)",
     "controller_digest": "controller (or its file changed)",
     "simulation": "simulation block (its step)",
@@ -278,7 +328,7 @@ def _plan_differs(before: object, plan: dict[str, Any]) -> str:
     if not isinstance(before, dict):
         return "its sweep.json is damaged"
     other = [_PLAN_WORDS.get(k, k) for k in plan if before.get(k) != plan[k]]
-    return f"with other {', '.join(other)}" if other else "its sweep.json differs"
+    return f"other {', '.join(other)}" if other else "its sweep.json differs"
 
 
 def _parquet(rows: list[dict[str, Any]], path: Path) -> None:

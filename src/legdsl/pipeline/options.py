@@ -155,7 +155,7 @@ def _check_step_counts(options: RunOptions) -> None:
             raise UsageError(
                 f"{flag} {seconds:g}s is {seconds / dt:.3g} steps of --dt {dt:g}s, more than a "
                 f"run can count ({MOST_STEPS:.3g}); give {flag} {MOST_STEPS * dt:.3g}s or less, "
-                f"or a longer --dt"
+                "or a longer step (--dt, or dt in the simulation block)"
             )
 
 

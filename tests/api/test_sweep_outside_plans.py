@@ -1,0 +1,52 @@
+"""legdsl sweep's plan and table, as an outside user found them: a value too stiff for the
+step found only at its run, rows that are not the plan's, --keep-runs added on a resume."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from legdsl.api.sweep_cli import _largest
+from legdsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+HOPPER = ROOT / "creatures" / "hopper.leg"
+
+pytestmark = pytest.mark.usefixtures("hopper_modules")
+
+
+def sweep(tmp_path: Path, *extra: str) -> list[str]:
+    return ["sweep", str(HOPPER), "--controller", "hop", "--time", "0.5", "--from", "0.1",
+            "--jobs", "1", "--out", str(tmp_path / "out"),
+            "--generated", str(tmp_path / "generated"), *extra]  # fmt: skip
+
+
+def test_a_value_too_stiff_later_in_the_plan_is_refused_before_any_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--grid leg_spring.k=3000,1e7` ran k = 3000, wrote sweep.json and its row, then stopped
+    at 1e7; the corrected command (k below the bound, as told) was refused as another sweep."""
+    assert main(sweep(tmp_path, "--grid", "leg_spring.k=3000,1e7")) == 2
+    err = capsys.readouterr().err
+    assert "sweep: its runs at leg_spring.k = 1e+07 N/m: actuator 'leg_spring' is too stiff" in err
+    assert not (tmp_path / "out" / "sweep.json").exists()
+    assert not (tmp_path / "out" / "sweep.csv").exists()
+    assert main(sweep(tmp_path, "--grid", "leg_spring.k=3000,5e6")) == 0
+
+
+def test_a_too_long_time_is_told_a_step_a_sweep_can_take(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It said "or a longer --dt", an option legdsl sweep has not."""
+    assert main([*sweep(tmp_path, "--grid", "speed=0.5,1"), "--time", "1e20"]) == 2
+    err = capsys.readouterr().err
+    assert "sweep: its first run (speed = 0.5 m/s): --time 1e+20s is" in err, err
+    assert err.rstrip().endswith("or a longer step (--dt, or dt in the simulation block)")
+    assert not (tmp_path / "out" / "sweep.json").exists()
+
+
+def test_the_largest_values_are_those_no_other_exceeds_in_both() -> None:
+    assert _largest([(1.0,), (2.0,), (3.0,)]) == [(3.0,)]
+    pairs = sorted([(1.0, 9.0), (2.0, 1.0), (3.0, 5.0), (3.0, 2.0), (2.5, 6.0), (0.5, 9.5)])
+    assert _largest(pairs) == [(3.0, 5.0), (2.5, 6.0), (1.0, 9.0), (0.5, 9.5)]
