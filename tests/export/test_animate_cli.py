@@ -10,7 +10,7 @@ from anim_runs import creature_run, generated_dir
 from conftest import CREATURES
 
 from legdsl.cli import main
-from legdsl.export.animate import parse_size
+from legdsl.export.animate import parse_size, seconds_text
 from legdsl.lang.errors import UsageError
 
 
@@ -187,3 +187,9 @@ def test_a_size_out_of_range_is_said_to_be_too_large_or_small(size: str, said: s
         parse_size(size)
     assert said in str(caught.value) and "WIDTHxHEIGHT" not in str(caught.value)
     assert parse_size("7680x4320") == (7680, 4320)
+
+
+def test_a_summary_gives_a_short_runs_length_in_three_digits() -> None:
+    """A 4.5 ms clip was "0.00 s of motion"."""
+    assert seconds_text(0.0045) == "0.0045 s" and seconds_text(0.00417) == "0.00417 s"
+    assert seconds_text(2.5) == "2.50 s" and seconds_text(0.0) == "0.00 s"

@@ -264,9 +264,37 @@ def test_the_frame_rate_a_one_frame_refusal_advises_gives_two_frames(span: float
     t = np.array([0.0, span])
     with pytest.raises(UsageError) as refused:
         enough_frames(span, 1.0)
-    advice = re.search(r"two frames need --fps (\d+) or more", str(refused.value))
+    advice = re.search(r"two frames need --fps (\S+) or more", str(refused.value))
     assert advice, refused.value
     assert len(frame_times(t, float(advice.group(1)))) >= 2
+
+
+@pytest.mark.parametrize(("span", "least"), [(0.29, "3.45"), (4.0, "0.25"), (0.0045, "223")])
+def test_the_rate_a_one_frame_refusal_names_is_the_least_that_gives_two(
+    span: float, least: str
+) -> None:
+    """It was rounded up to a whole number (4 for 3.45, 1 for 0.25), named as the least."""
+    from legdsl.export.frames import enough_frames, frame_times
+
+    with pytest.raises(UsageError, match=rf"two frames need --fps {least} or more"):
+        enough_frames(span, 0.01)
+    t = np.array([0.0, span])
+    assert len(frame_times(t, float(least))) == 2
+    assert len(frame_times(t, float(least) * 0.99)) == 1  # less than the least gives one
+
+
+def test_a_video_too_short_for_two_frames_is_told_the_least_slow_motion() -> None:
+    """A GIF of a 4.5 ms run was told "--fps 223 or more", a rate a GIF refuses."""
+    from legdsl.export.frames import enough_frames, every_frame
+
+    with pytest.raises(UsageError) as refused:
+        enough_frames(0.0045, 30.0, usual=30.0, top=50.0)
+    said = str(refused.value)
+    advice = re.search(r"two frames need --slow-motion (\S+) or more \(", said)
+    assert advice and "--fps 223" not in said, said
+    assert len(every_frame(0.0045, 30.0 * float(advice.group(1)))) == 2
+    with pytest.raises(UsageError, match=r"--slow-motion 7.41 or more, or --fps 223 or more"):
+        enough_frames(0.0045, 30.0, usual=30.0, top=240.0)  # an .mp4 shows 223 a second
 
 
 def test_footprints_interpolate_the_recording_once(monkeypatch: pytest.MonkeyPatch) -> None:

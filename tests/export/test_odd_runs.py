@@ -125,17 +125,23 @@ def test_a_gif_plays_in_real_time(
         (["export-motion", "{run}", "-o", "{out}.bvh", "--fps", "1"], "gives one frame of this"),
         (
             ["animate", "{run}", "-o", "{out}.html", "--fps", "1e-3"],
-            "two frames need --fps 6 or more (the default is 60)",
+            "two frames need --fps 5.07 or more (the default is 60)",
         ),
         # a still picture, each written without a word
         (["animate", "{run}", "--video", "{out}.mp4", "--fps", "1"], "--fps 1 gives one frame"),
+        # a video is told the least --slow-motion (a GIF was told an --fps it then refused) and
+        # the least rate named is the least, not a whole number above it (6 for 5.07)
+        (
+            ["animate", "{run}", "--video", "{out}.gif", "--fps", "1"],
+            "two frames need --slow-motion 5.07 or more, or --fps 5.07 or more (a video shows",
+        ),
         (
             ["animate", "{run}", "--video", "{out}.mp4", "--fps", "4", "--slow-motion", "0.5"],
             "--fps 4 at --slow-motion 0.5 gives one frame",
         ),
         (
             ["replay", "{run}", "--mujoco", "-o", "{out}.mp4", "--fps", "1"],
-            "two frames need --fps 6 or more (the default is 30)",
+            "two frames need --fps 5.07 or more (the default is 30)",
         ),
     ],
 )

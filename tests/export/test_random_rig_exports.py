@@ -71,7 +71,7 @@ class Exported:
             status, said = legdsl_in_process(
                 ["export-motion", str(self.run_dir), "--fps", repr(fps), "-o", str(where / "x.glb")]
             )
-            advice = re.search(r"two frames need --fps (\d+) or more", said)
+            advice = re.search(r"two frames need --fps (\S+) or more", said)
             assert status == 2 and said.count("\n") == 1 and advice, said
             self.refused, fps = said, float(advice.group(1))  # the advice, which must work
         self.fps = fps

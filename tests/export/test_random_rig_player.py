@@ -88,7 +88,7 @@ def recorded_run(seed: int, where: Path, fps: float | None = None) -> tuple[Moti
         fps = float(np.random.default_rng([seed, 11]).choice(FRAME_RATES))
     argv = ["animate", str(run_dir), "-o", str(page), "--generated", str(generated)]
     done, said = legdsl_in_process([*argv, "--fps", repr(fps)])
-    advice = re.search(r"two frames need --fps (\d+) or more", said)
+    advice = re.search(r"two frames need --fps (\S+) or more", said)
     if done == 2 and advice:  # a run too short for two frames at the rate
         fps = float(advice.group(1))
         done, said = legdsl_in_process([*argv, "--fps", advice.group(1)])

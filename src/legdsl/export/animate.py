@@ -34,6 +34,12 @@ def human_size(n: int) -> str:
     return f"{n / (1024 * 1024):.2f} MiB"
 
 
+def seconds_text(span: float) -> str:
+    """A run's length for a summary line: 0.01 s and more to the hundredth, as before, shorter
+    to three digits (a 4.5 ms clip was "0.00 s of motion")."""
+    return f"{span:.2f} s" if span >= 0.01 or span == 0 else f"{span:.3g} s"
+
+
 def parse_overlays(text: str) -> tuple[str, ...]:
     if text.strip().lower() == "none":
         return ()
@@ -102,11 +108,16 @@ VIDEO_FPS = 1.0, 240.0  # a video's frames per second: slower is a slide show, f
 GIF_FPS = 50.0  # a GIF's frames are shown 20 ms at least (browsers slow shorter ones down)
 
 
+def most_fps(gif: bool = False) -> float:
+    """The most frames per second a GIF, or an .mp4, is written with."""
+    return GIF_FPS if gif else VIDEO_FPS[1]
+
+
 def video_fps(value: float | None, default: float, gif: bool = False) -> float:
     """``--fps`` of a video: one that no player shows as given, or that would render for
     hours (a million frames a second), is refused."""
     fps = default if value is None else value
-    top = GIF_FPS if gif else VIDEO_FPS[1]
+    top = most_fps(gif)
     if not VIDEO_FPS[0] <= fps <= top:
         more = "; write an .mp4 for more" if gif else ""
         raise UsageError(
@@ -116,7 +127,9 @@ def video_fps(value: float | None, default: float, gif: bool = False) -> float:
     return fps
 
 
-def _load(args: argparse.Namespace, fps: float, video: tuple[float, float] | None = None) -> Any:
+def _load(
+    args: argparse.Namespace, fps: float, video: tuple[float, float, float] | None = None
+) -> Any:
     from legdsl.export.motion import load_motion
 
     return load_motion(
@@ -160,10 +173,11 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         if video.suffix.lower() not in (".mp4", ".gif"):  # ffmpeg's format is the name's
             better = video.with_suffix(".mp4") if video.suffix else f"{video}.mp4"
             raise UsageError(f"--video {video}: write an .mp4 or a .gif (e.g. {better})")
-        fps = video_fps(args.fps, 30.0, video.suffix.lower() == ".gif")
+        gif = video.suffix.lower() == ".gif"
+        fps = video_fps(args.fps, 30.0, gif)
         slow = args.slow_motion if args.slow_motion is not None else 1.0
         _positive(slow, "--slow-motion")
-        motion = _load(args, max(fps * slow, 60.0), video=(fps, slow))
+        motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
         if motion.note:
             print(motion.note, file=sys.stderr)
         result = render_video(
@@ -173,7 +187,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "
             f"frame{'s' if result.frames != 1 else ''} at "
-            f"{fps:g} fps, {motion.duration:.2f} s of motion{slowed}) in {result.seconds:.1f} s",
+            f"{fps:g} fps, {seconds_text(motion.duration)} of motion{slowed}) in {result.seconds:.1f} s",
             file=messages_for(args.output, args.video),
         )
         if not args.output:
@@ -189,7 +203,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         print(motion.note, file=sys.stderr)
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
-        f"{motion.duration:.2f} s); open it in a web browser",
+        f"{seconds_text(motion.duration)}); open it in a web browser",
         file=messages_for(args.output),
     )
     return 0
@@ -303,7 +317,7 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
-        f"{motion.frames} keyframes over {motion.duration:.2f} s{_rate_kept(motion, args.fps)})",
+        f"{motion.frames} keyframes over {seconds_text(motion.duration)}{_rate_kept(motion, args.fps)})",
         file=messages_for(args.output),
     )
     return 0

@@ -17,17 +17,33 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 
 
-def enough_frames(span: float, fps: float, usual: float = 60.0, slow: float = 1.0) -> None:
+def enough_frames(
+    span: float, fps: float, usual: float = 60.0, slow: float = 1.0, top: float | None = None
+) -> None:
     """A frame rate keeping one frame of a run that moves is refused: --fps 1e-3 wrote one
     keyframe, and a video or replay of a 0.5 s run at --fps 1 was one still picture. The
     count is ``every_frame``'s and ``frame_times``'s (``span`` is what the frames cover;
-    a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second)."""
+    a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second).
+    A video (``top``, the most frames a second its format shows) is told the least
+    ``--slow-motion`` first: the least --fps of a 4.5 ms run, 223, was more than a GIF shows."""
     if span > 0 and math.floor(span * fps * slow + 1e-9) < 1:
-        least = math.ceil(1 / (span * slow) * (1 + 1e-9))  # rounded up: 1/span may give one
         slowed = f" at --slow-motion {slow:g}" if slow != 1.0 else ""
-        raise UsageError(f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} "
-                         f"s run; two frames need --fps {least} or more (the default is "
-                         f"{usual:g})")  # fmt: skip
+        said = f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} s run; two frames need "
+        least_fps = least_above(1 / (span * slow))
+        if top is None:
+            raise UsageError(f"{said}--fps {least_fps:g} or more (the default is {usual:g})")
+        faster = f", or --fps {least_fps:g} or more" if least_fps <= top else ""
+        raise UsageError(
+            f"{said}--slow-motion {least_above(1 / (span * fps)):g} or more{faster} (a video "
+            "shows --fps times --slow-motion frames a simulated second)"
+        )
+
+
+def least_above(value: float, digits: int = 3) -> float:
+    """``value`` rounded up to ``digits`` significant digits (within 1e-9 of it: 1/4 s is 0.25),
+    so that it is at least ``value`` as written: the least a message can name."""
+    scale = 10.0 ** (digits - 1 - math.floor(math.log10(value)))
+    return math.ceil(value * scale * (1 - 1e-10)) / scale
 
 
 def frame_times(t: np.ndarray, fps: float) -> np.ndarray:

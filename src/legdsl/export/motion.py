@@ -212,16 +212,17 @@ def load_motion(
     generated: Path = Path("generated"),
     source: Path | None = None,
     kinematics: Kinematics | None = None,
-    video: tuple[float, float] | None = None,
+    video: tuple[float, float, float] | None = None,
 ) -> Motion:
     """Read a run directory and resample it for drawing (see the module docstring); ``video``
-    is (frames per second, slow motion) when it is drawn for a video (its note then says so)."""
+    is (frames per second, slow motion, the most frames per second of its format) when it is
+    drawn for a video (its note then says so)."""
     run = drawable(read_run(directory, source))
     t = run.trajectory.t  # read_run refuses a run of no samples
     if video is None:  # a video's own rate is checked, not the denser one its frames are read at
         enough_frames(float(t[-1] - t[0]), fps)
     else:
-        enough_frames(float(t[-1] - t[0]), video[0], usual=30.0, slow=video[1])
+        enough_frames(float(t[-1] - t[0]), video[0], usual=30.0, slow=video[1], top=video[2])
     if kinematics is None:
         from legdsl.pipeline.generated import load_dynamics
 
@@ -235,7 +236,7 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
-    motion.note = stance_note(run.model, run.trajectory, *(video or (fps,)))
+    motion.note = stance_note(run.model, run.trajectory, *(video[:2] if video else (fps,)))
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec

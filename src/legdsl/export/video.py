@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.plot import pyplot
+from legdsl.export.animate import most_fps
 from legdsl.export.frames import enough_frames, every_frame
 from legdsl.export.motion import Motion, Snapshot
 from legdsl.export.player import OVERLAYS
@@ -65,7 +66,7 @@ def render_video(
         raise UsageError(FFMPEG_HINT)
     if suffix == ".gif" and importlib.util.find_spec("PIL") is None:
         raise UsageError("writing a .gif needs Pillow: pip install 'legdsl[export]'")
-    enough_frames(motion.duration, fps, usual=30.0, slow=slow)
+    enough_frames(motion.duration, fps, usual=30.0, slow=slow, top=most_fps(suffix == ".gif"))
     width, height = (size[0] // 2) * 2, (size[1] // 2) * 2
     plt = pyplot()
     start = time.perf_counter()
