@@ -50,3 +50,19 @@ def test_the_largest_values_are_those_no_other_exceeds_in_both() -> None:
     assert _largest([(1.0,), (2.0,), (3.0,)]) == [(3.0,)]
     pairs = sorted([(1.0, 9.0), (2.0, 1.0), (3.0, 5.0), (3.0, 2.0), (2.5, 6.0), (0.5, 9.5)])
     assert _largest(pairs) == [(3.0, 5.0), (2.5, 6.0), (1.0, 9.0), (0.5, 9.5)]
+
+
+def test_keep_runs_added_on_a_resume_says_the_rows_from_before_have_no_directory(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An interrupted sweep resumed with --keep-runs added kept the new runs' directories only,
+    and said nothing of the rows from before."""
+    assert main(sweep(tmp_path, "--grid", "speed=0.5,1,1.5")) == 0
+    table = tmp_path / "out" / "sweep.csv"
+    table.write_text("".join(table.read_text().splitlines(keepends=True)[:3]))  # runs 0 and 1
+    capsys.readouterr()
+    assert main(sweep(tmp_path, "--grid", "speed=0.5,1,1.5", "--keep-runs")) == 0
+    err = capsys.readouterr().err
+    assert "--keep-runs keeps the runs a sweep runs: 2 of the 2 rows from before in" in err, err
+    assert "have no directory under" in err and "(run 0, ...), as they ran without it" in err
+    assert sorted(p.name for p in (tmp_path / "out" / "runs").iterdir()) == ["0002"]

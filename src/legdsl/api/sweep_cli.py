@@ -241,11 +241,20 @@ def _sweep_into(
         "generated": args.generated,
     }
     jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-    before = len(read_table(out / "sweep.csv"))
+    ran = [int(r["run"]) for r in read_table(out / "sweep.csv")]
+    before = len(ran)
+    # a run is kept by the sweep that runs it: resumed with --keep-runs added, the rows from
+    # before had no directory, and nothing said so
+    bare = [i for i in ran if args.keep_runs and not Path(str(jobs[i].keep)).is_dir()]
     if args.keep_runs and before >= len(jobs):  # it kept nothing, and said nothing
         print(f"legdsl: note: --keep-runs keeps the runs a sweep runs, and every run of "
               f"this one is in {out / 'sweep.csv'} already; to keep them, sweep into "
               "another --out", file=sys.stderr)  # fmt: skip
+    elif bare:
+        print(f"legdsl: note: --keep-runs keeps the runs a sweep runs: {len(bare)} of the "
+              f"{before} rows from before in {out / 'sweep.csv'} have no directory under "
+              f"{out / 'runs'} (run {bare[0]}{', ...' if len(bare) > 1 else ''}), as they ran "
+              "without it; to keep every run, sweep into another --out", file=sys.stderr)  # fmt: skip
     bar = progress_bar if sys.stderr.isatty() else ProgressLog("sweep", "runs")
     try:
         rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
