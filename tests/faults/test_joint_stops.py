@@ -5,6 +5,7 @@ a run reports the time spent on each stop. Without 'stop' nothing changes."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -116,6 +117,22 @@ def test_a_stop_too_stiff_for_the_step_is_warned_of_before_the_run(
     _run(_hopper(tmp_path, HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 2e4 N/m\n"),
                  "ok.leg"), generated, tmp_path / "ok")  # fmt: skip
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_stop_too_stiff_is_told_in_the_unit_written_on_its_line(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The warning gave k and its bound bare, in SI ('k = 1e+07: use k below 1.39e+04' for a
+    stop written in kN/m): written into the line as kN/m, the bound was 1000 times too stiff."""
+    text = HOPPER.replace(LEG_LIMITS, LEG_LIMITS + "    stop k = 1e4 kN/m, b = 0.1 kN*s/m\n")
+    _run(_hopper(tmp_path, text), generated, tmp_path / "run")
+    err = capsys.readouterr().err
+    said = re.search(r"\(k = (\S+) (\S+)\): use k below (\S+) (\S+),", err)
+    assert said is not None, err
+    assert float(said[1]) == 1e4 and said[2] == said[4] == "kN/m"
+    text = text.replace("1e4 kN/m", f"{said[3]} kN/m")  # the bound, in the line's unit
+    _run(_hopper(tmp_path, text, "bound.leg"), generated, tmp_path / "bound")
+    assert "too stiff" not in capsys.readouterr().err
 
 
 MIRRORED_ARMS = """

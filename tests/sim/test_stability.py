@@ -3,6 +3,7 @@ integrators themselves, and the run refused before it starts."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import random
 from pathlib import Path
@@ -174,17 +175,18 @@ def test_a_divergence_names_what_is_too_stiff_now() -> None:
 
     set_by_controller = ActuatorState("leg_spring", "spring", 0, 0, 1e9, 0.0, 0.0, 0.0, None)
     saturating = ActuatorState("hip_servo", "servo", 1, 1, 1e9, 0.0, 0.0, 0.0, 10.0)
-    stop = Stop("knee", 1, 1, -0.05, 0.05, 1e5, 0.0, Span("x.leg", 1, 1, 1, 2))
-    found = stiff_now([set_by_controller, saturating], [stop], [1.0, 1e3], 4e-4, "euler")
+    stop = Stop("knee", 1, 1, -0.05, 0.05, 1e5, 0.0, Span("x.leg", 1, 1, 1, 2),
+                ("N*m/rad", "N*m*s/rad"))  # fmt: skip
+    hopper = dataclasses.replace(shipped_model("hopper"), stops=(stop,))
+    found = stiff_now(hopper, [set_by_controller, saturating], [1.0, 1e3], 4e-4, "euler")
     assert found == [
-        "actuator 'leg_spring' has k = 1e+09 now, too stiff for the step: use k below "
-        "2.5e+07, or a step below 0.0632 ms (--dt, or dt in the simulation block)",
-        "the stop of joint coordinate knee is too stiff for the step (k = 1e+05): use k below "
-        "2.5e+04, or a step below 0.2 ms (--dt, or dt in the simulation block)",
+        "actuator 'leg_spring' has k = 1e+09 N/m now, too stiff for the step: use k below "
+        "2.5e+07 N/m, or a step below 0.0632 ms (--dt, or dt in the simulation block)",
+        "the stop of joint coordinate knee is too stiff for the step (k = 1e+05 N*m/rad): use "
+        "k below 2.5e+04 N*m/rad, or a step below 0.2 ms (--dt, or dt in the simulation block)",
     ]
-    said = likely_cause(shipped_model("hopper"), 4e-4, "euler", [0.0, 1.0, 0.0, 0.0, 0.0],
-                        None, found)  # fmt: skip
-    assert said.startswith("actuator 'leg_spring' has k = 1e+09 now")
+    said = likely_cause(hopper, 4e-4, "euler", [0.0, 1.0, 0.0, 0.0, 0.0], None, found)
+    assert said.startswith("actuator 'leg_spring' has k = 1e+09 N/m now")
     assert "grew without bound" not in said
 
 

@@ -4,11 +4,12 @@ its kind, location and axes, the coordinates it adds, their initial values and r
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import math
 
 from legdsl.check.scope import CreaturePart, Scope
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import did_you_mean, written_unit
 from legdsl.ir.model import (
     FREE_3D_Q_NAMES,
     FREE_3D_V_NAMES,
@@ -21,6 +22,7 @@ from legdsl.ir.model import (
 )
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
+from legdsl.lang.units import KINDS, UnitError, parse_unit
 
 JOINT_KINDS = ("revolute", "prismatic", "gimbal", "ball", "fixed")
 # What other tools name these kinds (MuJoCo's hinge and slide, URDF's continuous...): said so,
@@ -149,9 +151,9 @@ class JointChecker(CreaturePart):
             for i, c in enumerate(coord_names)
         )
         if stop is not None:
-            k, b, span = stop
+            k, b, span, units = stop
             self.stops += [
-                Stop(d.name, d.q_index, d.v_index, *d.limits, k, b, span)
+                Stop(d.name, d.q_index, d.v_index, *d.limits, k, b, span, units)
                 for d in dofs
                 if d.limits is not None
             ]
@@ -361,8 +363,9 @@ class JointChecker(CreaturePart):
         limits_prop: ast.Prop | None,
         limits: list[tuple[float, float] | None],
         motions: list[str],
-    ) -> tuple[float, float, Span] | None:
-        """``stop k = STIFFNESS, b = DAMPING``: the joint's limits are mechanical stops."""
+    ) -> tuple[float, float, Span, tuple[str, str]] | None:
+        """``stop k = STIFFNESS, b = DAMPING``: the joint's limits are mechanical stops (with
+        k's and b's units as written, the SI one where b is left out)."""
         if prop is None:
             return None
         if limits_prop is None:
@@ -373,6 +376,8 @@ class JointChecker(CreaturePart):
             return None
         found: dict[str, float] = {}
         hinge = motions[0] == "hinge"
+        units = {key: KINDS[f"{'angular' if hinge else 'linear'} {kind}"][1]
+                 for key, kind in (("k", "stiffness"), ("b", "damping"))}  # fmt: skip
         for item in prop.value.items:
             key = item.target.name
             if key not in ("k", "b"):
@@ -394,6 +399,13 @@ class JointChecker(CreaturePart):
                 self.err(item.value.span, f"the stop's '{key}' must be positive")
                 continue
             found[key] = v
+            number = item.value
+            while isinstance(number, ast.Neg):
+                number = number.value
+            if isinstance(number, ast.Number):  # a spelling parse_unit reads (else SI's)
+                with contextlib.suppress(UnitError):
+                    parse_unit(written_unit(number.text))
+                    units[key] = written_unit(number.text)
         if "k" not in found:
             if not any(item.target.name == "k" for item in prop.value.items):
                 example = STOP_EXAMPLE[motions[0]]
@@ -401,7 +413,7 @@ class JointChecker(CreaturePart):
             return None
         if any(m != motions[0] for m in motions) or not any(lim is not None for lim in limits):
             return None
-        return found["k"], found.get("b", 0.0), prop.span
+        return found["k"], found.get("b", 0.0), prop.span, (units["k"], units["b"])
 
     def limits(
         self, prop: ast.Prop | None, coords: list[str], motions: list[str]

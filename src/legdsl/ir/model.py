@@ -314,6 +314,7 @@ class Stop:
     k: float
     b: float
     span: Span
+    units: tuple[str, str]  # k's and b's as written on its line (messages give them so)
 
 
 @dataclass(frozen=True)

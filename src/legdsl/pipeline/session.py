@@ -308,7 +308,7 @@ class RunSession:
         # a stop acts only once its limit is reached, which a run may never do: a warning
         at = {st.dof: st.span for st in self.model.stops}
         for f in stops_too_stiff(self.model.stops, inverse, opts.dt, opts.integrator):
-            self._tell("warning", f"{at[f.actuator]}: {stop_message(f)}; a run that reaches it "
+            self._tell("warning", f"{at[f.actuator]}: {stop_message(f, self.model.stops)}; a run that reaches it "
                        "diverges there")  # fmt: skip
 
     def _tell(self, kind: str, text: str) -> None:

@@ -78,7 +78,7 @@ def cause_at(
     stiff: list[str] = []
     with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(list(model.q0)))
-        stiff = stiff_now(sim.actuators.states, model.stops, inverse, opts.dt, opts.integrator)
+        stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator)
     pose = list(model.q0)
     if run is not None and len(run):
         finite = np.flatnonzero(np.all(np.isfinite(run.q), axis=1))

@@ -25,13 +25,16 @@ sets every tick is not the one in the file, and is not checked.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from legdsl.ir.model import Model, Pad, Stop, axes_spread
+from legdsl.ir.model import Model, Pad, Stop, axes_spread, setting_kind
+from legdsl.lang.scaling import factor
+from legdsl.lang.units import KINDS, parse_unit
 from legdsl.sim.actuators import ActuatorState
 from legdsl.sim.trajectory import Trajectory
 
@@ -74,6 +77,22 @@ class TooStiff:
             f"use {self.setting} below {below(self.limit)} {unit}, or "
             f"{smaller_step(self.dt_limit)}{fix}"
         )
+
+
+def in_unit(f: TooStiff, unit: str, scale: float = 1.0) -> TooStiff:
+    """``f`` (in SI, for the model run) told in ``unit`` for the creature scaled by ``scale``
+    (a ``--scale L`` run, whose user writes the scaled creature's numbers): its value and bound
+    times their Table 1 factor, its step times sqrt(L)."""
+    one, dim = parse_unit(unit)
+    by = factor(dim, scale) / one
+    return dataclasses.replace(
+        f, value=f.value * by, limit=f.limit * by, dt_limit=f.dt_limit * math.sqrt(scale)
+    )
+
+
+def setting_unit(setting: str, rotary: bool) -> str:
+    """The SI unit of an actuator's setting (k, b, kp, kv) on a rotary or sliding joint."""
+    return KINDS[setting_kind(setting, rotary)][1]
 
 
 def smaller_step(dt_limit: float) -> str:
@@ -141,24 +160,31 @@ def inverse_inertia_diagonal(mass_matrix: Sequence[Sequence[float]]) -> list[flo
 
 
 def stiff_now(
+    model: Model,
     actuators: Iterable[ActuatorState],
-    stops: Iterable[Stop],
     inverse_inertia: Sequence[float],
     dt: float,
     integrator: str,
+    scale: float = 1.0,
 ) -> list[str]:
     """The actuators at their settings now (a gain the controller set is not checked before
-    the run) and the joint stops that are too stiff or too damped for the step, as causes of
-    a divergence (values in SI units)."""
+    the run) and the model's joint stops that are too stiff or too damped for the step, as
+    causes of a divergence: an actuator's values in SI units, a stop's in those written on
+    its line, both for the creature scaled by ``scale`` (``in_unit``)."""
+    rotary = {a.name: a.rotary for a in model.actuators}
     causes = []
-    for f in too_stiff(actuators, inverse_inertia, dt, integrator, set()):
+    for found in too_stiff(actuators, inverse_inertia, dt, integrator, set()):
+        unit = setting_unit(found.setting, rotary.get(found.actuator, False))
+        f = in_unit(found, unit, scale)
         causes.append(
-            f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} now, too "
+            f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} {unit} now, too "
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
-            f"{f.setting} below {below(f.limit)}, or {smaller_step(f.dt_limit)}"
+            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit)}"
         )
+    stops = model.stops
     return causes + [
-        stop_message(f) for f in stops_too_stiff(stops, inverse_inertia, dt, integrator)
+        stop_message(f, stops, scale)
+        for f in stops_too_stiff(stops, inverse_inertia, dt, integrator)
     ]
 
 
@@ -172,11 +198,17 @@ def stops_too_stiff(
     return too_stiff(pushing, inverse_inertia, dt, integrator, set())
 
 
-def stop_message(f: TooStiff) -> str:
+def stop_message(found: TooStiff, stops: Iterable[Stop], scale: float = 1.0) -> str:
+    """A stop of ``stops`` too stiff or too damped, told in the unit written on its line (a
+    stop in kN*m/rad was told bare SI numbers, 1000 times its unit) for the creature scaled by
+    ``scale``."""
+    stop = next(st for st in stops if st.dof == found.actuator)
+    unit = stop.units[0 if found.setting == "k" else 1]
+    f = in_unit(found, unit, scale)
     return (
         f"the stop of joint coordinate {f.actuator} is too "
         f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
-        f"{f.value:.4g}): use {f.setting} below {below(f.limit)}, or "
+        f"{f.value:.4g} {unit}): use {f.setting} below {below(f.limit)} {unit}, or "
         f"{smaller_step(f.dt_limit)}"
     )
 
