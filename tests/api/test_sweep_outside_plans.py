@@ -66,3 +66,22 @@ def test_keep_runs_added_on_a_resume_says_the_rows_from_before_have_no_directory
     assert "--keep-runs keeps the runs a sweep runs: 2 of the 2 rows from before in" in err, err
     assert "have no directory under" in err and "(run 0, ...), as they ran without it" in err
     assert sorted(p.name for p in (tmp_path / "out" / "runs").iterdir()) == ["0002"]
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [("run,speed\n0,0.5\n1,1.0\n1,1.0\n", "at line 4: a second row of run 1 (line 3 is one)"),
+     ("run,speed\n0,0.5\n0,1.0\n", "at line 3: run 0's speed is 1.0 there, but 0.5 in the sweep's plan"),
+     ("run,speed\n1,0.5\n", "at line 2: run 1's speed is 0.5 there, but 1.0 in the sweep's plan")],
+    ids=["a row twice", "renumbered", "other values"],
+)  # fmt: skip
+def test_a_row_that_is_not_the_plans_is_told_by_its_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], table: str, message: str
+) -> None:
+    """A run's row pasted twice (or two tables joined) made '8 runs, 8 of them from before' of a
+    6-run sweep, and a row renumbered to another run was kept under that run's number."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "sweep.csv").write_text(table)
+    assert main(sweep(tmp_path, "--grid", "speed=0.5,1")) == 2
+    err = capsys.readouterr().err
+    assert f"sweep.csv is damaged {message}" in err, err

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.analysis.sweep_plot import as_number
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
@@ -319,12 +320,8 @@ def run_sweep(
 ) -> list[dict[str, Any]]:
     """Run the jobs not yet in ``table`` (CSV), appending each row as it finishes, on
     ``workers`` local processes or a Dask cluster (``legdsl.api.workers``)."""
-    done = read_table(table)
+    done = read_planned(table, jobs)
     finished = {int(r["run"]) for r in done}
-    if not finished <= {j.index for j in jobs}:  # rows of runs the plan has not
-        raise UsageError(
-            f"{table} has rows of runs this sweep has not; remove it to run the sweep again"
-        )
     todo = [j for j in jobs if j.index not in finished]
     if not todo:
         return done
@@ -380,8 +377,42 @@ def _cell(value: Any) -> Any:
     return "" if isinstance(value, float) and math.isnan(value) else value
 
 
+def read_planned(table: Path, jobs: Sequence[Job]) -> list[dict[str, Any]]:
+    """The rows of a sweep table (``read_table``), each of a run of the plan (``jobs``, by
+    their index) once, with that run's swept values: a row twice (two tables joined) or of
+    other values (renumbered) was counted, '8 runs' of a 6-run sweep; told by its line."""
+    by_index = {j.index: j for j in jobs}
+    rows = _numbered_rows(table)
+    if any(r["run"] not in by_index for _, r in rows):
+        raise UsageError(
+            f"{table} has rows of runs this sweep has not; remove it to run the sweep again"
+        )
+    seen: dict[int, int] = {}  # run -> its line
+    for line, r in rows:
+        job = by_index[r["run"]]
+        for name, planned in job.values.items():
+            if not math.isclose(as_number(r.get(name)), planned, rel_tol=1e-9, abs_tol=1e-12):
+                raise UsageError(
+                    f"{table} is damaged at line {line}: run {job.index}'s {name} is "
+                    f"{r.get(name)} there, but {planned!r} in the sweep's plan (edited, or "
+                    "another sweep's row); remove that line, and its run is run again"
+                )
+        if job.index in seen:
+            raise UsageError(
+                f"{table} is damaged at line {line}: a second row of run {job.index} (line "
+                f"{seen[job.index]} is one); remove one of them"
+            )
+        seen[job.index] = line
+    return sorted((r for _, r in rows), key=lambda r: int(r["run"]))
+
+
 def read_table(table: Path) -> list[dict[str, Any]]:
     """The rows of a sweep table (a half-written last line, from a kill, is dropped)."""
+    return sorted((r for _, r in _numbered_rows(table)), key=lambda r: int(r["run"]))
+
+
+def _numbered_rows(table: Path) -> list[tuple[int, dict[str, Any]]]:
+    """``read_table``'s rows as they stand in the file, each with its line number."""
     if not table.is_file():
         return []
     damaged = (
@@ -402,7 +433,7 @@ def read_table(table: Path) -> list[dict[str, Any]]:
     typed = [{k: _typed(v) for k, v in r.items()} for r in rows]
     if not all(isinstance(r.get("run"), int) and r["run"] >= 0 for r in typed):
         raise UsageError(damaged)
-    return sorted(typed, key=lambda r: int(r["run"]))
+    return [(i + 2, r) for i, r in enumerate(typed)]
 
 
 def _typed(text: str) -> Any:

@@ -25,6 +25,7 @@ from legdsl.api.sweep import (
     parse_axis,
     points,
     progress_bar,
+    read_planned,
     read_table,
     run_sweep,
     seconds,
@@ -241,7 +242,7 @@ def _sweep_into(
         "generated": args.generated,
     }
     jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
-    ran = [int(r["run"]) for r in read_table(out / "sweep.csv")]
+    ran = [int(r["run"]) for r in read_planned(out / "sweep.csv", jobs)]
     before = len(ran)
     # a run is kept by the sweep that runs it: resumed with --keep-runs added, the rows from
     # before had no directory, and nothing said so
