@@ -43,7 +43,7 @@ from legdsl.api.arguments import (
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
-from legdsl.export.motion import motion_from, read_run
+from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -413,18 +413,21 @@ class Run:
             plot_run(directory, drawn, first_leg_angles(directory), t_from, None)
         return out
 
-    def animate(self, path: str | Path | None = None) -> Path:
-        """The self-contained HTML player of this run (in the run's directory by default)."""
+    def animate(self, path: str | Path | None = None, fps: float = 60.0) -> Path:
+        """The self-contained HTML player of this run (in the run's directory by default),
+        ``fps`` frames a second stored (a rate giving one frame of a run that moves is refused)."""
+        from legdsl.export.animate import frame_rate
         from legdsl.export.player import write_player
 
         self._recorded("animate()")
+        motion = self._motion(frame_rate(fps, "animate(): fps=") or DEFAULT_FPS)
         player = "the HTML player (a video: legdsl animate DIR --video FILE.mp4)"
         out = (
             an_output("animate()", path, (".html", ".htm"), player)
             if path is not None
             else self._directory() / "animation.html"
         )
-        write_player(self._motion(), out)
+        write_player(motion, out)
         return out
 
     def _repr_html_(self) -> str:
@@ -433,7 +436,12 @@ class Run:
 
         if not len(self):
             return f"<p>legdsl run of {html.escape(self.model.name)}: no samples</p>"
-        page = player_html(self._motion())
+        try:
+            page = player_html(self._motion())
+        except UsageError as refused:  # a still picture of a run that moves: said, as animate()
+            return (
+                f"<p>legdsl run of {html.escape(self.model.name)}: {html.escape(str(refused))}</p>"
+            )
         return (
             f'<iframe srcdoc="{html.escape(page, quote=True)}" width="100%" height="480" '
             'style="border:0"></iframe>'
@@ -453,7 +461,7 @@ class Run:
             raise UsageError(f"{call} this run of '{self.model.name}' recorded no samples "
                              f"(it ended {self.status} before its first); run it again")  # fmt: skip
 
-    def _motion(self) -> Any:
+    def _motion(self, fps: float = DEFAULT_FPS) -> Any:
         if self._dynamics is None:  # came through pickle
             self._dynamics = pickling.dynamics_again(self.model, self.__dict__["_dynamics_file"])
         return motion_from(
@@ -463,6 +471,8 @@ class Run:
             events=self.info.get("events"),
             status=self.status,
             message=str(self.info.get("message") or ""),
+            fps=fps,
+            flag="fps=",
         )
 
     def _directory(self) -> Path:

@@ -441,14 +441,21 @@ def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
     if len(result.trajectory) == 0:
         print(f"  animation: not written, the run recorded no samples ({path})")
         return path
-    motion = motion_from(
-        model,
-        result.trajectory,
-        dynamics,
-        events=result.events,
-        status=result.status,
-        message=result.message or "",
-    )
+    try:
+        motion = motion_from(
+            model,
+            result.trajectory,
+            dynamics,
+            events=result.events,
+            status=result.status,
+            message=result.message or "",
+        )
+    except UsageError as refused:  # one frame of a run that moves, as legdsl animate refuses it
+        print(
+            f"  animation: not written ({path}): {refused}: write it with legdsl animate "
+            f"{out} and that --fps"
+        )
+        return path
     size = write_player(motion, path)
     print(f"  animation: {path} ({human_size(size)}); open it in a web browser", file=sys.stdout)
     return path

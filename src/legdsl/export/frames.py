@@ -18,21 +18,31 @@ from legdsl.lang.errors import UsageError
 
 
 def enough_frames(
-    span: float, fps: float, usual: float = 60.0, slow: float = 1.0, top: float | None = None
+    span: float,
+    fps: float,
+    usual: float = 60.0,
+    slow: float = 1.0,
+    top: float | None = None,
+    flag: str = "--fps",
 ) -> None:
     """A frame rate keeping one frame of a run that moves is refused: --fps 1e-3 wrote one
     keyframe, and a video or replay of a 0.5 s run at --fps 1 was one still picture. The
     count is ``every_frame``'s and ``frame_times``'s (``span`` is what the frames cover;
     a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second).
     A video (``top``, the most frames a second its format shows) is told the least
-    ``--slow-motion`` first: the least --fps of a 4.5 ms run, 223, was more than a GIF shows."""
+    ``--slow-motion`` first: the least --fps of a 4.5 ms run, 223, was more than a GIF shows.
+    ``flag`` names the rate as the caller takes it (the API's ``fps=``)."""
     if span > 0 and math.floor(span * fps * slow + 1e-9) < 1:
+
+        def rate(value: float) -> str:
+            return f"{flag}{value:g}" if flag.endswith("=") else f"{flag} {value:g}"
+
         slowed = f" at --slow-motion {slow:g}" if slow != 1.0 else ""
-        said = f"--fps {fps:g}{slowed} gives one frame of this {span:.3g} s run; two frames need "
+        said = f"{rate(fps)}{slowed} gives one frame of this {span:.3g} s run; two frames need "
         least_fps = least_above(1 / (span * slow))
         if top is None:
-            raise UsageError(f"{said}--fps {least_fps:g} or more (the default is {usual:g})")
-        faster = f", or --fps {least_fps:g} or more" if least_fps <= top else ""
+            raise UsageError(f"{said}{rate(least_fps)} or more (the default is {usual:g})")
+        faster = f", or {rate(least_fps)} or more" if least_fps <= top else ""
         raise UsageError(
             f"{said}--slow-motion {least_above(1 / (span * fps)):g} or more{faster} (a video "
             "shows --fps times --slow-motion frames a simulated second)"

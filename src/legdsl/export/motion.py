@@ -331,8 +331,12 @@ def motion_from(
     fps: float = DEFAULT_FPS,
     status: str = "ok",
     message: str = "",
+    flag: str = "--fps",
 ) -> Motion:
+    """The run's frames at ``fps`` (``flag`` names that rate in a refusal: one frame of a
+    run that moves is refused here, for every player, as ``legdsl animate`` refuses it)."""
     tr = trajectory
+    enough_frames(float(tr.t[-1] - tr.t[0]), fps, flag=flag)
     at = frame_times(tr.t, fps)
     q = interpolate_q(model, tr.t, tr.q, at)
     nb, nc = len(model.bodies), len(model.contacts)
