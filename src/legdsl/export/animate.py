@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from legdsl.export.video_rates import VIDEO_FPS, most_fps
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.outputs import messages_for, named_as, not_a_stream
 
@@ -102,15 +103,6 @@ def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
             value = read_numeric(flag, text, Numeric("frequency", "Hz"))
     _positive(value, flag)
     return value
-
-
-VIDEO_FPS = 1.0, 240.0  # a video's frames per second: slower is a slide show, faster no player
-GIF_FPS = 50.0  # a GIF's frames are shown 20 ms at least (browsers slow shorter ones down)
-
-
-def most_fps(gif: bool = False) -> float:
-    """The most frames per second a GIF, or an .mp4, is written with."""
-    return GIF_FPS if gif else VIDEO_FPS[1]
 
 
 def video_fps(value: float | None, default: float, gif: bool = False) -> float:

@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.plot import pyplot
-from legdsl.export.animate import most_fps
 from legdsl.export.frames import enough_frames, every_frame
 from legdsl.export.motion import Motion, Snapshot
 from legdsl.export.player import OVERLAYS
+from legdsl.export.video_rates import most_fps
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.files import atomic_path, refused_in
 from legdsl.lang.errors import UsageError
