@@ -86,3 +86,61 @@ def test_gltf_link_nodes_keep_their_names(tmp_path: Path) -> None:
         assert len(names) == len(set(names)), names
         assert {"clash", "floor"} <= set(names)
         assert names.index("clash") == 1 + [b.name for b in motion.bodies].index("clash")
+
+
+CONTACTS = """
+creature clash {
+  planar
+  body clash free {
+    mass 2 kg  inertia 0.1 kg*m^2
+    shape box(0.4 m, 0.1 m)
+    initial x = 0 m, z = 0.6 m, pitch = 0 deg
+  }
+  body leg1 on clash via revolute h1 at (0.1 m, 0 m) {
+    length 0.5 m  com 0.25 m  mass 0.5 kg  inertia 0.01 kg*m^2
+  }
+  body leg2 on clash via revolute h2 at (-0.1 m, 0 m) {
+    length 0.5 m  com 0.25 m  mass 0.5 kg  inertia 0.01 kg*m^2
+  }
+  body leg3 on clash via revolute h3 at (0 m, 0 m) {
+    length 0.5 m  com 0.25 m  mass 0.5 kg  inertia 0.01 kg*m^2
+  }
+  contact shape on leg1 at tip
+  contact clash_1 on leg2 at tip
+  contact ground on leg3 at tip
+}
+"""
+
+
+def test_contacts_keep_their_names_and_the_exports_own_nodes_step_aside(tmp_path: Path) -> None:
+    """A contact named as the export's top node would be (clash_1) was renamed clash_1_1, the
+    top node taking its name, and the USD mesh 'shape' took a contact 'shape''s name: an
+    animator pinning a foot by its contact's name got the whole creature, or nothing."""
+    source = tmp_path / "clash.leg"
+    source.write_text(CONTACTS)
+    model = check_model(source)
+    times = np.linspace(0.0, 1.0, 11)
+    tr = empty(
+        len(times), 6, 6, 3, 0, q_names=model.q_names, v_names=model.v_names,
+        contact_names=("shape", "clash_1", "ground"), state_names=(),
+        total_mass=model.total_mass,
+    )  # fmt: skip
+    tr.t[:] = times
+    tr.q[:, 1] = 0.6
+    motion = motion_from(model, tr, ModelKinematics(model), fps=10)
+    path = tmp_path / "clash.glb"
+    write_gltf(motion, path)
+    nodes = read_glb(path)[0]["nodes"]
+    names = [n.get("name") for n in nodes]
+    contacts = {n["name"] for n in nodes if (n.get("extras") or {}).get("legdsl_contact")}
+    assert contacts == {"shape", "clash_1", "ground"}, names
+    assert len(names) == len(set(names)) and names[0] not in contacts | {"clash"}, names
+    write_usd(motion, tmp_path / "clash.usda", "usda")
+    stage = Usd.Stage.Open(str(tmp_path / "clash.usda"))
+    for b, link in enumerate(link_paths(motion)):
+        prim = stage.GetPrimAtPath(link)
+        touching = {c.GetName() for c in prim.GetChildren() if c.HasAttribute("legdsl:touching")}
+        mine = {
+            c for c, on in zip(motion.contact_names, motion.contact_bodies, strict=True) if on == b
+        }
+        assert touching == mine, link

@@ -154,9 +154,14 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         scenes=[lib.Scene(name=motion.creature, nodes=[0])],
     )
     blob = _Blob(gltf, lib)
-    # the export's own nodes take names no link has (tools key nodes by name and rename
-    # duplicates: a link called like the creature would have been the one renamed)
+    # the export's own nodes take names no link or contact has (tools key nodes by name and
+    # rename duplicates: a link called like the creature would have been the one renamed, and
+    # a contact is pinned by its name); a contact steps aside only for a link
     taken = {b.name for b in motion.bodies}
+    contact_names = []
+    for name in motion.contact_names if motion.contact_points is not None else ():
+        taken.add(free := free_name(name, taken))
+        contact_names.append(free)
 
     def own_name(name: str) -> str:
         taken.add(free := free_name(name, taken))
@@ -207,7 +212,7 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         gltf.nodes.append(node)
         parent = motion.parents[b]
         gltf.nodes[0 if parent < 0 else parent + 1].children.append(b + 1)
-    _contact_nodes(gltf, lib, motion, own_name)
+    _contact_nodes(gltf, lib, motion, contact_names)
 
     if skin:
         _skin(gltf, lib, blob, motion, colors, materials, own_name(f"{motion.creature}_skin"))
@@ -260,16 +265,15 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
     return gltf
 
 
-def _contact_nodes(gltf: Any, lib: Any, motion: Motion, own_name: Any) -> None:
+def _contact_nodes(gltf: Any, lib: Any, motion: Motion, names: list[str]) -> None:
     """A node per contact point (a sole, a toe), child of its link at the point, with no
-    mesh: what an animator pins a foot to. ``extras.legdsl_contact`` marks it."""
+    mesh: what an animator pins a foot to. ``extras.legdsl_contact`` marks it; ``names``
+    are the nodes' (the contacts', unless a link has one)."""
     if motion.contact_points is None:
         return
-    for name, b, point in zip(
-        motion.contact_names, motion.contact_bodies, motion.contact_points, strict=True
-    ):
+    for name, b, point in zip(names, motion.contact_bodies, motion.contact_points, strict=True):
         node = lib.Node(
-            name=own_name(name),
+            name=name,
             translation=[float(x) for x in point],
             extras={"legdsl_contact": True},
         )

@@ -100,7 +100,13 @@ def build_stage(motion: Motion, path: Path) -> Any:
             x, y, z, w = (float(v) for v in rotations[f, b])
             translate.Set(Gf.Vec3d(*(float(v) for v in translations[f, b])), Usd.TimeCode(f))
             orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(f))
-        shape = f"{path_b}/{free_name('shape', children_of(path_b, paths))}"
+        # the mesh steps aside for a child link and for a contact on the link (pinned by name)
+        contacts = {
+            prim_name(name)
+            for name, on in zip(motion.contact_names, motion.contact_bodies, strict=True)
+            if on == b and motion.contact_points is not None and motion.touching is not None
+        }
+        shape = f"{path_b}/{free_name('shape', children_of(path_b, paths) | contacts)}"
         _mesh(stage, shape, body_mesh(body), (body.color or "#9a9a9a").lower())
     _contact_prims(stage, motion, paths)
 
