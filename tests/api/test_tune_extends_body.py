@@ -48,3 +48,19 @@ def test_an_inherited_parameter_is_overridden_when_the_body_has_no_item_line(
     assert params(out, "run") == params(source, "run")  # the controller extended is as it was
     others = {"fast": "quick", "quick": "fast"}[name]
     assert params(out, others) == params(source, others)
+
+
+def test_a_controller_that_extends_the_tuned_one_keeps_its_values(tmp_path: Path) -> None:
+    """Tuning `run` retuned `fast` and `quick` (they extend it, taking its kp and lead) with no
+    note: the tuned file changed run's declarations, which they take. An outside user's
+    `controller flip extends run` ran the tuned k_speed, never scored by the tune."""
+    source = knee_file(tmp_path)
+    model = check_model(source)
+    out = write_tuned(source, model.controller("run"), {"kp": 600.0, "lead": 0.2},
+                      tmp_path / "out" / "k.leg", model.controllers)  # fmt: skip
+    assert params(out, "run")["kp"] == pytest.approx(600.0)
+    assert params(out, "run")["lead"] == pytest.approx(0.2)
+    assert params(out, "fast") == params(source, "fast")
+    assert params(out, "quick") == params(source, "quick")  # its own lead, run's kp kept
+    quick = out.read_text().partition("controller quick")[2]
+    assert "param kp = 510 N*m/rad" in quick and quick.count("param lead") == 1  # its own

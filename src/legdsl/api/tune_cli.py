@@ -176,7 +176,8 @@ def _tune_into(
                   f"written to {out}", file=sys.stderr)  # fmt: skip
             raise
         stops.searching = False  # from here on a signal waits for the three files
-        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name)
+        tuned = write_tuned(source, controller, result["best"]["values"], out / source.name,
+                            model.controllers)  # fmt: skip
         dump(result, out / "tune.json")
         not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
             "draw the convergence plot",

@@ -1,13 +1,14 @@
 """The tuned ``.leg`` file ``legdsl tune`` writes: the input with only the tuned values
 changed, each in the unit it was written in and with the digits that read back the very value
 the tune ran; a parameter the controller takes from another (the controller it ``extends``,
-a shared part in another file) declared anew in it, so that the other keeps its value."""
+a shared part in another file) declared anew in it, so that the other keeps its value; one a
+controller extending the tuned one takes from it declared anew there with its old value."""
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -21,12 +22,22 @@ from legdsl.lang.scaling import moved_use
 from legdsl.lang.units import parse_unit
 
 
-def write_tuned(source: Path, controller: Controller, values: dict[str, float], out: Path) -> Path:
-    """The ``.leg`` file with only the tuned parameters' values changed (in their own units)."""
+def write_tuned(
+    source: Path,
+    controller: Controller,
+    values: dict[str, float],
+    out: Path,
+    others: Sequence[Controller] = (),
+) -> Path:
+    """The ``.leg`` file with only the tuned parameters' values changed (in their own units).
+    Of the file's ``others`` controllers, one that ``extends`` the tuned one and takes a tuned
+    parameter from it gets the parameter's old value declared anew, so that it keeps it."""
     tree, text = parse_file(source)
     spans = declared_in(source, controller, values)
     edits = []
-    overrides: list[str] = []  # declarations added to the tuned controller itself
+    # declarations added to a controller: the tuned one's own, and the old values of those
+    # that extend it
+    added: dict[str, list[str]] = {controller.name: []}
     found = set()
     own = next((d for d in tree.controllers if d.name.name == controller.name), None)
     # a parameter is declared by the controller, a controller it extends, or a shared part
@@ -35,7 +46,9 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
     ] + [(part, item) for part in tree.shared for item in part.items]
     for name, span in spans.items():  # declared in another file: overridden here
         if span.file != str(source):
-            overrides.append(f"param {name} = {_value_edit(_param_decl(span), values[name])[3]}")
+            added[controller.name].append(
+                f"param {name} = {_value_edit(_param_decl(span), values[name])[3]}"
+            )
             found.add(name)
     for decl, item in declared:
         if isinstance(item, ast.ParamDecl) and item.name.span in spans.values():
@@ -43,32 +56,59 @@ def write_tuned(source: Path, controller: Controller, values: dict[str, float], 
             if isinstance(decl, ast.ControllerDecl) and decl is not own and own is not None:
                 # declared by the controller it extends: overridden in the tuned one, so the
                 # other controller keeps its value
-                overrides.append(f"param {item.name.name} = {new}")
+                added[controller.name].append(f"param {item.name.name} = {new}")
             else:
                 edits.append((line, col, end, new))
             found.add(item.name.name)
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
+    for name, kept in _kept_by_extenders(tree, controller, others, spans).items():
+        added.setdefault(name, []).extend(kept)
     lines = text.split("\n")
     edits += _uses_moved(tree, lines, source, out)
-    opened = overrides and own is not None and not _first_item_on_own_line(own)
-    if overrides and own is not None and not opened:
-        first = own.items[0].span
-        indent = lines[first.line - 1][: first.col - 1]
-        lines[first.line - 1 : first.line - 1] = [indent + o for o in overrides]
-        shift = len(overrides)  # the lines from the first item on move down
-        edits = [(ln + shift * (ln >= first.line), c, e, n) for ln, c, e, n in edits]
-    for line, col, end, new in sorted(edits, reverse=True):
+    for line, col, end, new in sorted(edits, reverse=True):  # no line added yet: in place
         row = lines[line - 1]
         rest = row[end - 1 :]
         if rest.lstrip().startswith("#"):  # keep a comment's column where there is room
             gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
             rest = " " * max(1, gap) + rest.lstrip()
         lines[line - 1] = row[: col - 1] + new + rest
-    if opened and own is not None:  # after the edits: the brace's column is before them all
-        lines = _open_body(lines, own, overrides)
+    bodies = [d for d in tree.controllers if added.get(d.name.name)]
+    for decl in sorted(bodies, key=lambda d: (d.span.line, d.span.col), reverse=True):
+        lines = _declared_first(lines, decl, added[decl.name.name])  # from the end: lines move
     write_atomic(out, "\n".join(lines))
     return out
+
+
+def _kept_by_extenders(
+    tree: ast.SourceFile,
+    controller: Controller,
+    others: Sequence[Controller],
+    spans: dict[str, Any],
+) -> dict[str, list[str]]:
+    """The declarations that keep the old values of the tuned parameters in each controller
+    of the file that ``extends`` the tuned one and takes them from it (it was retuned too,
+    unsaid): by the controller's name. Its own extenders then take them from it."""
+    old = {c.name: c for c in controller.params}
+    children = {d.name.name for d in tree.controllers if d.base and d.base.name == controller.name}
+    kept: dict[str, list[str]] = {}
+    for other in others:
+        if other.name not in children:
+            continue
+        for p in other.params:  # the same declaration as the tuned one's: it takes it
+            if p.name in spans and p.span == old[p.name].span:
+                text = _value_edit(_param_decl(p.span), old[p.name].value)[3]
+                kept.setdefault(other.name, []).append(f"param {p.name} = {text}")
+    return kept
+
+
+def _declared_first(lines: list[str], decl: ast.ControllerDecl, added: list[str]) -> list[str]:
+    """``lines`` with the ``added`` declarations first in ``decl``'s body."""
+    if not _first_item_on_own_line(decl):
+        return _open_body(lines, decl, added)
+    first = decl.items[0].span
+    indent = lines[first.line - 1][: first.col - 1]
+    return lines[: first.line - 1] + [indent + a for a in added] + lines[first.line - 1 :]
 
 
 def _first_item_on_own_line(own: ast.ControllerDecl) -> bool:
