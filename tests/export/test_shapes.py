@@ -113,3 +113,26 @@ def test_box_faces_can_be_split_into_a_grid() -> None:
     assert len(fine.indices) == 6 * 4 * 4 * 2 and len(body_mesh(box).indices) == 12
     assert volume(fine) == pytest.approx(0.4 * 0.2 * 0.1)
     assert np.allclose(fine.bounds[0], body_mesh(box).bounds[0])
+
+
+def test_the_terrain_is_cut_to_the_floors_area() -> None:
+    """A step ran from its x to a metre past it, past a small creature's 9 cm floor."""
+    from legdsl.export.shapes import ground_meshes
+    from legdsl.ir.model import Terrain
+
+    def terrain(kind: str, **params: float) -> Terrain:
+        return Terrain(kind, tuple(params.items()), Span("x.leg", 1, 1, 1, 2))
+
+    steps = (
+        terrain("step", x=-0.003, height=0.0002),
+        terrain("box", x0=0.002, x1=0.3, y0=-1.0, y1=1.0, height=0.0003),
+        terrain("step", x=0.5, height=0.001),  # past the floor's end: not drawn
+    )
+    lo, hi = np.array([-0.0436, -0.04]), np.array([0.0453, 0.04])
+    meshes = {name: mesh for name, mesh, _ in ground_meshes(steps, lo, hi)}
+    assert set(meshes) == {"floor", "terrain0_step", "terrain1_box"}
+    for name in ("terrain0_step", "terrain1_box"):
+        low, high = meshes[name].bounds
+        assert np.all(low[:2] >= lo - 1e-12) and np.all(high[:2] <= hi + 1e-12), name
+    assert meshes["terrain0_step"].bounds[0][0] == pytest.approx(-0.003)
+    assert meshes["terrain0_step"].bounds[1][0] == pytest.approx(0.0453)

@@ -224,8 +224,9 @@ def ground_meshes(
 
     (name, mesh, colour) for the ``floor`` (a flat quad, or the slope's tilted quad,
     as ``legdsl.sim.contact`` has them) and each raised step or box (a box from
-    the floor to its height; a step runs to the area's +x end). Features at or
-    below the floor change nothing in the simulation and are left out.
+    the floor to its height), cut to the floor's area: a step runs to its +x end (a
+    step ran a metre past a mite's 9 cm floor). Features at or below the floor change
+    nothing in the simulation and are left out, and so are those wholly off the floor.
     """
     out = []
     slope = next((t for t in terrain if t.kind == "slope"), None)
@@ -244,10 +245,12 @@ def ground_meshes(
             continue
         h = t.get("height")
         if t.kind == "step":
-            xa, xb, ya, yb = t.get("x"), max(x1, t.get("x") + 1.0), y0, y1
+            xa, xb, ya, yb = max(t.get("x"), x0), x1, y0, y1
         else:
-            xa, xb = t.get("x0"), t.get("x1")
+            xa, xb = max(t.get("x0"), x0), min(t.get("x1"), x1)
             ya, yb = max(t.get("y0"), y0), min(t.get("y1"), y1)
+        if xb <= xa or yb <= ya:
+            continue
         b = _Builder()
         _box(b, np.array([(xa + xb) / 2, (ya + yb) / 2, h / 2]), np.array([xb - xa, yb - ya, h]), 1)
         out.append((f"terrain{i}_{t.kind}", b.mesh(), TERRAIN_COLOR))
