@@ -91,6 +91,26 @@ def test_hierarchy_meshes_and_ground(exported) -> None:
     assert [c.GetName() for c in ground.GetChildren()][0] == "floor"
 
 
+def test_display_colours_are_linear_as_the_gltfs(exported) -> None:
+    """USD takes a displayColor with no colour space authored as linear Rec.709; the export
+    wrote the .leg's sRGB numbers, shown lighter and greyer than the .leg's colour and the
+    glTF's (linear) baseColorFactor."""
+    from legdsl.export.gltf import build_gltf
+    from legdsl.export.shapes import hex_rgb
+
+    motion, paths = exported
+    stage = Usd.Stage.Open(str(paths["usda"]))
+    gltf = build_gltf(motion)
+    nodes = {n.name: n for n in gltf.nodes}
+    for body, link in zip(motion.bodies, link_paths(motion), strict=True):
+        shown = UsdGeom.Mesh(stage.GetPrimAtPath(f"{link}/shape")).GetDisplayColorAttr().Get()[0]
+        primitive = gltf.meshes[nodes[body.name].mesh].primitives[0]
+        linear = gltf.materials[primitive.material].pbrMetallicRoughness.baseColorFactor[:3]
+        assert np.allclose(list(shown), linear, atol=1e-6), body.name
+        srgb = hex_rgb((body.color or "#9a9a9a").lower())
+        assert not np.allclose(list(shown), srgb, atol=1e-3), body.name  # not the sRGB numbers
+
+
 def test_time_samples_replay_the_run(exported) -> None:
     motion, paths = exported
     stage = Usd.Stage.Open(str(paths["usd"]))

@@ -6,7 +6,7 @@ default prim ``/CREATURE`` is an ``Xform`` holding the link tree as nested
 time-sampled ``xformOp:translate`` and ``xformOp:orient`` ops: the link's pose
 relative to its parent, one sample per frame, so that the prims move the way
 the joints do. Each link prim has a ``Mesh`` child ``shape`` (its drawing
-shape, with normals, ``displayColor`` and an extent). The ground and terrain
+shape, with normals, ``displayColor`` in linear RGB and an extent). The ground and terrain
 are meshes under ``/CREATURE/ground``. Time codes are frame numbers from 0:
 ``timeCodesPerSecond`` and ``framesPerSecond`` are the frame rate, and
 ``startTimeCode``/``endTimeCode`` the run's first and last frames.
@@ -26,7 +26,7 @@ import numpy as np
 from legdsl import __version__
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, free_name, ground_area
-from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb
+from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
 from legdsl.files import atomic_path, free_bytes, refused_in
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.optional import not_installed
@@ -64,7 +64,10 @@ def _mesh(stage: Any, path: str, mesh: Mesh, color: str) -> None:
     prim.CreateNormalsAttr(normals)
     prim.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
     prim.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
-    prim.CreateDisplayColorAttr(Vt.Vec3fArray([Gf.Vec3f(*hex_rgb(color))]))
+    # linear Rec.709, USD's colour space where none is authored (as the glTF's baseColorFactor):
+    # the .leg's sRGB numbers as they are were shown lighter and greyer (#d09863 for #a05020)
+    linear = (srgb_to_linear(c) for c in hex_rgb(color))
+    prim.CreateDisplayColorAttr(Vt.Vec3fArray([Gf.Vec3f(*linear)]))
     lo, hi = mesh.bounds
     prim.CreateExtentAttr(Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))]))
 
