@@ -159,6 +159,19 @@ def test_the_player_frames_the_mite_and_grids_its_ground(mite: Scaled) -> None:
     )
 
 
+def test_the_players_footprints_keep_a_millionth_of_the_mites_size(mite: Scaled) -> None:
+    """Footprints were rounded to 5 decimals (10 um, 1.4% of the 0.7 mm mite) whatever the size;
+    a 53 um creature's were a tenth of it off the touchdown point."""
+    from legdsl.export.player import player_data
+
+    motion = mite.motion(MITE_FPS)
+    data = player_data(motion)
+    assert motion.footprints and len(data["footprints"]) == len(motion.footprints)
+    for row, fp in zip(data["footprints"], motion.footprints, strict=True):
+        assert abs(row[0] - fp.t) <= 1e-9
+        assert np.abs(np.array(row[2:]) - fp.position).max() <= 1e-6 * data["size"]
+
+
 def test_the_3d_videos_near_plane_does_not_cut_a_small_creature() -> None:
     from legdsl.export.video_views import _Camera
 
