@@ -7,6 +7,7 @@ import contextlib
 import os
 import signal
 import threading
+import time
 import types
 from collections.abc import Iterator
 from pathlib import Path
@@ -450,3 +451,28 @@ def test_a_threaded_run_batch_builds_its_c_libraries_in_the_calling_thread(
     assert [r.status for r in runs] == ["ok"] * 5
     assert len(building) == 2  # the hop's library, and the one of no controller
     assert all(thread is threading.main_thread() for thread in building)
+
+
+def test_a_ctrl_c_while_the_copies_run_leaves_them_as_they_stopped(roo: RunSession) -> None:
+    """A Ctrl-C as the batch waited on its threads (Python 3.11's Thread.join, cut short, marks
+    the thread ended) let the copies be read while C ran on to its step budget: an outside
+    user's copy said 32.0 s and 80000 steps in its Run, 24.85 s in the batch's sim_time, its
+    samples stopping at 24.86 s. The copies are read once C has returned."""
+    timers: list[threading.Timer] = []
+
+    def ctrl_c_soon(done: int, n: int, left: float) -> None:  # the copies are running
+        if not timers:
+            timers.append(threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)))
+            timers[0].start()
+
+    copies = Batch(roo, 4, "hop", options=RunOptions(duration=400.0)).run(1, ctrl_c_soon)
+    assert copies.interrupted == "SIGINT (Ctrl-C)"
+    read = copies.sim_time.copy(), copies.steps.copy(), copies.recorded.copy()
+    time.sleep(0.5)  # C, still running, would move them on
+    now = [[getattr(s, f) for s in copies.structs] for f in ("t", "steps", "recorded")]
+    assert [list(a) for a in read] == now
+    cut = [k for k in range(4) if 0 < copies.sim_time[k] < 400.0]
+    for k in cut:
+        result = copies.result(k)
+        assert result.sim_time == copies.sim_time[k] and result.steps == copies.steps[k]
+        assert result.trajectory.t[-1] <= result.sim_time < result.trajectory.t[-1] + 0.02
