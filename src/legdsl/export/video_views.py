@@ -5,7 +5,8 @@
   section;
 * ``PerspectiveView``, for 3D creatures: a perspective view from the player's default
   camera; the links' triangle meshes are projected, shaded by a fixed light, sorted back to
-  front and drawn with their shadows on the ground.
+  front and drawn with their shadows on the ground and the terrain's tops
+  (``legdsl.export.video_shadows``).
 
 The camera follows the mass centre horizontally at a fixed height, raised smoothly only where
 the creature would leave the frame at the top (``legdsl.export.player.camera``, the player's
@@ -25,11 +26,13 @@ from legdsl.export.motion import Footprint, Motion, Snapshot, slope_tangent, ter
 from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.player.camera import camera_lift
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
+from legdsl.export.video_shadows import ground_shadows, lies_on
 
 SKY = "#eef0f3"
 GROUND = "#d9d9d6"
 GROUND_EDGE = "#9c9c96"
 TERRAIN = "#c2c2bc"
+SHADOW = "#a9a9a4"
 FORCE = "#d2401e"
 TRAIL = "#c0208a"
 FOOTPRINT_COLORS = ("#1f5fbf", "#2a9d4b", "#b8860b", "#8e44ad", "#16a085", "#c0392b")
@@ -299,7 +302,7 @@ class PerspectiveView(View):
         self.ground = PolyCollection([], facecolors=GROUND, edgecolors="none", zorder=0)
         self.grid = LineCollection([], colors="#b2b2ac", linewidths=0.7, zorder=1)
         self.shadows = PolyCollection(
-            [], facecolors="#a9a9a4", edgecolors="#a9a9a4", linewidths=0.3, zorder=2
+            [], facecolors=SHADOW, edgecolors=SHADOW, linewidths=0.3, zorder=2
         )
         self.prints = PolyCollection([], edgecolors="none", alpha=0.8, zorder=3)
         self.trail = LineCollection([], colors=TRAIL, linewidths=1.6, zorder=50)
@@ -378,7 +381,8 @@ class PerspectiveView(View):
 
         # Terrain blocks and the creature, sorted back to front together.
         faces: list[tuple[float, np.ndarray, Any]] = []
-        shadows: list[np.ndarray] = []
+        shadows: list[np.ndarray] = []  # on the floor or the slope
+        raised: list[np.ndarray] = []  # on a step's or a box's top
         for mesh, color, p, r in zip(
             self.meshes, self.colors, snap.positions, snap.rotations, strict=True
         ):
@@ -393,14 +397,22 @@ class PerspectiveView(View):
                 if front:
                     depth = float(cam.to_camera(tri.mean(axis=0, keepdims=True))[0, 2])
                     faces.append((depth, tri, _shade(tuple(color), 0.55 + 0.6 * lit)))
-            if not m.terrain:
-                # Shadow on z = 0 along the light.
-                shadow = tris - (tris[..., 2:3] / self.LIGHT[2]) * self.LIGHT
-                shadows.extend(shadow)
+            cast, top = ground_shadows(m.terrain, tris, self.LIGHT)
+            shadows.extend(cast[top == 0])
+            raised.extend(cast[top > 0])
+        tops = []  # each block's top face and its depth: a shadow on it is drawn just after it
         for box in _terrain_boxes(m, cx, cy, reach):
-            for face in box:
+            for k, face in enumerate(box):
                 depth = float(cam.to_camera(face.mean(axis=0, keepdims=True))[0, 2])
                 faces.append((depth, face, hex_rgb(TERRAIN)))
+                if k == 0:
+                    tops.append((face, depth))
+        for shadow in raised:
+            centre = shadow.mean(axis=0)
+            for face, depth in tops:
+                if lies_on(face, centre):
+                    faces.append((depth - 1e-9 * abs(depth), shadow, hex_rgb(SHADOW)))
+                    break
         faces.sort(key=lambda f: -f[0])
         polys = [f[1] for f in faces]
         flat = []
