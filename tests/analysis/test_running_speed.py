@@ -22,6 +22,8 @@ def test_a_weighted_mean_counts_each_stride_by_its_duration() -> None:
     row = stat("running_speed", "running speed (m/s)", speeds, durations)
     assert row.value == pytest.approx((2.0 * 0.25 + 0.5 * 1.0) / 1.25)
     assert row.std == pytest.approx(np.std([2.0, 0.5], ddof=1)) and row.n == 2
+    # and says so (metrics.json's "how" said "mean", a reader's plain mean of the strides)
+    assert row.how == "weighted mean" and stat("k", "l", speeds).how == "mean"
 
 
 def test_the_bounds_running_speed_is_its_distance_over_its_strides_time(generated: Path) -> None:

@@ -85,8 +85,9 @@ class Summary:
     value: float
     std: float  # sample standard deviation; NaN for a maximum or fewer than two values
     n: int  # how many values went in
-    how: str = "mean"  # or "max", or "min" (n: how many samples fall below 0), or "total"
-    # over the window (n: its samples)
+    # "mean", "weighted mean" (the running speed's, by the strides' durations; std unweighted),
+    # "max", "min" (n: how many samples fall below 0), or "total" over the window (n: its samples)
+    how: str = "mean"
 
 
 @dataclass

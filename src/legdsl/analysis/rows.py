@@ -27,7 +27,8 @@ def stat(
     else:
         mean = float(np.mean(x)) if x.size else math.nan
     std = float(np.std(x, ddof=1)) if x.size > 1 else math.nan
-    return Summary(key, label, mean, std, int(x.size))
+    how = "mean" if weights is None else "weighted mean"
+    return Summary(key, label, mean, std, int(x.size), how)
 
 
 def summary_rows(
