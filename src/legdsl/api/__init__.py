@@ -211,7 +211,7 @@ class Creature:
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
         unreached = plan.pop("unreached")  # told here, and no argument of the run
         if self.session.note is not None:
-            notes.before_run(self.model, plan, passive_asked, unreached)
+            notes.before_run(self.model, plan, passive_asked, unreached, self.session)
 
     def _after(self, done: Any) -> None:
         if self.session.note is not None:

@@ -67,12 +67,18 @@ NOT_GIVEN: Any = _NotGiven()
 
 
 def before_run(
-    model: Model, plan: dict[str, Any], passive_asked: bool = False, unreached: Sequence[str] = ()
+    model: Model,
+    plan: dict[str, Any],
+    passive_asked: bool = False,
+    unreached: Sequence[str] = (),
+    session: Any = None,
 ) -> None:
     """What ``legdsl run`` notes before a run (the session notes the rest as it prepares);
     ``passive_asked``: the caller wrote controller=None, so a passive run is not news;
-    ``unreached``: the notes of settings for gait bands the run never reaches."""
+    ``unreached``: the notes of settings for gait bands the run never reaches; ``session``
+    (a ``RunSession``) gives the controller's module, for the actuator settings it writes."""
     from legdsl.pipeline.options import notes_before_run
+    from legdsl.pipeline.settings import overwritten_notes
 
     for note in [*unreached, *notes_before_run(plan["settings"], plan["options"], model)]:
         warn(note)
@@ -80,6 +86,8 @@ def before_run(
     if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it
         warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "
              f"(the file has {', '.join(names)}), or controller=None for a passive run")  # fmt: skip
+    for note in overwritten_notes(plan["settings"], plan["controller"], session):
+        warn(f"set {note}")
 
 
 def after_run(done: Any) -> None:

@@ -41,6 +41,7 @@ from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.report import ProgressLog
 from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
+from legdsl.sim.machine import overwritten
 from legdsl.sim.run_loop import Interrupted
 
 Command = Callable[[argparse.Namespace], int]
@@ -141,7 +142,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from legdsl.api import load
 
     session = load(args.file, args.creature, args.generated).session
-    session.control(args.controller)
+    module = session.control(args.controller)
+    swept = [(f"--{a.kind} {a.name}", a.name) for a in axes]
+    for flag, name in [*swept, *((f"--set {t}", t.partition("=")[0].strip()) for t in args.set)]:
+        if said := overwritten(name, args.controller, module):  # every row alike, unsaid
+            print(f"legdsl: note: {flag}: {said}", file=sys.stderr)
     _refuse_too_stiff(session, args, axes, dims, combos)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -84,7 +84,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.scaled import check_scale, check_scaled_defaults, run_options
     from legdsl.pipeline.scenes import switches_not_made
     from legdsl.pipeline.session import RunSession
-    from legdsl.pipeline.settings import refuse_repeated
+    from legdsl.pipeline.settings import overwritten_notes, refuse_repeated
 
     values = {
         field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
@@ -145,6 +145,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         sources = scene_sources(scene)
     for note in [*unreached, *notes_before_run(settings, options, session.model, sources)]:
         print(f"legdsl: note: {note}", file=sys.stderr)
+    for note in overwritten_notes(settings, controller, session):
+        print(f"legdsl: note: --set {note}", file=sys.stderr)
     out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
     if (cramped := space_note(out, "--out", options, session.model)) is not None:
         print(f"legdsl: note: {cramped}", file=sys.stderr)

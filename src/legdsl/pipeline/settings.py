@@ -35,7 +35,7 @@ from legdsl.lang.units import (
     parse_unit,
     unknown_unit,
 )
-from legdsl.sim.machine import InputChange
+from legdsl.sim.machine import InputChange, overwritten
 from legdsl.sim.switching import starting_values
 
 NUMBER_AND_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
@@ -472,3 +472,18 @@ def refuse_repeated(texts: Sequence[str]) -> None:
         if name in seen:
             raise UsageError(f"--set {seen[name]} and --set {text} both set {name}: keep one")
         seen[name] = text
+
+
+def overwritten_notes(settings: Sequence[str], controller: str | None, session: Any) -> list[str]:
+    """``TEXT: why`` for each ``--set`` text of an actuator setting that ``controller`` writes
+    itself (``legdsl.sim.machine.overwritten``); none while the settings hold a mistake, which
+    the run tells alone."""
+    if controller is None or session is None:
+        return []
+    try:
+        sort_settings(list(settings), session.model, controller)
+    except UsageError:
+        return []
+    module = session.control(controller)
+    said = [(t, overwritten(t.partition("=")[0].strip(), controller, module)) for t in settings]
+    return [f"{text}: {why}" for text, why in said if why]

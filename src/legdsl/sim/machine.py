@@ -298,3 +298,35 @@ class StateMachine:
                 raise self._fault("place", key, args, t, self.state_index, error, i) from None
             for servo, value in zip(servos, solved, strict=True):
                 sim.actuators.by_name[servo].set("setpoint", value)
+
+
+def settings_written(module: ModuleType) -> dict[str, list[str]]:
+    """Each actuator setting a controller's actions write (``hip_servo.kp``; a ``place``'s
+    servos, their setpoint), with the states that write it."""
+    names, places = module.STATE_NAMES, getattr(module, "PLACES", {})
+    written: dict[str, list[str]] = {}
+    for key, targets in module.SETTINGS.items():
+        placed = [(servo, "setpoint") for _, _, servos in places.get(key, ()) for servo in servos]
+        for actuator, setting in (*targets, *placed):
+            states = written.setdefault(f"{actuator}.{setting}", [])
+            if names[key[1]] not in states:
+                states.append(names[key[1]])
+    return written
+
+
+def overwritten(name: str, controller: str, module: ModuleType) -> str | None:
+    """What becomes of a value given to actuator setting ``name`` (``--set``, ``--grid``) that
+    the controller writes itself: none where it does not (a swept servo gain the controller
+    set gave identical rows, unsaid)."""
+    states = settings_written(module).get(name)
+    if not states:
+        return None
+    which = f"state{'s' if len(states) > 1 else ''} {', '.join(states)}"
+    if len(states) == len(module.STATE_NAMES):
+        which = "every state"
+    if module.STATE_NAMES[module.START] in states:  # written at the first tick: never used
+        return (f"controller '{controller}' sets {name} itself in {which}, from its first "
+                "tick, so a value given has no effect; give one to the parameter it sets it "
+                "from")  # fmt: skip
+    return (f"controller '{controller}' sets {name} itself in {which}: a value given holds "
+            "only until the run first enters one")  # fmt: skip
