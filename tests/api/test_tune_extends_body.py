@@ -64,3 +64,21 @@ def test_a_controller_that_extends_the_tuned_one_keeps_its_values(tmp_path: Path
     assert params(out, "quick") == params(source, "quick")  # its own lead, run's kp kept
     quick = out.read_text().partition("controller quick")[2]
     assert "param kp = 510 N*m/rad" in quick and quick.count("param lead") == 1  # its own
+
+
+def test_a_controller_named_as_another_creatures_is_tuned_in_its_own_body(tmp_path: Path) -> None:
+    """An outside user's file of two creatures, each with its `controller hop for ...`: tuning
+    heavy's kp added `param kp` to both controllers named hop (the first taken as the tuned
+    one), and the tuned file, kp declared twice in each, did not load."""
+    head, _, control = (ROOT / "creatures" / "hopper.leg").read_text().partition("controller hop {")
+    body = head[head.index("creature hopper") :].replace("creature hopper", "creature heavy")
+    source = tmp_path / "two.leg"
+    source.write_text(f"{head}{body}controller hop for hopper {{{control}\n"
+                      f"controller hop for heavy {{{control}")  # fmt: skip
+    model = check_model(source, "heavy")
+    out = write_tuned(source, model.controller("hop"), {"kp": 162.5}, tmp_path / "out" / "two.leg",
+                      model.controllers)  # fmt: skip
+    kp = {c: check_model(out, c).controller("hop").params for c in ("hopper", "heavy")}
+    assert {p.name: p.value for p in kp["heavy"]}["kp"] == 162.5
+    assert {p.name: p.value for p in kp["hopper"]}["kp"] == 150.0
+    assert out.read_text().count("param kp") == source.read_text().count("param kp")

@@ -35,18 +35,18 @@ def write_tuned(
     tree, text = parse_file(source)
     spans = declared_in(source, controller, values)
     edits = []
-    # declarations added to a controller: the tuned one's own, and the old values of those
-    # that extend it
-    added: dict[str, list[str]] = {controller.name: []}
+    # declarations added to a controller (by its span): the tuned one's own, and the old
+    # values of those that extend it
+    added: dict[Any, list[str]] = {controller.span: []}
     found = set()
-    own = next((d for d in tree.controllers if d.name.name == controller.name), None)
+    own = _declaration(tree, controller)
     # a parameter is declared by the controller, a controller it extends, or a shared part
     declared: list[tuple[object, ast.ControllerItem | ast.SharedItem]] = [
         (decl, item) for decl in tree.controllers for item in decl.items
     ] + [(part, item) for part in tree.shared for item in part.items]
     for name, span in spans.items():  # declared in another file: overridden here
         if span.file != str(source):
-            added[controller.name].append(
+            added[controller.span].append(
                 f"param {name} = {_value_edit(_param_decl(span), values[name])[3]}"
             )
             found.add(name)
@@ -56,14 +56,14 @@ def write_tuned(
             if isinstance(decl, ast.ControllerDecl) and decl is not own and own is not None:
                 # declared by the controller it extends: overridden in the tuned one, so the
                 # other controller keeps its value
-                added[controller.name].append(f"param {item.name.name} = {new}")
+                added[controller.span].append(f"param {item.name.name} = {new}")
             else:
                 edits.append((line, col, end, new))
             found.add(item.name.name)
     if missing := sorted(set(spans) - found):
         raise UsageError(f"cannot find where {', '.join(missing)} is declared in {source}")
-    for name, kept in _kept_by_extenders(tree, controller, others, spans).items():
-        added.setdefault(name, []).extend(kept)
+    for span, kept in _kept_by_extenders(tree, controller, others, spans).items():
+        added.setdefault(span, []).extend(kept)
     lines = text.split("\n")
     edits += _uses_moved(tree, lines, source, out)
     for line, col, end, new in sorted(edits, reverse=True):  # no line added yet: in place
@@ -73,9 +73,11 @@ def write_tuned(
             gap = len(rest) - len(rest.lstrip()) - (len(new) - (end - col))
             rest = " " * max(1, gap) + rest.lstrip()
         lines[line - 1] = row[: col - 1] + new + rest
-    bodies = [d for d in tree.controllers if added.get(d.name.name)]
+    if own is not None:  # as the tree has it
+        added[own.span] = added.pop(controller.span)
+    bodies = [d for d in tree.controllers if added.get(d.span)]
     for decl in sorted(bodies, key=lambda d: (d.span.line, d.span.col), reverse=True):
-        lines = _declared_first(lines, decl, added[decl.name.name])  # from the end: lines move
+        lines = _declared_first(lines, decl, added[decl.span])  # from the end: lines move
     write_atomic(out, "\n".join(lines))
     return out
 
@@ -88,18 +90,28 @@ def _kept_by_extenders(
 ) -> dict[str, list[str]]:
     """The declarations that keep the old values of the tuned parameters in each controller
     of the file that ``extends`` the tuned one and takes them from it (it was retuned too,
-    unsaid): by the controller's name. Its own extenders then take them from it."""
+    unsaid): by the controller's span. Its own extenders then take them from it."""
     old = {c.name: c for c in controller.params}
-    children = {d.name.name for d in tree.controllers if d.base and d.base.name == controller.name}
-    kept: dict[str, list[str]] = {}
+    children = {d.span for d in tree.controllers if d.base and d.base.name == controller.name}
+    kept: dict[Any, list[str]] = {}
     for other in others:
-        if other.name not in children:
+        if other.span not in children:
             continue
         for p in other.params:  # the same declaration as the tuned one's: it takes it
             if p.name in spans and p.span == old[p.name].span:
                 text = _value_edit(_param_decl(p.span), old[p.name].value)[3]
-                kept.setdefault(other.name, []).append(f"param {p.name} = {text}")
+                kept.setdefault(other.span, []).append(f"param {p.name} = {text}")
     return kept
+
+
+def _declaration(tree: ast.SourceFile, controller: Controller) -> ast.ControllerDecl | None:
+    """The tuned controller's declaration in the file: by its place, as two creatures' may
+    share a name (``controller hop for heavy``: the first 'hop' was taken, the other
+    creature's, and the tuned file declared kp twice in both)."""
+    named = [d for d in tree.controllers if d.name.name == controller.name]
+    return next(
+        (d for d in named if d.span == controller.span), named[0] if len(named) == 1 else None
+    )
 
 
 def _declared_first(lines: list[str], decl: ast.ControllerDecl, added: list[str]) -> list[str]:
