@@ -272,7 +272,7 @@ def _sweep_into(
     except (KeyboardInterrupt, Interrupted):
         done = len(read_table(out / "sweep.csv"))
         kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
-                f"no run had finished, so {out / 'sweep.csv'} was not begun")  # fmt: skip
+                f"no run's row had come back, so {out / 'sweep.csv'} was not begun")  # fmt: skip
         print(f"legdsl: sweep interrupted: {kept}; the same command again runs the other "
               f"{len(jobs) - done}", file=sys.stderr)  # fmt: skip
         raise
