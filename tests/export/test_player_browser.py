@@ -198,3 +198,37 @@ def test_a_lost_webgl_context_falls_back_to_a_flat_drawing(
     assert browser.evaluate("document.getElementById('message').textContent") == ""
     # WebGL's own message about the lost context is a warning, not a page error
     assert [e for e in browser.errors() if "CONTEXT_LOST" not in e] == []
+
+
+def test_a_creature_under_a_fifth_of_a_millimetre_stands_on_its_ground(
+    browser: Chromium, tmp_path: Path
+) -> None:
+    """The hopper scaled to 0.18 mm: its ground quad stayed 16 m wide, seen from half a
+    millimetre, and was drawn over the creature's trunk and legs, with no grid."""
+    from anim_runs import generated_dir
+    from conftest import CREATURES as SHIPPED
+
+    from legdsl.cli import main
+    from legdsl.export.motion import load_motion
+
+    leg, run = tmp_path / "tiny.leg", tmp_path / "run"
+    assert main(["scale", str(SHIPPED / "hopper.leg"), "--by", "0.0003", "-o", str(leg)]) == 0
+    argv = ["run", str(leg), "--time", "0.01", "--out", str(run)]
+    assert main([*argv, "--generated", str(generated_dir())]) == 0
+    motion = load_motion(run, fps=1000, generated=generated_dir())
+    page = tmp_path / "animation.html"
+    write_player(motion, page)
+    browser.open_player(page)
+    assert browser.errors() == []
+    trunk = motion.bodies[0]
+    browser.evaluate("legdsl.setOverlays({com: false, forces: false}); legdsl.setTime(0)")
+    centre = browser.evaluate(f"legdsl.project(...legdsl.bodyPoint(0, {list(trunk.shape.center)}))")
+    shot = pixels(browser.screenshot())
+    keep(browser.screenshot(), "player-tiny.png", tmp_path)
+    # the trunk (#506880, shaded) is bluish where its centre is drawn, not the ground's grey
+    bluish = shot[..., 2] - shot[..., 0] > 0.04
+    assert around(bluish, centre, 4).mean() > 0.8
+    # below the creature the ground's light grey tone (its grid's cells), not one flat darker
+    # polygon (0.57) or the sky (0.94) behind its slanted edge
+    tone = shot[int(centre[1]) + 150 : HEIGHT - 60].mean(axis=2)
+    assert ((tone > 0.72) & (tone < 0.88)).mean() > 0.5

@@ -145,8 +145,9 @@ renderer.domElement.addEventListener("webglcontextrestored", () => {
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef0f3);
 scene.fog = new THREE.Fog(0xeef0f3, 1.5 * data.distance, 4.5 * data.distance);
-// near and far follow the creature's size: 5 cm would cut a 0.7 mm mite, 500 m hide a giant's ground
-const camera = new THREE.PerspectiveCamera(35, 1, Math.min(0.05, data.distance / 20), Math.max(500, 50 * data.distance));
+// near and far follow the creature's size: 5 cm would cut a 0.7 mm mite, 500 m hide a giant's
+// ground, and 500 m seen from half a millimetre left the depth buffer no precision for a mite
+const camera = new THREE.PerspectiveCamera(35, 1, Math.min(0.05, data.distance / 20), Math.max(Math.min(500, 5000 * data.distance), 50 * data.distance));
 camera.up.set(0, 0, 1);
 
 scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8a80, 1.9));
@@ -156,7 +157,9 @@ sun.shadow.mapSize.set(1024, 1024);
 sun.shadow.bias = -0.0005; // no shadow acne on flat faces lit at a grazing angle
 sun.shadow.normalBias = 0.01 * data.size;
 const shadowBox = 1.5 * data.size;
-Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: Math.min(0.1, data.size), far: 20 * data.size + 10 });
+// the shadow camera's depth range follows the size too: the bias is a share of it, and 10 m of
+// it pushed a 0.2 mm mite's shadow off the ground
+Object.assign(sun.shadow.camera, { left: -shadowBox, right: shadowBox, top: shadowBox, bottom: -shadowBox, near: Math.min(0.1, data.size), far: 20 * data.size + Math.min(10, 20 * data.size) });
 scene.add(sun, sun.target);
 
 // Ground and terrain. The ground's grid is a texture rather than lines: it is
@@ -203,7 +206,7 @@ const slope = data.ground.terrain.find((t) => t.kind === "slope");
 scene.add(ground);
 // A planar creature's terrain runs across the whole ground in y; drawn so, it would pass
 // behind the side view's camera and fill the picture. Its blocks are a band around y = 0.
-const band = data.planar ? 0.6 * data.size + 0.2 : Infinity;
+const band = data.planar ? 0.6 * data.size + Math.min(0.2, data.size) : Infinity; // a mite's camera is under a millimetre away
 const [ty0, ty1] = [Math.max(gy0, -band), Math.min(gy1, band)];
 for (const t of data.ground.terrain) {
   let box = null;
@@ -242,7 +245,7 @@ for (const p of data.paths || []) {
     for (const [k, side] of [[0, 1], [1, -1]]) {
       vertices[6 * i + 3 * k] = pts[3 * i] - side * ty * pathWidth / 2;
       vertices[6 * i + 3 * k + 1] = pts[3 * i + 1] + side * tx * pathWidth / 2;
-      vertices[6 * i + 3 * k + 2] = pts[3 * i + 2] + 0.003; // just above the ground
+      vertices[6 * i + 3 * k + 2] = pts[3 * i + 2] + Math.min(0.003, 0.01 * data.size); // just above the ground
     }
   }
   const indices = [];
