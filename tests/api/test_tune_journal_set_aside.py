@@ -84,3 +84,23 @@ def test_a_finished_tune_goes_further_with_more_generations(tmp_path: Path) -> N
     assert tuned(fresh, 2) == 0
     assert (out / "tune.json").read_bytes() == (fresh / "tune.json").read_bytes()
     assert (out / "hopper.leg").read_bytes() == (fresh / "hopper.leg").read_bytes()
+
+
+def test_the_options_that_differ_are_each_named_alone(tmp_path: Path) -> None:
+    """An outside user's tune with only --time changed was told '--speeds, --time, --from or
+    objective weights'; after the file's kp was edited (the bounds as they were) it was told
+    '--param bounds' beside the controller."""
+    bound = {"name": "kp", "low": 50.0, "high": 300.0, "start": 150.0}
+    plan = {
+        **PLAN,
+        "bounds": [bound],
+        "objective": {"speeds": [1.5], "duration": 6.0, "start": 2.0},
+    }
+    stopped(tmp_path, plan)
+    longer = {**plan, "objective": {**plan["objective"], "duration": 7.0}}
+    assert Journal.open(tmp_path, longer).set_aside == "it is of a tune with other --time"
+    edited = {**plan, "controller": "k2", "bounds": [{**bound, "start": 160.0}]}
+    said = Journal.open(tmp_path, edited).set_aside
+    assert said == "it is of a tune with other controller (or its file changed)"
+    wider = {**plan, "bounds": [{**bound, "high": 400.0}]}
+    assert Journal.open(tmp_path, wider).set_aside == "it is of a tune with other --param bounds"

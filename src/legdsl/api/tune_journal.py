@@ -31,6 +31,12 @@ PLAN_WORDS = {
     "popsize": "--popsize",
     "seed": "--seed",
 }
+# the objective's fields as the command gives them
+OBJECTIVE_WORDS = {
+    "speeds": "--speeds", "duration": "--time", "start": "--from", "table2": "--table2",
+    "table2_weight": "--table2-weight", "energy_weight": "--energy-weight",
+    "spread_weight": "--spread-weight", "pitch_weight": "--pitch-weight",
+}  # fmt: skip
 
 
 @dataclass
@@ -55,7 +61,7 @@ class Journal:
         except (OSError, UnicodeDecodeError, ValueError):
             data = None
         if isinstance(data, dict) and isinstance(data.get("plan"), dict) and data["plan"] != plan:
-            other = [PLAN_WORDS.get(k, k) for k in plan if data["plan"].get(k) != plan[k]]
+            other = _differing(data["plan"], plan)
             journal.set_aside = f"it is of a tune with other {', '.join(other) or 'settings'}"
             return journal
         start, generations = (data or {}).get("start"), (data or {}).get("generations")
@@ -72,6 +78,29 @@ class Journal:
     def save(self) -> None:
         data = {"plan": self.plan, "start": self.start, "generations": self.generations}
         write_atomic(self.path, json.dumps(data, default=float) + "\n")
+
+
+def _differing(before: dict[str, Any], plan: dict[str, Any]) -> list[str]:
+    """The options (or the file) that differ between a journal's plan and this tune's, each
+    named alone: it named '--param bounds' where only the file's value of a parameter (a
+    bound's start) had changed, and four options where --time alone had."""
+    other: list[str] = []
+    for key, value in plan.items():
+        was = before.get(key)
+        if was == value:
+            continue
+        if key == "objective" and isinstance(was, dict) and isinstance(value, dict):
+            other += [OBJECTIVE_WORDS.get(str(k), str(k)) for k in value if was.get(k) != value[k]]
+        elif key != "bounds" or _without_starts(was) != _without_starts(value):
+            other.append(PLAN_WORDS.get(key, key))
+    return other
+
+
+def _without_starts(bounds: object) -> object:
+    """Bounds as the command gives them: their starts are the file's values (its digest)."""
+    if not isinstance(bounds, list) or not all(isinstance(b, dict) for b in bounds):
+        return bounds
+    return [{k: v for k, v in b.items() if k != "start"} for b in bounds]
 
 
 def _runs(rows: object) -> bool:
