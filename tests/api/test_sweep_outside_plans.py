@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.api.sweep_cli import _largest
+from legdsl.api.sweep_cli import _largest, _plan_differs
 from legdsl.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -85,3 +85,26 @@ def test_a_row_that_is_not_the_plans_is_told_by_its_line(
     assert main(sweep(tmp_path, "--grid", "speed=0.5,1")) == 2
     err = capsys.readouterr().err
     assert f"sweep.csv is damaged {message}" in err, err
+
+
+def test_a_fixed_setting_in_other_units_is_the_same_sweep(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--set speed=150cm/s` after `--set speed=1.5m/s` was refused as another sweep, where
+    grid values in other units were taken as the same."""
+    assert main(sweep(tmp_path, "--grid", "k_speed=0.04,0.08", "--set", "speed=1.5m/s")) == 0
+    capsys.readouterr()
+    assert main(sweep(tmp_path, "--grid", "k_speed=40ms,80ms", "--set", "speed=150cm/s")) == 0
+    assert "2 runs, 2 of them from before" in capsys.readouterr().out
+    assert main(sweep(tmp_path, "--grid", "k_speed=0.04,0.08", "--set", "speed=1.4m/s")) == 2
+    assert "holds another sweep (other --set)" in capsys.readouterr().err
+
+
+def test_another_creature_of_the_file_is_named_as_the_difference() -> None:
+    """A sweep of `--creature heavy`, then `--creature hopper` into the same --out, was told
+    "the .leg file's creature or controller has changed since its rows were run"."""
+    plan = {"file": "two.leg", "creature": "hopper", "controller": "hop", "set": [],
+            "creature_digest": "a", "controller_digest": "b"}  # fmt: skip
+    before = {**plan, "creature": "heavy", "creature_digest": "c", "controller_digest": "d"}
+    assert _plan_differs(before, plan) == "other --creature"
+    assert _plan_differs({**plan, "time": 2.0}, {**plan, "time": 3.0}) == "other --time"

@@ -40,7 +40,7 @@ from legdsl.lang.units import Dim
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.report import ProgressLog
-from legdsl.pipeline.settings import refuse_repeated, require_controller, sort_settings
+from legdsl.pipeline.settings import parse_given, refuse_repeated, require_controller, sort_settings
 from legdsl.sim.machine import overwritten
 from legdsl.sim.run_loop import Interrupted
 
@@ -214,7 +214,8 @@ def _sweep_into(
     combos: list[dict[str, float]],
 ) -> int:
     """The sweep, its lock held: the plan, the runs, the table's copies and the map."""
-    plan = {"file": str(args.file), "controller": args.controller, "time": args.time,
+    plan = {"file": str(args.file), "creature": model.name, "controller": args.controller,
+            "time": args.time,
             "from": args.t_from, "set": args.set, "runs": combos,
             # what the file says, so that rows of an edited file are not mixed with the new
             "creature_digest": creature_fingerprint(model),
@@ -225,7 +226,9 @@ def _sweep_into(
     plan_file = out / "sweep.json"
     planned_before = plan_file.is_file()
     before_plan = _plan_in(plan_file) if planned_before else plan
-    if before_plan != plan:
+    if isinstance(before_plan, dict):  # an older legdsl's plan names no creature: its digest
+        before_plan = {"creature": model.name, **before_plan}
+    if _comparable(before_plan) != _comparable(plan):
         digests = ("creature_digest", "controller_digest", "simulation")
         edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
             isinstance(before_plan, dict)
@@ -330,7 +333,8 @@ def _say_unmeasured(
 
 # the plan's parts as the command gives them, to say which differ from the one in OUT
 _PLAN_WORDS = {
-    "file": ".leg file", "controller": "--controller", "time": "--time", "from": "--from",
+    "file": ".leg file", "creature": "--creature", "controller": "--controller",
+    "time": "--time", "from": "--from",
     "set": "--set", "runs": "swept values (--grid, --random, --lhs, --samples, --seed)",
     "creature_digest": "creature (the .leg file changed)",
     "controller_digest": "controller (or its file changed)",
@@ -342,8 +346,33 @@ def _plan_differs(before: object, plan: dict[str, Any]) -> str:
     """What differs between the plan in OUT's sweep.json and this sweep's, in words."""
     if not isinstance(before, dict):
         return "its sweep.json is damaged"
-    other = [_PLAN_WORDS.get(k, k) for k in plan if before.get(k) != plan[k]]
+    mine, theirs = _comparable(plan), _comparable(before)
+    keys = [k for k in plan if theirs.get(k) != mine[k]]
+    if "file" in keys or "creature" in keys:  # whose digests differ with them, unsaid
+        keys = [k for k in keys if not k.endswith("_digest")]
+    other = [_PLAN_WORDS.get(k, k) for k in keys]
     return f"other {', '.join(other)}" if other else "its sweep.json differs"
+
+
+def _comparable(plan: Any) -> Any:
+    """A plan with its --set values in SI units: ``speed=150cm/s`` is ``speed=1.5m/s``'s sweep
+    (it was refused as another, where the grid's values in other units were not)."""
+    if not isinstance(plan, dict) or not isinstance(plan.get("set"), list):
+        return plan
+    return {**plan, "set": sorted(map(_setting_in_si, plan["set"]), key=repr)}
+
+
+def _setting_in_si(text: object) -> object:
+    """``NAME=VALUE[@T]`` as (NAME, VALUE, T) in SI units; as it is where it does not read."""
+    if not isinstance(text, str):
+        return text
+    name, _, value = text.partition("=")
+    value, at, when = value.partition("@")
+    try:
+        numbers = [parse_given(v, "--set").value for v in (value, *([when] if at else []))]
+    except UsageError:
+        return text
+    return [name.strip(), *numbers]
 
 
 def _parquet(rows: list[dict[str, Any]], path: Path) -> None:
