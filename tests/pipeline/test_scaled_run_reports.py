@@ -122,8 +122,8 @@ def test_a_scaled_run_is_not_drawn_on_the_unscaled_bodies_and_a_damaged_scale_is
 def test_a_scaled_run_that_diverges_or_is_interrupted_says_the_scaled_creatures_times(
     generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """They said the unscaled model's time (0.285 s for 0.57 s at L = 4), and a divergence's
-    step and stiffness in its numbers without saying so."""
+    """They said the unscaled model's time (0.285 s for 0.57 s at L = 4); a divergence's
+    step and stiffness are the scaled creature's too (tests/pipeline/test_scaled_run_advice.py)."""
     from legdsl.pipeline.scaled import scale_message
 
     out = tmp_path / "run"
@@ -132,9 +132,7 @@ def test_a_scaled_run_that_diverges_or_is_interrupted_says_the_scaled_creatures_
             "--backend", "python", "--out", str(out)]  # fmt: skip
     assert main(args) == 3
     err = capsys.readouterr().err
-    assert (
-        "the simulation diverged at t = 0.5700 s (what follows is in the unscaled model's " in err
-    )
+    assert "the simulation diverged at t = 0.5700 s: " in err
     assert _run_json(out)["ended_at"] == pytest.approx(0.57)
     said = "interrupted by SIGTERM at t = 0.5000 s of 1.5 s; what was recorded up to then is kept"
     assert scale_message(said, 4.0) == (

@@ -120,9 +120,12 @@ def scale_options(options: RunOptions, scale: float) -> RunOptions:
 def scale_checks(sim: Simulation, scale: float) -> None:
     """Hold the unscaled model's run to the fall and divergence rules of the scaled file's: it
     looks every ``check_interval`` of its own time (at most), sqrt(L) times the model's, and
-    calls a speed a divergence past the limit of a creature of its size, in its numbers."""
+    calls a speed a divergence past the limit of a creature of its size; a divergence's cause
+    is told in that creature's numbers (``legdsl.sim.stability``), as the scaled file's run
+    tells it."""
     sim.check_interval = sim.check_interval / math.sqrt(scale)
     sim.size_scale, sim.v_factors = scale, tuple(float(f) for f in v_factors(sim.model, scale))
+    sim.q_factors = tuple(float(f) for f in q_factors(sim.model, scale))
 
 
 def scale_settings(
@@ -258,11 +261,12 @@ def scale_events(events: list[dict[str, Any]], scale: float) -> list[dict[str, A
 _FELL_TO = re.compile(r"the root fell to (\S+) m above the ground \(the limit is (\S+) m\)")
 _INTERRUPTED = re.compile(r"at t = (\S+) s of (\S+) s;")
 _DIVERGED = re.compile(r"^the simulation diverged at t = (\S+) s: ")
+_AFTER = re.compile(r"\. After it the run (fell|ran on to its end) at t = (\S+) s")
 
 
 def scale_message(message: str, scale: float) -> str:
     """The run's message with its heights and times as the scaled creature's (angles stay); a
-    divergence's cause, in the unscaled model's numbers, says so."""
+    divergence's cause is told in them already (``scale_checks``)."""
     tick = math.sqrt(scale)
     message = _FELL_TO.sub(
         lambda m: (
@@ -274,13 +278,11 @@ def scale_message(message: str, scale: float) -> str:
     message = _INTERRUPTED.sub(
         lambda m: f"at t = {float(m[1]) * tick:.4f} s of {float(m[2]) * tick:g} s;", message
     )
+    message = _AFTER.sub(
+        lambda m: f". After it the run {m[1]} at t = {float(m[2]) * tick:.4f} s", message
+    )
     return _DIVERGED.sub(
-        lambda m: (
-            f"the simulation diverged at t = {float(m[1]) * tick:.4f} s (what follows is in the "
-            f"unscaled model's numbers, which --scale {scale:g} ran with every input divided by "
-            "its Table 1 factor): "
-        ),
-        message,
+        lambda m: f"the simulation diverged at t = {float(m[1]) * tick:.4f} s: ", message
     )
 
 
@@ -295,4 +297,5 @@ def scale_result(result: RunResult, model: Model, scale: float) -> RunResult:
         message=scale_message(result.message, scale),
         cause=scale_message(result.cause, scale),
         stop_time={dof: round(t * tick, 9) for dof, t in result.stop_time.items()},
+        diverged_at=None if result.diverged_at is None else result.diverged_at * tick,
     )

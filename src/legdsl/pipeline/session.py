@@ -27,12 +27,11 @@ from legdsl import __version__
 from legdsl.check.source import check_tree, choose
 from legdsl.codegen.fingerprints import creature_fingerprint
 from legdsl.files import file_sha256, remove, write_atomic, writing_alone
-from legdsl.ir.model import Model, setting_kind
+from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, UsageError
 from legdsl.lang.parser import parse_file
-from legdsl.lang.units import KINDS
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
@@ -47,7 +46,10 @@ from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.stability import (
     TooStiff,
+    in_unit,
     inverse_inertia_diagonal,
+    on_the_line,
+    setting_unit,
     stop_message,
     stops_too_stiff,
     too_stiff,
@@ -281,19 +283,22 @@ class RunSession:
             inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
             if len(self._inverse_inertia) < 256:
                 self._inverse_inertia[key] = inverse
-        opts = sim.options
+        opts, scale = sim.options, sim.size_scale  # a --scale L run tells its creature's numbers
         rotary = {a.name: a.rotary for a in self.model.actuators}
         spans = {a.name: a.span for a in self.model.actuators}
 
         def unit(f: TooStiff) -> str:
-            return KINDS[setting_kind(f.setting, rotary[f.actuator])][1]
+            return setting_unit(f.setting, rotary[f.actuator])
 
-        def told(f: TooStiff) -> str:  # a template's line names the instance
-            return f.message(opts.dt, unit(f)) + spans[f.actuator].within
+        def said(f: TooStiff, saturating: bool = False) -> str:
+            return in_unit(f, unit(f), scale).message(opts.dt, unit(f), saturating)
+
+        def told(f: TooStiff) -> str:  # at its line (a template's names the instance)
+            return said(f) + on_the_line(f, unit(f), scale) + spans[f.actuator].within
 
         found = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written)
         if any(f"{f.actuator}.{f.setting}" in given or spans[f.actuator].line <= 0 for f in found):
-            raise UsageError("; ".join(f.message(opts.dt, unit(f)) for f in found))
+            raise UsageError("; ".join(map(said, found)))
         if found:
             files = {spans[f.actuator].file for f in found}
             raise LegError(
@@ -304,12 +309,14 @@ class RunSession:
             return
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
         for f in held:  # saturating actuators past the bound: they chatter, a warning
-            self._tell("warning", f.message(opts.dt, unit(f), True))
+            self._tell("warning", said(f, True))
         # a stop acts only once its limit is reached, which a run may never do: a warning
-        at = {st.dof: st.span for st in self.model.stops}
-        for f in stops_too_stiff(self.model.stops, inverse, opts.dt, opts.integrator):
-            self._tell("warning", f"{at[f.actuator]}: {stop_message(f, self.model.stops)}; a run that reaches it "
-                       "diverges there")  # fmt: skip
+        stops = {st.dof: st for st in self.model.stops}
+        for f in stops_too_stiff(stops.values(), inverse, opts.dt, opts.integrator):
+            stop = stops[f.actuator]
+            line = on_the_line(f, stop.units[0 if f.setting == "k" else 1], scale)
+            self._tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale)}{line}; "
+                       "a run that reaches it diverges there")  # fmt: skip
 
     def _tell(self, kind: str, text: str) -> None:
         """A note or warning about a run: printed to the log (``legdsl run``'s stderr), or

@@ -12,6 +12,7 @@ last few samples, which the recording has not: from its poses, with the dynamics
 from __future__ import annotations
 
 import contextlib
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -70,7 +71,7 @@ def cause_at(
     contacts at the last finite sample recorded (a diverged state's pose is any). A foot
     pushed under a step's edge is looked for in ``through`` (what the run recorded past ``q``,
     up to an energy rise's end, where the push is; ``run`` if None)."""
-    model, opts = sim.model, sim.options
+    model, opts, scale = sim.model, sim.options, sim.size_scale  # told as --scale L's creature
     mass = None
     if isinstance(err, ZeroDivisionError):
         with contextlib.suppress(ArithmeticError, ValueError):
@@ -78,7 +79,7 @@ def cause_at(
     stiff: list[str] = []
     with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(list(model.q0)))
-        stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator)
+        stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator, scale)
     pose = list(model.q0)
     if run is not None and len(run):
         finite = np.flatnonzero(np.all(np.isfinite(run.q), axis=1))
@@ -87,7 +88,7 @@ def cause_at(
     contacts = contact_inverse_masses(sim, pose)
     edge = under_edge(sim, through if through is not None else run)
     return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts,
-                        [edge] if edge is not None else [])  # fmt: skip
+                        [edge] if edge is not None else [], scale)  # fmt: skip
 
 
 def under_edge(sim: Any, run: Trajectory | None) -> str | None:
@@ -134,17 +135,20 @@ def under_edge(sim: Any, run: Trajectory | None) -> str | None:
                 depth = ground[k][c] - feet[k - 1][c][2]
                 spring = pad_force(normal, depth) if isinstance(normal, Pad) else normal.k * depth
                 push = spring if depth > 0 else 0.0
-                least_ = f" at least (its spring alone, {depth * 100:.3g} cm under the top)"
+                least_ = (f" at least (its spring alone, {depth * sim.size_scale * 100:.3g} cm "
+                          "under the top)")  # fmt: skip
                 how = ", and was thrown out"
             if push > PUSHED * weight and (found is None or push > found[0]):
                 found = (push, least_, how, name, rose, float(run.t[a]), float(run.t[b]))
     if found is None:
         return None
     push, least_, how, name, rose, t0, t1 = found
+    scale, tick = sim.size_scale, math.sqrt(sim.size_scale)  # a --scale L run's creature
     kinds = sorted({f.kind for f in flats}, reverse=True)  # step, box
     return (
         f"contact '{name}' went under the edge of a {' or '.join(kinds)} (the ground under it "
-        f"rose {rose * 100:.3g} cm between t = {t0:.4f} s and t = {t1:.4f} s) and was pushed "
-        f"with {push:.3g} N{least_}, {push / weight:.0f} times the creature's weight{how}; "
+        f"rose {rose * scale * 100:.3g} cm between t = {t0 * tick:.4f} s and t = "
+        f"{t1 * tick:.4f} s) and was pushed with {push * scale**3:.3g} N{least_}, "
+        f"{push / weight:.0f} times the creature's weight{how}; "
         f"{TOPS_ONLY}; {CLEAR_IT}"
     )

@@ -29,6 +29,7 @@ were, and both backends tell the same.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -62,13 +63,15 @@ class EnergyRise:
     work: float
     ratio: float
 
-    def said(self) -> str:
-        """The rise in words."""
+    def said(self, scale: float = 1.0) -> str:
+        """The rise in words, as the creature scaled by ``scale``'s (a ``--scale L`` run's)."""
         n = self.end - self.start
+        energy, tick = scale**4, math.sqrt(scale)
         return (
-            f"the total energy rose from {self.before:.4g} J at t = {self.t0:.4f} s to "
-            f"{self.after:.4g} J at t = {self.t1:.4f} s ({'one sample' if n == 1 else f'{n} samples'}"
-            f" later) with only {self.work:.3g} J of actuator work between, and nothing else in a "
+            f"the total energy rose from {self.before * energy:.4g} J at t = {self.t0 * tick:.4f} "
+            f"s to {self.after * energy:.4g} J at t = {self.t1 * tick:.4f} s "
+            f"({'one sample' if n == 1 else f'{n} samples'}"
+            f" later) with only {self.work * energy:.3g} J of actuator work between, and nothing else in a "
             "creature adds energy"
         )
 
@@ -131,7 +134,7 @@ def told(sim: Any, result: RunResult) -> RunResult:
     start = traj.q[rise.start].tolist()
     # the cause at the rise's start, and a foot pushed under a step's edge through its end
     likely = cause_at(sim, start, None, traj.head(rise.start + 1), traj.head(rise.end + 1))
-    cause = f"{rise.said()}. Likely cause: {likely}"
+    cause = f"{rise.said(sim.size_scale)}. Likely cause: {likely}"
     then = f"fell at t = {result.sim_time:.4f} s: {result.message}"
     if result.status == "ok":
         then = f"ran on to its end at t = {result.sim_time:.4f} s"

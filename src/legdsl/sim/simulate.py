@@ -90,6 +90,7 @@ class Simulation:
         self.v = [float(x) for x in model.v0]
         # the divergence limit's size: a --scale L run sets L and each velocity's Table 1 factor
         self.size_scale, self.v_factors = 1.0, (1.0,) * len(self.v)
+        self.q_factors = (1.0,) * len(self.q)  # a --scale L run's Table 1 factors, for messages
         self.events: list[ContactEvent] = []
         self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)
         self._contact_body = [model.bodies.index(model.body(c.body)) for c in model.contacts]
@@ -345,9 +346,10 @@ class Simulation:
         if fast is not None:
             k, speed, most = fast
             unit = "rad/s" if self.model.v_angular[k] else "m/s"
-            name = self.model.v_names[k]
+            name, by = self.model.v_names[k], self.v_factors[k]  # the scaled creature's numbers
             raise Divergence(
-                f"a velocity reached {speed:.3g} {unit} ({name}; the limit is {most:.3g} {unit})"
+                f"a velocity reached {speed * by:.3g} {unit} ({name}; the limit is "
+                f"{most * by:.3g} {unit})"
             )
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))
@@ -446,7 +448,8 @@ class Simulation:
     def diverged(self, err: BaseException, traj: Trajectory | None = None) -> str:
         """The cause of a divergence ``err`` at the state now, with what ``traj`` recorded up to
         it; sets the run's message."""
-        state = ", ".join(f"{n}={x:.4g}" for n, x in zip(self.model.q_names, self.q, strict=True))
+        state = ", ".join(f"{n}={x * by:.4g}" for n, x, by
+                          in zip(self.model.q_names, self.q, self.q_factors, strict=True))  # fmt: skip
         cause = f"{err}. Likely cause: {self.likely_cause(err, traj)}"
         self.message = f"the simulation diverged at t = {self.t:.4f} s: {cause}. State: {state}"
         return cause

@@ -45,8 +45,8 @@ def too_fast(
     """The first coordinate of ``v`` past the divergence limit, as (its index, its speed, its
     limit), or None. A ``--scale L`` run (``scale`` L, ``factors`` each coordinate's Table 1
     factor; 1 and ones otherwise) is held to the scaled creature's limit, brought to the
-    model's numbers (as the rest of its divergence message is), so that it diverges when the
-    file ``legdsl scale`` writes would."""
+    model's numbers (its message tells both as the scaled creature's), so that it diverges
+    when the file ``legdsl scale`` writes would."""
     most = divergence_speed(scale * standing_height)
     for k, x in enumerate(v):
         if abs(x) > most / factors[k]:

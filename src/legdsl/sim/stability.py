@@ -64,29 +64,42 @@ class TooStiff:
     setting: str  # k or kp: the stiffness; b or kv: the damping
     value: float
     limit: float  # the largest value the step allows
-    dt_limit: float  # the largest step the value allows
+    dt_limit: float  # the largest step the value allows (s, the model's)
+    scale: float = 1.0  # value and limit are the creature's scaled by this (``in_unit``)
 
     def message(self, dt: float, unit: str, saturating: bool = False) -> str:
+        """Told with the model's step ``dt`` (s), as the creature of ``scale``'s."""
         what = "stiff" if self.setting in ("k", "kp") else "damped"
         outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
                    if saturating else "diverges at once")  # fmt: skip
         fix = "" if saturating else ", or give it a 'max'"
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step: "
-            f"{self.setting} = {self.value:.4g} {unit} with dt = {dt * 1e3:.4g} ms {outcome}; "
-            f"use {self.setting} below {below(self.limit)} {unit}, or "
-            f"{smaller_step(self.dt_limit)}{fix}"
+            f"{self.setting} = {self.value:.4g} {unit} with dt = "
+            f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use {self.setting} below "
+            f"{below(self.limit)} {unit}, or {smaller_step(self.dt_limit, self.scale)}{fix}"
         )
 
 
 def in_unit(f: TooStiff, unit: str, scale: float = 1.0) -> TooStiff:
     """``f`` (in SI, for the model run) told in ``unit`` for the creature scaled by ``scale``
-    (a ``--scale L`` run, whose user writes the scaled creature's numbers): its value and bound
-    times their Table 1 factor, its step times sqrt(L)."""
+    (a ``--scale L`` run, whose user writes the scaled creature's numbers: 1e7 N/m given at
+    L = 0.1 was told as the model's 1e9, with a bound 100 times off for ``--set``): its value
+    and bound times their Table 1 factor, its step (``smaller_step``) by sqrt(L) when told."""
     one, dim = parse_unit(unit)
     by = factor(dim, scale) / one
-    return dataclasses.replace(
-        f, value=f.value * by, limit=f.limit * by, dt_limit=f.dt_limit * math.sqrt(scale)
+    return dataclasses.replace(f, value=f.value * by, limit=f.limit * by, scale=scale)
+
+
+def on_the_line(found: TooStiff, unit: str, scale: float) -> str:
+    """What the file's line holds of a value told as the ``--scale`` creature's (the line is
+    the unscaled creature's): nothing in a run without ``--scale``."""
+    if scale == 1.0:
+        return ""
+    f = in_unit(found, unit)
+    return (
+        f" (told at --scale {scale:g}; this line is the unscaled creature's: {f.setting} = "
+        f"{f.value:.4g} {unit} there, to stay below {below(f.limit)} {unit})"
     )
 
 
@@ -95,10 +108,22 @@ def setting_unit(setting: str, rotary: bool) -> str:
     return KINDS[setting_kind(setting, rotary)][1]
 
 
-def smaller_step(dt_limit: float) -> str:
-    """The advice of a step under ``dt_limit`` seconds, as every command can take it (a sweep
-    or a tune has no --dt: its runs take the file's)."""
-    return f"a step below {below(dt_limit * 1e3)} ms (--dt, or dt in the simulation block)"
+def smaller_step(dt_limit: float, scale: float = 1.0) -> str:
+    """The advice of a step under ``dt_limit`` seconds of the model's, as every command can
+    take it (a sweep or a tune has no --dt: its runs take the file's). In a ``--scale L`` run
+    ``--dt`` is the scaled creature's, sqrt(L) times the model's, and the file's block is the
+    model's: each is told its own (the model's alone told L = 0.01 to step 0.5 ms, and --dt
+    0.5ms at that scale diverged again with the same advice)."""
+    told = below(dt_limit * math.sqrt(scale) * 1e3)
+    return f"a step below {told} ms {_where_step(f'below {below(dt_limit * 1e3)} ms', scale)}"
+
+
+def _where_step(model: str, scale: float) -> str:
+    """Where a step is given: ``--dt`` (the scaled creature's in a ``--scale`` run) or the
+    file's block, where the step is the model's, ``model`` ('below 0.5 ms')."""
+    if scale == 1.0:
+        return "(--dt, or dt in the simulation block)"
+    return f"(--dt; the file's simulation block is the unscaled creature's: dt {model} there)"
 
 
 def below(x: float) -> str:
@@ -179,7 +204,7 @@ def stiff_now(
         causes.append(
             f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} {unit} now, too "
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
-            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit)}"
+            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit, scale)}"
         )
     stops = model.stops
     return causes + [
@@ -209,7 +234,7 @@ def stop_message(found: TooStiff, stops: Iterable[Stop], scale: float = 1.0) -> 
         f"the stop of joint coordinate {f.actuator} is too "
         f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
         f"{f.value:.4g} {unit}): use {f.setting} below {below(f.limit)} {unit}, or "
-        f"{smaller_step(f.dt_limit)}"
+        f"{smaller_step(f.dt_limit, scale)}"
     )
 
 
@@ -223,17 +248,19 @@ def likely_cause(
     recorded: Trajectory | None = None,
     contacts: Sequence[tuple[float, float]] | None = None,
     found: Sequence[str] = (),
+    scale: float = 1.0,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
     too stiff for the step (``stiff``: ``stiff_now``), what the run ``recorded`` up to it and
     each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``), with
-    the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``)."""
+    the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``);
+    told in the numbers of the creature scaled by ``scale`` (a ``--scale L`` run's)."""
     causes = [*found, *stiff]
-    ground = ground_too_stiff(model, dt, integrator, contacts)
+    ground = ground_too_stiff(model, dt, integrator, contacts, scale)
     # A contact too stiff for the step pushes hard at its first sample down on any landing:
     # the push then says nothing of how deep the foot came down.
-    if ground is None and recorded is not None and (pushed := _pushed_deep(model, recorded)):
+    if ground is None and recorded is not None and (pushed := _pushed_deep(model, recorded, scale)):
         causes.append(pushed)
     if mass_matrix is not None:
         m = np.asarray(mass_matrix, dtype=float)
@@ -267,8 +294,10 @@ def likely_cause(
         value = q[d.q_index]
         span = hi - lo
         if value < lo - 0.1 * span or value > hi + 0.1 * span:
+            by = 1.0 if d.motion == "hinge" else scale  # an angle, or a length
             causes.append(
-                f"joint coordinate {d.name} = {value:.3g} is past its limits [{lo:.3g}, {hi:.3g}]"
+                f"joint coordinate {d.name} = {value * by:.3g} is past its limits "
+                f"[{lo * by:.3g}, {hi * by:.3g}]"
             )
     if not causes:
         causes.append(
@@ -288,8 +317,10 @@ def ground_too_stiff(
     dt: float,
     integrator: str,
     contacts: Sequence[tuple[float, float]] | None = None,
+    scale: float = 1.0,
 ) -> str | None:
-    """The ground's springs too stiff or too damped for the step, as a cause of a divergence;
+    """The ground's springs too stiff or too damped for the step, as a cause of a divergence
+    (told in the numbers of the creature scaled by ``scale``);
     None if the step is within ``GROUND_MARGIN`` of every bound. A contact's normal and tangent
     springs act on its effective mass in their direction (``contacts[i]``: the inverse of each,
     1/kg, from J M^-1 J^T where the dynamics gave it; else the lightest contact body's mass,
@@ -318,16 +349,23 @@ def ground_too_stiff(
     spring = springs[[s.name for s in springs].index(worst.actuator)]
     mass, limit = 1.0 / inverse[spring.v_index], worst.dt_limit
     rk4 = integrator != "rk4" and not too_stiff(springs, inverse, dt / GROUND_MARGIN, "rk4", set())
+
+    def by(kind: str) -> float:
+        return factor(KINDS[kind][0], scale)
+
+    tick = by("time")
     return (
-        f"the step {dt * 1e3:.3g} ms is too large for the contact stiffness: the ground's "
-        f"{worst.actuator} (k = {spring.gain:.4g} N/m, b = {spring.damping:.4g} N*s/m) acts on "
-        f"an effective mass of {mass:.3g} kg there, and explicit stability needs dt < "
-        f"{below(limit * 1e3)} ms; try a step of {limit / 4 * 1e3:.1g} ms (--dt, or dt in the "
-        f"simulation block){' or --integrator rk4' if rk4 else ''}"
+        f"the step {dt * tick * 1e3:.3g} ms is too large for the contact stiffness: the ground's "
+        f"{worst.actuator} (k = {spring.gain * by('linear stiffness'):.4g} N/m, b = "
+        f"{spring.damping * by('linear damping'):.4g} N*s/m) acts on an effective mass of "
+        f"{mass * by('mass'):.3g} kg there, and explicit stability needs dt < "
+        f"{below(limit * tick * 1e3)} ms; try a step of {limit * tick / 4 * 1e3:.1g} ms "
+        f"{_where_step(f'of {limit / 4 * 1e3:.1g} ms', scale)}"
+        f"{' or --integrator rk4' if rk4 else ''}"
     )
 
 
-def _pushed_deep(model: Model, run: Trajectory) -> str | None:
+def _pushed_deep(model: Model, run: Trajectory, scale: float = 1.0) -> str | None:
     """A foot that touched down far under the surface (pushed past ``PUSHED`` weights at
     its first sample down) among the last samples recorded before a divergence, as its
     cause; None if there was none. (A run blowing up pushes hard too, but on feet that were
@@ -345,7 +383,8 @@ def _pushed_deep(model: Model, run: Trajectory) -> str | None:
         return None
     said = (
         f"contact '{model.contacts[foot].name}' touched down far under the surface: the ground "
-        f"pushed it with {push[row, foot]:.3g} N at t = {t[finite[row]]:.4f} s, "
+        f"pushed it with {push[row, foot] * scale**3:.3g} N at t = "
+        f"{t[finite[row]] * math.sqrt(scale):.4f} s, "
         f"{push[row, foot] / weight:.0f} times the creature's weight"
     )
     terrain = model.ground.terrain if model.ground is not None else ()
