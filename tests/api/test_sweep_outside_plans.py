@@ -108,3 +108,18 @@ def test_another_creature_of_the_file_is_named_as_the_difference() -> None:
     before = {**plan, "creature": "heavy", "creature_digest": "c", "controller_digest": "d"}
     assert _plan_differs(before, plan) == "other --creature"
     assert _plan_differs({**plan, "time": 2.0}, {**plan, "time": 3.0}) == "other --time"
+
+
+def test_a_table_without_its_plan_is_not_taken_as_this_sweeps(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """sweep.csv with its sweep.json gone (the table alone copied to a new folder) was taken
+    as this sweep's, its rows of a 5 s sweep measured from 2 s mixed with 8 s ones from 1 s."""
+    assert main(sweep(tmp_path, "--grid", "speed=0.5,1")) == 0
+    (tmp_path / "out" / "sweep.json").unlink()
+    capsys.readouterr()
+    assert main([*sweep(tmp_path, "--grid", "speed=0.5,1"), "--time", "0.4"]) == 2
+    assert "sweep.csv has rows but no sweep.json, so what they were run with is unknown" in (
+        capsys.readouterr().err
+    )
+    assert not (tmp_path / "out" / "sweep.json").exists()  # nothing claims them

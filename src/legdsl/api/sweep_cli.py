@@ -238,7 +238,6 @@ def _sweep_into(
         why = ("the .leg file's creature or controller has changed since its rows were run"
                if edited else _plan_differs(before_plan, plan))  # fmt: skip
         raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
-    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     base = {
         "source": str(args.file),
         "creature": args.creature,
@@ -251,6 +250,13 @@ def _sweep_into(
     }
     jobs = list(iter_jobs(base, combos, out / "runs" if args.keep_runs else None))
     ran = [int(r["run"]) for r in read_planned(out / "sweep.csv", jobs)]
+    if ran and not planned_before:  # its --time, --from... unknown
+        raise UsageError(
+            f"{out / 'sweep.csv'} has rows but no sweep.json, so what they were run with is "
+            "unknown (they were taken as this sweep's, whatever their --time or --from); put "
+            "its sweep.json back, or remove the table to run the sweep again"
+        )
+    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
     before = len(ran)
     # a run is kept by the sweep that runs it: resumed with --keep-runs added, the rows from
     # before had no directory, and nothing said so
