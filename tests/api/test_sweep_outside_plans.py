@@ -9,6 +9,7 @@ import pytest
 
 from legdsl.api.sweep_cli import _largest, _plan_differs
 from legdsl.cli import main
+from legdsl.lang.errors import UsageError
 
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
@@ -123,3 +124,26 @@ def test_a_table_without_its_plan_is_not_taken_as_this_sweeps(
         capsys.readouterr().err
     )
     assert not (tmp_path / "out" / "sweep.json").exists()  # nothing claims them
+
+
+@pytest.mark.parametrize("command", ["sweep", "tune"])
+def test_an_out_made_for_a_refused_command_is_not_left_with_its_lock_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, command: str
+) -> None:
+    """`--dask tcp://127.0.0.1:1` (a scheduler not reached, here a refusal as the workers
+    start) left a new --out folder holding only its .sweep.lock or .tune.lock."""
+    from legdsl.api.workers import Workers
+
+    def unreached(self: Workers) -> Workers:
+        raise UsageError("--dask tcp://127.0.0.1:1: cannot reach the scheduler")
+
+    monkeypatch.setattr(Workers, "__enter__", unreached)
+    argv = sweep(tmp_path, "--grid", "speed=0.5,1")
+    if command == "tune":
+        argv = ["tune", str(HOPPER), "--controller", "hop", "--param", "kp=50:300", "--speeds",
+                "1", "--time", "0.5", "--from", "0.1", "--jobs", "1", "--out",
+                str(tmp_path / "out"), "--generated", str(tmp_path / "generated")]  # fmt: skip
+    assert main(argv) == 2
+    assert not (tmp_path / "out").exists()
+    (tmp_path / "out").mkdir()  # one that was there before stays, its lock gone or not
+    assert main(argv) == 2 and (tmp_path / "out").is_dir()

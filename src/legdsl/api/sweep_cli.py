@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import fcntl
 import json
 import math
@@ -149,12 +150,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             print(f"legdsl: note: {flag}: {said}", file=sys.stderr)
     _refuse_too_stiff(session, args, axes, dims, combos)
     out = Path(args.out)
+    made = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
     try:
         return _sweep_into(out, args, model, controller, axes, dims, combos)
     finally:  # an API caller may sweep into the same --out again in this process
-        lock.close()
+        release(lock, out, made)
 
 
 STIFFNESS = ("k", "b", "kp", "kv")  # the settings an explicit step may be too large for
@@ -413,3 +415,14 @@ def writer_lock(out: Path, command: str) -> IO[str]:
         raise UsageError(f"another legdsl {command} is writing {out}; wait for it to finish, "
                          "or choose another --out") from None  # fmt: skip
     return handle
+
+
+def release(lock: IO[str], out: Path, made: bool) -> None:
+    """The lock closed; a folder the command ``made`` that holds nothing else (refused before
+    any result: a --dask scheduler not reached left it with its lock alone) removed."""
+    lock.close()
+    held = Path(lock.name)
+    with contextlib.suppress(OSError):  # gone already, or something else came into it
+        if made and [p.name for p in out.iterdir()] == [held.name]:
+            held.unlink()
+            out.rmdir()

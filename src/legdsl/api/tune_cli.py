@@ -16,7 +16,7 @@ from typing import IO, Any
 
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import Job, actuator_settings, bare_in_si, parse_axis, seconds, units_of
-from legdsl.api.sweep_cli import writer_lock
+from legdsl.api.sweep_cli import release, writer_lock
 from legdsl.api.tune import (
     NO_STRIDE,
     Bound,
@@ -119,7 +119,7 @@ def cmd_tune(args: argparse.Namespace) -> int:
     try:
         return _tune_into(out, made, lock, args, source, model, controller, bounds, speeds)
     finally:  # an API caller may tune into the same --out again in this process
-        lock.close()
+        release(lock, out, made)
 
 
 def _tune_into(
