@@ -26,6 +26,7 @@ import math
 import os
 import re
 import time
+from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -246,13 +247,17 @@ def run_jobs(jobs: Sequence[Job], pool: Workers) -> Iterator[dict[str, Any]]:
     by_creature: dict[tuple[str, str | None, str], list[Job]] = {}
     for job in jobs:
         by_creature.setdefault((job.source, job.creature, job.generated), []).append(job)
-    # about four batches per worker: a row comes back soon after its run (for the progress
-    # bar and for resuming), and a batch's setup is shared by several runs
-    size = max(1, min(BATCH_RUNS, math.ceil(len(jobs) / (4 * pool.workers))))
+    size = batch_size(len(jobs), pool.workers)
     batches = [group[k : k + size] for group in by_creature.values()
                for k in range(0, len(group), size)]  # fmt: skip
     for rows in pool.as_completed(run_batch_of_jobs, batches):
         yield from rows
+
+
+def batch_size(runs: int, workers: int) -> int:
+    """Runs in one batch: about four batches per worker, so that a row comes back soon after
+    its run (for the progress bar and for resuming), and a batch's setup is shared."""
+    return max(1, min(BATCH_RUNS, math.ceil(runs / (4 * workers))))
 
 
 def run_batch_of_jobs(jobs: Sequence[Job]) -> list[dict[str, Any]]:
@@ -331,23 +336,35 @@ def run_sweep(
             fresh.touch()
             for row in done:
                 _append(fresh, columns, row)
-    first = math.nan  # when the first run came back
     # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
-    with Workers(min(workers, len(todo)), dask) as pool:
+    workers = min(workers, len(todo))
+    # when the last rows came back: two waves of batches
+    recent: deque[float] = deque(maxlen=2 * batch_size(len(todo), workers) * workers + 1)
+    first = math.nan  # when the first row came back
+    with Workers(workers, dask) as pool:
         for count, row in enumerate(run_jobs(todo, pool), 1):
             if str(row["outcome"]).startswith("interrupted"):
                 # not a result: the run is left out of the table, for the resume to run it
                 raise KeyboardInterrupt
             _append(table, columns, row)
             if progress is not None:
-                # the pace since the first row: before it the workers start and compile (a
-                # sweep of 75 s said '24m08s left' at its first row), and rows come in waves
-                now = time.monotonic()
-                first = now if count == 1 else first
-                pace = (now - first) / (count - 1) if now - first >= 1.0 else math.nan
-                left = pace * (len(todo) - count)
+                recent.append(time.monotonic())
+                first = recent[0] if count == 1 else first
+                left = _pace(recent, first, count) * (len(todo) - count)
                 progress(len(done) + count, len(jobs), None if math.isnan(left) else left)
     return read_table(table)
+
+
+def _pace(recent: deque[float], first: float, count: int) -> float:
+    """Seconds a row, from when the last rows came back (``recent``; the ``count`` rows since
+    the ``first`` where they came within a second): NaN until a second has gone by since the
+    first row. Not before it: the workers start and compile (a sweep of 75 s said '24m08s
+    left' at its first row). Over the last two waves: the mean since the first row, pulled
+    down by runs that fell at once, said '0m02s left' with 18 s to go."""
+    now, rows = recent[-1], len(recent) - 1
+    if rows and now - recent[0] >= 1.0:
+        return (now - recent[0]) / rows
+    return (now - first) / (count - 1) if now - first >= 1.0 else math.nan
 
 
 def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:
