@@ -176,3 +176,19 @@ def test_the_time_left_follows_the_last_rows_not_the_mean_since_the_first(
     told: list = []
     sweeping.run_sweep(jobs, tmp_path / "sweep.csv", 1, lambda d, n, left: told.append(left))
     assert told[87] == pytest.approx(12.0, rel=0.1)
+
+
+def test_a_sweep_without_a_c_compiler_says_its_runs_go_on_python(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """legdsl run says it runs on the Python backend where no C compiler is found; a sweep and
+    a tune said nothing, and ran many times slower (their runs' notices are not shown)."""
+    from legdsl.pipeline.backend import python_backend_note
+
+    monkeypatch.setenv("LEGDSL_CC", "/nonexistent")
+    assert main(sweep(tmp_path, "--grid", "speed=0.5,1", "--time", "0.2")) == 0
+    err = capsys.readouterr().err
+    assert "legdsl: note: LEGDSL_CC=/nonexistent: no such program" in err
+    assert err.count("the runs go on the Python backend") == 1
+    monkeypatch.setenv("LEGDSL_BACKEND", "python")  # chosen: nothing to say
+    assert python_backend_note() is None

@@ -38,6 +38,7 @@ from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerp
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
+from legdsl.pipeline.backend import python_backend_note
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.report import ProgressLog
@@ -142,6 +143,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # compile once here, so that the workers never race to write generated/NAME/
     from legdsl.api import load
 
+    if (slow := python_backend_note()) is not None:  # the runs' own notice is not shown
+        print(f"legdsl: note: {slow}", file=sys.stderr)
     session = load(args.file, args.creature, args.generated).session
     module = session.control(args.controller)
     swept = [(f"--{a.kind} {a.name}", a.name) for a in axes]

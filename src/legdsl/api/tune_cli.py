@@ -39,6 +39,7 @@ from legdsl.ir.controller import Constant, Controller
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.pipeline.backend import python_backend_note
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
 from legdsl.pipeline.settings import plain_number, require_controller
@@ -143,6 +144,8 @@ def _tune_into(
                groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
     from legdsl.api import load
 
+    if (slow := python_backend_note()) is not None:  # the runs' own notice is not shown
+        print(f"legdsl: note: {slow}", file=sys.stderr)
     load(source, args.creature, args.generated).session.control(args.controller)  # compile once
     objective = Objective(
         speeds,

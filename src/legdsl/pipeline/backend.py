@@ -35,6 +35,18 @@ def chosen(backend: str | None) -> str:
     return backend or os.environ.get("LEGDSL_BACKEND") or DEFAULT_BACKEND
 
 
+def python_backend_note() -> str | None:
+    """What a sweep or tune says once where its runs will go on the Python backend for want
+    of a C compiler (their runs, told nothing, went many times slower than a ``legdsl run``
+    that says so); None where they go on C, or the Python backend was chosen."""
+    if chosen(None) != "auto":
+        return None
+    from legdsl.sim.c_backend import available
+
+    missing = available()
+    return None if missing is None else f"{missing}: the runs go on the Python backend"
+
+
 def make_simulation(
     model: Model,
     dynamics: ModuleType,
