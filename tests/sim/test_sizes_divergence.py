@@ -5,6 +5,7 @@ faster as 1/sqrt(its size) (Table 1)."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -12,7 +13,8 @@ import pytest
 from legdsl.cli import main
 from legdsl.sim.sizes import DIVERGENCE_SPEED, divergence_speed
 
-POGO = Path(__file__).resolve().parents[1] / "good" / "outside" / "insect_pogo.leg"
+ROOT = Path(__file__).resolve().parents[2]
+POGO = ROOT / "tests" / "good" / "outside" / "insect_pogo.leg"
 
 
 def test_the_limit_is_1000_from_10_cm_up_and_grows_as_one_over_sqrt_below() -> None:
@@ -33,3 +35,23 @@ def test_a_speck_scaled_from_the_insect_pogo_hops_without_being_called_diverged(
                  backend, "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "r")])  # fmt: skip
     assert code == 0
     assert json.loads((tmp_path / "r" / "run.json").read_text())["status"] == "ok"
+
+
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_a_giant_falling_past_the_limit_is_told_so_not_to_take_a_smaller_step(
+    backend: str, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The hopper 950 km tall (L = 1e6) falls past 1000 m/s in its first flight: it was told
+    'the state grew without bound; try a smaller step or --integrator rk4', which changes
+    nothing. It is told its own fall reached the fixed limit, and the --time that ends before."""
+    common = ["run", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop", "--scale",
+              "1e6", "--backend", backend, "--generated", str(generated)]  # fmt: skip
+    assert main([*common, "--time", "1000", "--out", str(tmp_path / "a")]) == 3
+    err = capsys.readouterr().err
+    assert "grew without bound;" not in err and "rk4" not in err
+    said = re.search(r"nothing grew without bound: the creature reached this speed falling "
+                     r"\(\S+ m/s down .* a --time under (\S+) s ends the run before it", err)  # fmt: skip
+    assert said is not None, err
+    before = float(said[1]) - 1.0
+    assert main([*common, "--time", f"{before:g}", "--out", str(tmp_path / "b")]) == 0
+    assert json.loads((tmp_path / "b" / "run.json").read_text())["status"] == "ok"

@@ -63,6 +63,7 @@ def cause_at(
     err: BaseException | None = None,
     run: Trajectory | None = None,
     through: Trajectory | None = None,
+    otherwise: str | None = None,
 ) -> str:
     """``likely_cause`` at pose ``q`` (the state a divergence stopped at, or the sample an
     energy rise started from), with what the ``run`` recorded up to it. A division by zero
@@ -70,7 +71,8 @@ def cause_at(
     actuators are checked at their settings now and the inertia of the initial pose, the
     contacts at the last finite sample recorded (a diverged state's pose is any). A foot
     pushed under a step's edge is looked for in ``through`` (what the run recorded past ``q``,
-    up to an energy rise's end, where the push is; ``run`` if None)."""
+    up to an energy rise's end, where the push is; ``run`` if None); ``otherwise`` is told
+    if nothing is found."""
     model, opts, scale = sim.model, sim.options, sim.size_scale  # told as --scale L's creature
     mass = None
     if isinstance(err, ZeroDivisionError):
@@ -88,7 +90,7 @@ def cause_at(
     contacts = contact_inverse_masses(sim, pose)
     edge = under_edge(sim, through if through is not None else run)
     return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts,
-                        [edge] if edge is not None else [], scale)  # fmt: skip
+                        [edge] if edge is not None else [], scale, otherwise)  # fmt: skip
 
 
 def under_edge(sim: Any, run: Trajectory | None) -> str | None:

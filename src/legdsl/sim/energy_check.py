@@ -36,7 +36,9 @@ from typing import Any
 import numpy as np
 
 from legdsl.sim.causes import cause_at
+from legdsl.sim.recorder import TooFast
 from legdsl.sim.run_loop import RunResult
+from legdsl.sim.sizes import DIVERGENCE_HEIGHT
 from legdsl.sim.trajectory import Trajectory
 
 WINDOW = 16  # samples: the longest window looked at
@@ -141,4 +143,44 @@ def told(sim: Any, result: RunResult) -> RunResult:
     message = f"the simulation diverged at t = {rise.t1:.4f} s: {cause}. After it the run {then}"
     return dataclasses.replace(
         result, status="diverged", message=message, cause=cause, diverged_at=rise.t1
+    )
+
+
+# A velocity past the divergence limit by less than OWN_PAST times it, that was at OWN_SHARE of
+# it or more at the last sample recorded, with no energy rise without a source up to there, is
+# the creature's own motion: a step blowing up (or a rate near gimbal lock) leaps far past it
+# from an ordinary speed within a few steps.
+OWN_SHARE, OWN_PAST = 0.5, 1.5
+
+
+def own_speed(sim: Any, err: BaseException | None, run: Trajectory | None) -> str | None:
+    """A speed past the divergence rule's fixed limit that nothing grew to (``err``, at the
+    state now, of ``sim`` that recorded ``run``), told where no other cause is found: the
+    creature's own, as a giant reaches in its first fall (the hopper scaled by 1e6 fell to
+    1000 m/s in 102 s, and was told to try a smaller step or rk4, which changed nothing).
+    None for any other divergence."""
+    if not isinstance(err, TooFast) or run is None or len(run) < 2:
+        return None
+    if not err.speed < OWN_PAST * err.limit:
+        return None
+    last = np.flatnonzero(np.all(np.isfinite(run.v), axis=1))
+    if not len(last) or not abs(run.v[last[-1], err.index]) >= OWN_SHARE * err.limit:
+        return None
+    if unexplained_rise(run.head(int(last[-1]) + 1)) is not None:
+        return None
+    model, k, tick = sim.model, err.index, math.sqrt(sim.size_scale)
+    unit = "rad/s" if model.v_angular[k] else "m/s"
+    speed_then = abs(run.v[last[-1], k]) * sim.v_factors[k]
+    fall = run.com_vel[last[-1], 2] * sim.size_scale**0.5
+    how = (f"falling ({-fall:.3g} m/s down at its centre of mass)"
+           if fall < -OWN_SHARE * err.limit * sim.v_factors[k] and unit == "m/s"
+           else "in its own motion")  # fmt: skip
+    return (
+        f"nothing grew without bound: the creature reached this speed {how}, its energy up to "
+        f"the last sample (t = {run.t[last[-1]] * tick:.4f} s, {model.v_names[k]} at "
+        f"{speed_then:.3g} {unit}) no more than it started with and its actuators' work gave "
+        f"it; a step or an integrator changes nothing here: the limit is fixed for every "
+        f"creature standing {DIVERGENCE_HEIGHT * 100:g} cm or more, and one this large reaches "
+        f"it (docs/scaling.md#far-from-a-metre-what-follows-the-creatures-size). What was "
+        f"recorded up to here stands; a --time under {sim.t * tick:.4g} s ends the run before it"
     )

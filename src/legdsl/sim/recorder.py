@@ -16,6 +16,15 @@ class Divergence(Exception):
     """The simulation diverged: its state stopped being finite, or a step blew up."""
 
 
+class TooFast(Divergence):
+    """A velocity past the divergence rule's limit: v[``index``] at ``speed``, over ``limit``
+    (the model's numbers)."""
+
+    def __init__(self, message: str, index: int, speed: float, limit: float) -> None:
+        super().__init__(message)
+        self.index, self.speed, self.limit = index, speed, limit
+
+
 def empty_trajectory(sim: Any, capacity: int) -> Trajectory:
     """An empty recording of ``capacity`` rows for a ``legdsl.sim.simulate.Simulation``."""
     m = sim.model

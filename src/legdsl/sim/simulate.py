@@ -20,8 +20,8 @@ from legdsl.ir.model import Model
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.causes import cause_at
 from legdsl.sim.contact import ContactEvent, GroundContact
-from legdsl.sim.energy_check import told
-from legdsl.sim.recorder import Divergence, empty_trajectory, record_row
+from legdsl.sim.energy_check import own_speed, told
+from legdsl.sim.recorder import Divergence, TooFast, empty_trajectory, record_row
 from legdsl.sim.run_loop import (
     CHECK_INTERVAL,
     INITIAL_ROWS,
@@ -347,10 +347,11 @@ class Simulation:
             k, speed, most = fast
             unit = "rad/s" if self.model.v_angular[k] else "m/s"
             name, by = self.model.v_names[k], self.v_factors[k]  # the scaled creature's numbers
-            raise Divergence(
+            raise TooFast(
                 f"a velocity reached {speed * by:.3g} {unit} ({name}; the limit is "
-                f"{most * by:.3g} {unit})"
-            )
+                f"{most * by:.3g} {unit})",
+                k, speed, most,
+            )  # fmt: skip
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))
         limit = self.options.fall_height
@@ -371,8 +372,9 @@ class Simulation:
         return None
 
     def likely_cause(self, err: BaseException | None = None, run: Trajectory | None = None) -> str:
-        """Why a run diverged at the state now, with what the ``run`` recorded (``cause_at``)."""
-        return cause_at(self, self.q, err, run)
+        """Why a run diverged at the state now, with what the ``run`` recorded (``cause_at``;
+        a speed past the limit that nothing grew to: ``own_speed``)."""
+        return cause_at(self, self.q, err, run, otherwise=own_speed(self, err, run))
 
     # ------------------------------------------------------------ running
     def run(

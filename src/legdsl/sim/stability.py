@@ -249,13 +249,15 @@ def likely_cause(
     contacts: Sequence[tuple[float, float]] | None = None,
     found: Sequence[str] = (),
     scale: float = 1.0,
+    otherwise: str | None = None,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
     too stiff for the step (``stiff``: ``stiff_now``), what the run ``recorded`` up to it and
     each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``), with
     the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``);
-    told in the numbers of the creature scaled by ``scale`` (a ``--scale L`` run's)."""
+    told in the numbers of the creature scaled by ``scale`` (a ``--scale L`` run's); with none
+    of them, ``otherwise`` (a speed nothing grew to) or that the state grew without bound."""
     causes = [*found, *stiff]
     ground = ground_too_stiff(model, dt, integrator, contacts, scale)
     # A contact too stiff for the step pushes hard at its first sample down on any landing:
@@ -301,7 +303,8 @@ def likely_cause(
             )
     if not causes:
         causes.append(
-            "the state grew without bound; try a smaller step (--dt, or dt in the simulation "
+            otherwise
+            or "the state grew without bound; try a smaller step (--dt, or dt in the simulation "
             "block) or --integrator rk4"
         )
     return "; ".join(causes)
