@@ -113,6 +113,24 @@ def test_several_creatures_each_get_a_name_that_fits_and_their_controllers_follo
     assert f"note: creature {two} scaled is named {cut}" in capsys.readouterr().err
 
 
+def test_a_name_given_that_another_creature_has_is_told_so_not_as_a_cut(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--name hopper=pogo_x2, the name creature pogo gets scaled, was told as two names cut to
+    fit 64 characters, and to rename pogo: nothing was cut, and the name given is the one."""
+    source = tmp_path / "two.leg"
+    source.write_text(_creature("hopper") + _creature("pogo"))
+    scale = ["scale", str(source), "--by", "2", "-o", str(tmp_path / "out.leg")]
+    for names, other, how in [(["hopper=pogo_x2"], "pogo", "its name scaled"),
+                              (["pogo=hopper_x2"], "hopper", "its name scaled"),
+                              (["hopper=z", "pogo=z"], "pogo", "given with --name too")]:  # fmt: skip
+        assert main([*scale, *(a for n in names for a in ("--name", n))]) == 2
+        err = capsys.readouterr().err
+        taken = names[0].partition("=")[2]
+        assert f"--name {names[0]}: {taken} is also creature {other}'s name ({how})" in err
+        assert "64 characters" not in err and f"give {names[0].partition('=')[0]} another" in err
+
+
 def test_a_creature_that_uses_a_file_is_named_and_checked_from_its_new_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -133,6 +133,8 @@ def _new_names(creatures: list[str], given: list[str], scale: float, file: str) 
     for old, new in names.items():
         if new in seen:
             which = [o for o in (seen[new], old) if not _given(o, given, len(creatures))]
+            if len(which) < 2 and all(names[o] == f"{o}{_suffix(scale)}" for o in which):
+                _name_taken(seen[new], old, new, given, len(creatures))
             raise UsageError(
                 f"creatures {seen[new]} and {old} of {file} would both be named {new} once "
                 f"scaled (a name has at most {MAX_NAME} characters); name "
@@ -141,6 +143,18 @@ def _new_names(creatures: list[str], given: list[str], scale: float, file: str) 
             )
         seen[new] = old
     return names
+
+
+def _name_taken(first: str, second: str, new: str, given: list[str], creatures: int) -> None:
+    """Two creatures named ``new`` once scaled, neither cut to fit: a ``--name`` gave one the
+    other's name (it was told as a cut to 64 characters, which it is not)."""
+    named = [o for o in (first, second) if _given(o, given, creatures)]
+    other = second if named[0] == first else first
+    how = "given with --name too" if len(named) > 1 else "its name scaled"
+    raise UsageError(
+        f"--name {named[0]}={new}: {new} is also creature {other}'s name ({how}); two "
+        f"creatures of a file need two names: give {named[0]} another"
+    )
 
 
 def _valid_name(new: str, given: str) -> str:
