@@ -196,7 +196,14 @@ def _refuse_too_stiff(
         except UsageError as e:
             shown = ", ".join(f"{n} = {v:g} {units[n]}".rstrip() for n, v in values.items())
             which = f"its runs at {shown}" if k else f"its first run ({shown})"
-            raise UsageError(f"sweep: {which}: {e}") from None
+            raise UsageError(f"sweep: {which}: {_without_dt(str(e))}") from None
+
+
+def _without_dt(said: str) -> str:
+    """A run's refusal as a sweep can act on it: a sweep has no --dt, its runs take the file's
+    step (it advised '--dt', which the sweep refused as an unknown argument)."""
+    return said.replace("(--dt, or dt in the simulation block)", "(dt in the file's simulation "
+                        "block; a sweep has no --dt)").replace("steps of --dt ", "steps of ")  # fmt: skip
 
 
 def _largest(points: list[tuple[float, ...]]) -> list[tuple[float, ...]]:
