@@ -43,3 +43,16 @@ def test_booleans_and_complex_values_are_refused(pogo, values, what) -> None:
 def test_copies_say_what_they_are(pogo) -> None:
     copies = pogo.run_copies(2, "hop", vary={"speed": ([0.2, 0.3], "m/s")}, time=0.02)
     assert repr(copies) == "<legdsl copies of 'insect_pogo': 2 (ok 2)>"
+
+
+def test_copies_without_a_c_compiler_are_told_what_a_python_caller_can_do(
+    pogo, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The batch runs in C only: without a compiler it was refused as '--backend c: ...; or
+    use --backend python', options the API has not."""
+    monkeypatch.setenv("LEGDSL_CC", "/nonexistent")
+    with pytest.raises(UsageError) as refused:
+        pogo.run_copies(2, "hop", vary={"speed": ([0.2, 0.3], "m/s")}, time=0.02)
+    said = str(refused.value)
+    assert said.startswith("run_copies() runs in C: LEGDSL_CC=/nonexistent: no such program")
+    assert said.endswith("or run them with run_many()") and "--backend" not in said

@@ -107,8 +107,14 @@ class Batch:
         self.session, self.n = session, n
         self.controller, self.settings, self.paths = controller, list(settings), list(paths)
         self.options = options or RunOptions()
-        self.plan = session.prepare(controller, self.settings, self.paths, self.options,
-                                    backend="c")  # fmt: skip
+        try:
+            self.plan = session.prepare(controller, settings, paths, self.options, backend="c")
+        except UsageError as refused:  # no C here: said as the API's run_copies() can act on it
+            said, c = str(refused), "--backend c: "
+            if not said.startswith(c):
+                raise
+            fix = said.removeprefix(c).removesuffix("or use --backend python")
+            raise UsageError(f"run_copies() runs in C: {fix}or run them with run_many()") from None
         if not isinstance(self.plan.sim, CSimulation):
             raise UsageError(
                 "a batch runs on the C backend, and this run would go on the Python backend: "
