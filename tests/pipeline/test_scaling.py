@@ -269,6 +269,15 @@ def test_bad_scale_factors_are_user_errors(
     assert "the scale factor is a positive, finite number" in err
     assert main(["scale", hopper, "--by", "1e400", "-o", out]) == 2  # read as inf
     assert "--by inf: the scale factor is a positive, finite number" in capsys.readouterr().err
+    # float() read '1_5' as 15 (meant 1.5?) and Arabic-Indic digits: as a .leg file, refused
+    for by in ("1_5", "\u0661"):
+        for args in (["scale", hopper, "--by", by, "-o", out],
+                     ["run", hopper, *gen, "--scale", by, "--time", "0.01", "--out", out]):  # fmt: skip
+            with pytest.raises(SystemExit) as refused:  # argparse's
+                main(args)
+            assert refused.value.code == 2
+        said = capsys.readouterr().err
+        assert said.count(f"{by!r} is not a number: write it with the digits 0-9, without '_'") == 2
     assert "--animate draws the file's creature" in err
     assert not Path(out).exists()
 

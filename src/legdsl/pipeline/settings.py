@@ -75,7 +75,13 @@ def _spaced_unit(value: str) -> str | None:
 
 def plain_number(text: str, what: str) -> float:
     """An option that is a plain number, as argparse reads it; one written with a unit is told
-    ``what`` the number is (a sentence), not argparse's "invalid float value"."""
+    ``what`` the number is (a sentence), not argparse's "invalid float value". Its digits are
+    0-9 without '_', as in a .leg file (Python's float() reads '1_5' as 15 and other scripts'
+    digits: '--scale 1_5' ran a creature 15 times as large)."""
+    if not text.isascii() or "_" in text:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a number: write it with the digits 0-9, without '_'"
+        )
     try:
         return float(text)
     except ValueError:
