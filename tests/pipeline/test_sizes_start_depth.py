@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from conftest import CREATURES
 
 from legdsl.cli import main
 from legdsl.sim.sizes import START_DEPTH, start_depth
@@ -52,3 +53,30 @@ def test_the_pogo_as_written_runs(capsys: pytest.CaptureFixture[str], tmp_path: 
         capsys, [*argv, "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "r")]
     )
     assert code == 0, err
+
+
+def test_a_scaled_run_allows_the_start_depth_of_the_scaled_creature(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """The hopper with its toe 5 mm under the ground (within the 1 cm of its 0.8 m) scaled by
+    10: the file 'legdsl scale' writes was refused (8 m tall, 2 cm allowed, its toe 5 cm
+    under) and the --scale 10 run ran, held to the unscaled creature's 1 cm."""
+    text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
+    deep = tmp_path / "hopper.leg"
+    deep.write_text(text.replace("z = 0.95 m,", "z = 0.795 m,"), encoding="utf-8")
+    run = ["run", str(deep), "--controller", "hop", "--time", "0.05", "--backend", "python",
+           "--generated", str(generated)]  # fmt: skip
+    assert _run(capsys, [*run, "--out", str(tmp_path / "a")])[0] == 0
+    scaled = tmp_path / "hopper_x10.leg"
+    assert main(["scale", str(deep), "--by", "10", "-o", str(scaled)]) == 0
+    code, by_file = _run(capsys, ["run", str(scaled), *run[2:], "--out", str(tmp_path / "f")])
+    assert code == 2 and "starts 0.05 m under the ground" in by_file
+    code, err = _run(capsys, [*run, "--scale", "10", "--out", str(tmp_path / "s")])
+    assert code == 2, err
+    assert (
+        "starts 0.005 m under the ground (the ground would throw the body up; at --scale "
+        "10 it starts 0.05 m under, where a creature of that size may start 0.02 m under" in err
+    )
+    assert (
+        _run(capsys, [*run, "--scale", "10", "--drop", "1cm", "--out", str(tmp_path / "d")])[0] == 0
+    )

@@ -29,7 +29,10 @@ def check_start(model: Model, sim: Any, source: str | Path) -> None:
     if model.ground is None:
         return
     normal = model.ground.normal
-    allowed = start_depth(sim.standing_height())
+    # a --scale L run (size_scale L) allows the depth of a creature of the scaled size, in the
+    # model's numbers, as the scaled file's run does (it allowed the unscaled creature's)
+    scale = sim.size_scale
+    allowed = start_depth(scale * sim.standing_height()) / scale
     if isinstance(normal, Pad):
         allowed = min(allowed, normal.thickness / 2)
     under = [(name, -h) for name, h in sim.contact_heights() if h < -allowed]
@@ -44,9 +47,12 @@ def check_start(model: Model, sim: Any, source: str | Path) -> None:
         else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
         f"{depth:.3g} m in the .leg file"
     )
+    scaled = (f"; at --scale {scale:g} it starts {depth * scale:.3g} m under, where a creature "
+              f"of that size may start {allowed * scale:.3g} m under: the file's numbers are the "
+              "unscaled creature's, --drop's the scaled one's" if scale != 1.0 else "")  # fmt: skip
     message = (
         f"contact '{name}' of creature '{model.name}' starts {depth:.3g} m under the ground "
-        f"(the ground would throw the body up); {fix}"
+        f"(the ground would throw the body up{scaled}); {fix}"
     )
     body = next(b for b in model.bodies if b.parent is None)
     try:
