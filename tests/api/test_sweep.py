@@ -555,29 +555,47 @@ def test_a_metric_no_run_measured_is_said(capsys: pytest.CaptureFixture[str]) ->
     assert capsys.readouterr().err == ""
 
 
-def test_the_time_left_is_reckoned_from_the_first_row(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Before the first row the workers start and compile, and rows come back in waves: a
-    sweep of 75 s said '24m08s left' at its first row. The pace is taken from the first row
-    on, once a second has gone by since it."""
+def _time_left(monkeypatch: pytest.MonkeyPatch, out: Path, arrivals: list[float],
+               workers: int) -> list:  # fmt: skip
+    """The time left a sweep tells with each row, its rows coming back at ``arrivals`` (s)."""
     from legdsl.api import sweep
 
     jobs = [sweep.Job(k, "x.leg", None, "hop", {"speed": 1.0}, {"speed": "m/s"}, (), 1.0, 0.0,
-                      "g", None) for k in range(20)]  # fmt: skip
-    arrivals = iter([14.8] + [14.9] * 7 + [16.0] * 8 + [17.1] * 4)  # waves of 8 rows
-    now = {"t": 0.0}
+                      "g", None) for k in range(len(arrivals))]  # fmt: skip
+    times, now = iter(arrivals), {"t": 0.0}
 
     def rows(todo: list, pool: object) -> Iterator[dict]:
         for job in todo:
-            now["t"] = next(arrivals)
+            now["t"] = next(times)
             yield {"run": job.index, "speed": 1.0, "outcome": "ok"}
 
     monkeypatch.setattr(sweep, "run_jobs", rows)
     monkeypatch.setattr(sweep, "Workers", lambda *a: contextlib.nullcontext())
     monkeypatch.setattr(sweep.time, "monotonic", lambda: now["t"])
     told: list = []
-    sweep.run_sweep(jobs, tmp_path / "sweep.csv", 2, lambda d, n, left: told.append(left))
+    sweep.run_sweep(jobs, out / "sweep.csv", workers, lambda d, n, left: told.append(left))
+    return told
+
+
+def test_the_time_left_is_reckoned_from_the_first_row(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Before the first row the workers start and compile, and rows come back in waves: a
+    sweep of 75 s said '24m08s left' at its first row. The pace is taken from the first row
+    on, once a second has gone by since it."""
+    arrivals = [14.8] + [14.9] * 7 + [16.0] * 8 + [17.1] * 4  # waves of 8 rows
+    told = _time_left(monkeypatch, tmp_path, arrivals, 2)
     assert told[:8] == [None] * 8  # the first wave: no pace yet
     assert told[8] == pytest.approx((16.0 - 14.8) / 8 * 11)  # 0.15 s a row, 11 to go
     assert all(left is None or left < 60 for left in told)
+
+
+def test_the_time_left_follows_the_last_rows_not_the_mean_since_the_first(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """An outside user's 300 runs, the first 230 falling at once: the mean pace since the first
+    row said 'about 0m02s left' with 18 s to go. Here 72 runs fall at once, then batches of 8
+    take 1 s a run: two waves in, 12 runs (12 s) are left."""
+    arrivals = [10 + 0.01 * i for i in range(72)] + [10.72 + 8.0 * (1 + i // 8) for i in range(28)]
+    told = _time_left(monkeypatch, tmp_path, arrivals, 1)
+    assert told[87] == pytest.approx(12.0, rel=0.1)

@@ -3,8 +3,6 @@ step found only at its run, rows that are not the plan's, --keep-runs added on a
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -153,33 +151,6 @@ def test_an_out_made_for_a_refused_command_is_not_left_with_its_lock_alone(
     assert not (tmp_path / "out").exists()
     (tmp_path / "out").mkdir()  # one that was there before stays, its lock gone or not
     assert main(argv) == 2 and (tmp_path / "out").is_dir()
-
-
-def test_the_time_left_follows_the_last_rows_not_the_mean_since_the_first(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """An outside user's 300 runs, the first 230 falling at once: the mean pace since the first
-    row said 'about 0m02s left' with 18 s to go. Here 72 runs fall at once, then batches of 8
-    take 1 s a run: two waves in, 12 runs (12 s) are left."""
-    from legdsl.api import sweep as sweeping
-
-    jobs = [sweeping.Job(k, "x.leg", None, "hop", {"speed": 1.0}, {"speed": "m/s"}, (), 1.0,
-                         0.0, "g", None) for k in range(100)]  # fmt: skip
-    arrivals = iter([10 + 0.01 * i for i in range(72)]
-                    + [10.72 + 8.0 * (1 + i // 8) for i in range(28)])  # fmt: skip
-    now = {"t": 0.0}
-
-    def rows(todo: list, pool: object) -> Iterator[dict]:
-        for job in todo:
-            now["t"] = next(arrivals)
-            yield {"run": job.index, "speed": 1.0, "outcome": "ok"}
-
-    monkeypatch.setattr(sweeping, "run_jobs", rows)
-    monkeypatch.setattr(sweeping, "Workers", lambda *a: contextlib.nullcontext())
-    monkeypatch.setattr(sweeping.time, "monotonic", lambda: now["t"])
-    told: list = []
-    sweeping.run_sweep(jobs, tmp_path / "sweep.csv", 1, lambda d, n, left: told.append(left))
-    assert told[87] == pytest.approx(12.0, rel=0.1)
 
 
 def test_a_sweep_without_a_c_compiler_says_its_runs_go_on_python(
