@@ -74,3 +74,33 @@ def test_a_replay_into_a_stream_is_refused(tmp_path: Path, capsys) -> None:
     run = creature_run("kangaroo", tmp_path / "run")
     assert main(["replay", str(run), "--mujoco", "-o", "/dev/stdout"]) == 2
     assert "a video is written to a file named .mp4 or .gif" in capsys.readouterr().err
+
+
+def test_a_misspelt_mujoco_gl_is_a_usage_error(tmp_path: Path) -> None:
+    """MuJoCo's import refuses an unknown MUJOCO_GL ('egI' for egl): that was an internal
+    error (exit 70); it is the user's to fix, told which values MuJoCo takes."""
+    run = creature_run("hopper", tmp_path / "run")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    env.update(MUJOCO_GL="egI", PYTHONPATH=os.pathsep.join(sys.path))
+    args = ["replay", str(run), "--mujoco", "-o", str(tmp_path / "x.mp4"), "--size", "64x64"]
+    done = subprocess.run(
+        [sys.executable, "-m", "legdsl", *args], capture_output=True, text=True, env=env
+    )
+    assert done.returncode == 2, done.stderr
+    assert "MUJOCO_GL=egI is not a value MuJoCo takes" in done.stderr
+    assert "glfw (with a display)" in done.stderr
+
+
+def test_an_opengl_backend_that_will_not_load_is_a_usage_error(monkeypatch) -> None:
+    """MUJOCO_GL=osmesa without libOSMesa fails inside PyOpenGL's import, as mujoco is
+    imported ("'NoneType' object has no attribute 'glGetError'"): exit 2 with what to install."""
+    from legdsl.export import mjreplay
+    from legdsl.lang.errors import UsageError
+
+    def no_osmesa(name: str) -> None:
+        raise AttributeError("'NoneType' object has no attribute 'glGetError'")
+
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")
+    monkeypatch.setattr(mjreplay, "import_held", no_osmesa)
+    with pytest.raises(UsageError, match=r"MUJOCO_GL=osmesa.*libosmesa6"):
+        mjreplay._mujoco()

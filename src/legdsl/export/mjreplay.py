@@ -15,6 +15,7 @@ no OpenGL context can be had the command says so and why.
 from __future__ import annotations
 
 import os
+import platform
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -32,9 +33,20 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.optional import not_installed
 from legdsl.signals import import_held
 
+# MuJoCo's own list (mujoco/rendering/classic/gl_context.py), by platform
+_GL_VALUES = {"Linux": "egl, osmesa, glx", "Windows": "wgl", "Darwin": "cgl"}
+
+
+# what the offscreen renderer needs, said by each way it fails to start
+_OPENGL_ADVICE = (
+    "It needs OpenGL without a display: EGL (Mesa's libegl1, MUJOCO_GL=egl) or "
+    "OSMesa (libosmesa6, MUJOCO_GL=osmesa); with a display, run without -o to use the viewer"
+)
+
 
 def _mujoco() -> Any:
     os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: offscreen on Mesa
+    gl = os.environ["MUJOCO_GL"]
     try:
         mujoco = import_held("mujoco")
     except ImportError as e:
@@ -42,6 +54,20 @@ def _mujoco() -> Any:
             raise
         raise UsageError(
             "replaying in MuJoCo needs the mujoco package: pip install mujoco"
+        ) from None
+    except RuntimeError as e:  # mujoco's import checks MUJOCO_GL's value
+        if "MUJOCO_GL" not in str(e):
+            raise
+        values = _GL_VALUES.get(platform.system(), "")
+        raise UsageError(
+            f"MUJOCO_GL={gl} is not a value MuJoCo takes: set it to one of "
+            f"{values + ', ' if values else ''}glfw (with a display), or unset it for egl"
+        ) from None
+    except (AttributeError, OSError) as e:
+        # mujoco's import loads the MUJOCO_GL backend's library; PyOpenGL without libOSMesa
+        # fails inside its own import ("'NoneType' object has no attribute 'glGetError'")
+        raise UsageError(
+            f"MuJoCo could not load its OpenGL backend (MUJOCO_GL={gl}): {e}. {_OPENGL_ADVICE}"
         ) from None
     return mujoco
 
@@ -110,8 +136,7 @@ def render_mp4(
         limited = address_space_left() is not None  # OpenGL fails so with too little room
         raise UsageError(
             f"MuJoCo's offscreen renderer could not start (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
-            f"{err}. It needs OpenGL without a display: EGL (Mesa's libegl1, MUJOCO_GL=egl) or "
-            "OSMesa (libosmesa6, MUJOCO_GL=osmesa); with a display, run without -o to use the viewer"
+            f"{err}. {_OPENGL_ADVICE}"
             + ("; or raise the memory limit (ulimit -v), which OpenGL shares" if limited else "")
         ) from None
     camera = _camera(mujoco, model, mj, data, qpos[0])
