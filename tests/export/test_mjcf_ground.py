@@ -26,9 +26,10 @@ from conftest import CREATURES
 from mjhelpers import index_maps, quat_to_matrix
 
 from legdsl.check.source import check_model
-from legdsl.export.mjcf import CONTACT_RADIUS, TIMESTEP, model_to_mjcf
+from legdsl.export.mjcf import TIMESTEP, model_to_mjcf
 from legdsl.export.mjcontact import invweight0
 from legdsl.export.mjpads import AnchorPad, anchor_pads, carrier_inertials
+from legdsl.export.mjsizes import CONTACT_RADIUS
 from legdsl.ir.model import Model, Pad, Terrain
 from legdsl.lang.errors import LegError
 from legdsl.pipeline.generated import load_dynamics

@@ -45,6 +45,7 @@ The mapping (every choice here is tested against MuJoCo itself in
   which ``legdsl scale`` writes as 0.4 ms sqrt(L)), else the paper's 0.0004 s; gravity from
   the model. The contact spheres are 5 mm, or a fiftieth of the longest link of a creature
   whose links are all shorter than 25 cm (a 0.7 mm mite's toe is not a 5 mm ball).
+* ``<statistic>`` (MuJoCo's view scale) and a step's length are the creature's (``mjsizes.py``).
 """
 
 from __future__ import annotations
@@ -69,13 +70,17 @@ from legdsl.export.mjpads import (
     anchor_pads,
     carrier_inertials,
 )
+from legdsl.export.mjsizes import (
+    contact_radius,
+    creature_box,
+    creature_size,
+    step_half_length,
+)
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model
 from legdsl.lang.errors import LegError
 
 TIMESTEP = 0.0004  # s, the paper's integration step, for a creature without its own dt
-CONTACT_RADIUS = 0.005  # m: the sphere touches the floor when the contact point is this high
-RADIUS_PER_LINK = 0.02  # a small creature's spheres: this times its longest link
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
 NO_SLIP_FRICTION = 10.0
 FLOOR_RGBA = "0.85 0.85 0.8 1"
@@ -93,7 +98,6 @@ PAD_NO_SLIP_FRICTION = 1000.0
 # friction is the normal force times the slide (plus the friction times the sphere's
 # radius), so an arm well above the slides' travel never uses up the cone.
 PAD_ROLLING_ARM = 1.0
-TERRAIN_EXTENT = 50.0  # m, half length of the box that draws a 'step' (it extends to +x)
 
 
 def mujoco_timestep(model: Model) -> float:
@@ -101,15 +105,6 @@ def mujoco_timestep(model: Model) -> float:
     pads' rates (mjpads.py, mjcontact.py) are set for it, and a small creature's (0.4 ms sqrt(L)
     when ``legdsl scale`` wrote it) is shorter than its fastest spring's period asks."""
     return model.simulation.dt or TIMESTEP
-
-
-def contact_radius(model: Model) -> float:
-    """The contact spheres' radius: 5 mm, at most a fiftieth of the longest link."""
-    links = [math.hypot(*j.origin) for j in model.joints] + [
-        math.hypot(*b.tip) for b in model.bodies
-    ]
-    longest = max(links, default=0.0)
-    return min(CONTACT_RADIUS, RADIUS_PER_LINK * longest) if longest > 0 else CONTACT_RADIUS
 
 
 def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str:
@@ -157,6 +152,12 @@ def model_to_mjcf(model: Model, pads: bool = True, drawing: bool = False) -> str
     if anchors:  # hard friction: the pads stick (mjcontact.py)
         option.set("impratio", num(FRICTION_IMPRATIO))
     _defaults(root, model, radius)
+    # MuJoCo's view scale (near clipping plane, the viewer's framing) is the creature's: its own
+    # counts the terrain's boxes, and a 100 m step clipped a 5 cm hopper from every view
+    low, high = creature_box(model)
+    ET.SubElement(
+        root, "statistic", extent=num(creature_size(model)), center=nums((low + high) / 2)
+    )
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", name="sun", pos="0 0 4", dir="0 0 -1", directional="true")
     taken = {c.name for c in model.contacts}
@@ -412,10 +413,8 @@ def _ground(world: ET.Element, model: Model, taken: set[str], r: float) -> list[
             )
             continue
         if t.kind == "step":
-            lo, hi = (
-                (t.get("x"), t.get("x") + 2 * TERRAIN_EXTENT),
-                (-TERRAIN_EXTENT, TERRAIN_EXTENT),
-            )
+            half = step_half_length(model)
+            lo, hi = (t.get("x"), t.get("x") + 2 * half), (-half, half)
         else:
             lo, hi = (t.get("x0"), t.get("x1")), (t.get("y0"), t.get("y1"))
         ET.SubElement(
