@@ -44,7 +44,8 @@ The mapping (every choice here is tested against MuJoCo itself in
   slides have theirs); ``RK4`` at the creature's own step (its ``simulation`` block's ``dt``,
   which ``legdsl scale`` writes as 0.4 ms sqrt(L)), else the paper's 0.0004 s; gravity from
   the model. The contact spheres are 5 mm, or a fiftieth of the longest link of a creature
-  whose links are all shorter than 25 cm (a 0.7 mm mite's toe is not a 5 mm ball).
+  whose links are all shorter than 25 cm (a 0.7 mm mite's toe is not a 5 mm ball), or of its
+  size for a creature without link lengths.
 * ``<statistic>`` (MuJoCo's view scale) and a step's length are the creature's (``mjsizes.py``).
 """
 

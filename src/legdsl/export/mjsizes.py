@@ -59,9 +59,11 @@ def step_half_length(model: Model) -> float:
 
 
 def contact_radius(model: Model) -> float:
-    """The contact spheres' radius: 5 mm, at most a fiftieth of the longest link."""
+    """The contact spheres' radius: 5 mm, at most a fiftieth of the longest link, or of the
+    creature's size where it has no link lengths (a 3 mm brick kept 5 mm spheres, whose
+    surface, where MuJoCo's contact force acts, was 5 mm below its corners)."""
     links = [math.hypot(*j.origin) for j in model.joints] + [
         math.hypot(*b.tip) for b in model.bodies
     ]
-    longest = max(links, default=0.0)
+    longest = max(links, default=0.0) or creature_size(model)
     return min(CONTACT_RADIUS, RADIUS_PER_LINK * longest) if longest > 0 else CONTACT_RADIUS
