@@ -71,7 +71,8 @@ class AnchorPad:
     k: float  # the tangent spring, N/m
     b: float  # and its damper, N*s/m
     mass: float  # also each slide's armature
-    inertia: float  # about each axis through the pad's origin (a solid sphere)
+    radius: float  # the contact sphere's, on the pad
+    inertia: float  # about each axis through the pad's origin (a solid sphere, or MuJoCo's least)
 
 
 # kg m^2: MuJoCo refuses a fullinertia with a smaller eigenvalue ("inertia must have positive
@@ -123,6 +124,7 @@ def anchor_pads(model: Model, timestep: float, radius: float) -> tuple[AnchorPad
                 k=ground.tangent.k,
                 b=ground.tangent.b,
                 mass=mass,
+                radius=radius,
                 # a solid sphere's, or MuJoCo's least (a 1 cm hopper's pad: 6e-16, refused)
                 inertia=max(0.4 * mass * radius**2, MUJOCO_SMALLEST_INERTIA),
             )
@@ -192,29 +194,58 @@ def carrier_inertials(
     }
     refused: list[Diagnostic] = []  # every pad that cannot be carried, each told at its contact
     for pad in pads:
-        m, c, inertia = out[pad.body]
-        p = np.asarray(pad.point, float)
-        rest = m - pad.mass
-        centre = (m * c - pad.mass * p) / rest if rest > 0 else c
-        left = (
-            inertia - pad.inertia * np.eye(3) - _shift(pad.mass, p - c) - _shift(rest, centre - c)
-        )
-        if model.planar and rest > 0 and left[1, 1] > 0 and not _rigid(left):
-            # A planar creature turns about y only: its bodies' other moments (the checker
-            # makes them Iyy) never act, so they are chosen to keep the carrier a rigid body.
-            left = left[1, 1] * np.eye(3)
-        if rest <= 0 or not _rigid(left):
+        rest, centre, left = _taken_out(model.planar, out[pad.body], pad, pad.inertia)
+        if left is None:
             contact = next(x for x in model.contacts if x.name == pad.contact)
-            refused.append(Diagnostic(
-                contact.span,
-                f"the MJCF export's anchor pad for contact '{pad.contact}' needs "
-                f"{pad.mass:.3g} kg (for its tangent spring-damper at MuJoCo's time step) and body "
-                f"'{pad.body}' cannot give it: what is left of its mass and inertia is not a "
-                "rigid body. Make the body heavier or its inertia larger, or export with "
-                "--no-anchor-pads" + contact.span.within,
-            ))  # fmt: skip
+            own = 0.4 * pad.mass * pad.radius**2  # a solid sphere's, before MuJoCo's floor
+            floor = own < pad.inertia and (
+                _taken_out(model.planar, out[pad.body], pad, own)[2] is not None
+            )
+            refused.append(
+                Diagnostic(contact.span, _refusal(pad, own, floor) + contact.span.within)
+            )
             continue
         out[pad.body] = (rest, centre, left)
     if refused:
         raise LegError(refused, {})
     return out
+
+
+def _taken_out(
+    planar: bool,
+    inertial: tuple[float, np.ndarray, np.ndarray],
+    pad: AnchorPad,
+    pad_inertia: float,
+) -> tuple[float, np.ndarray, np.ndarray | None]:
+    """The body's (mass, mass centre, inertia) with the pad taken out; the inertia is None
+    where what is left is not a rigid body's."""
+    m, c, inertia = inertial
+    p = np.asarray(pad.point, float)
+    rest = m - pad.mass
+    centre = (m * c - pad.mass * p) / rest if rest > 0 else c
+    left = inertia - pad_inertia * np.eye(3) - _shift(pad.mass, p - c) - _shift(rest, centre - c)
+    if planar and rest > 0 and left[1, 1] > 0 and not _rigid(left):
+        # A planar creature turns about y only: its bodies' other moments (the checker
+        # makes them Iyy) never act, so they are chosen to keep the carrier a rigid body.
+        left = left[1, 1] * np.eye(3)
+    return rest, centre, (left if rest > 0 and _rigid(left) else None)
+
+
+def _refusal(pad: AnchorPad, own: float, floor: bool) -> str:
+    """Why the pad's body cannot carry it: MuJoCo's inertia floor, which the pad's inertia
+    (``own``) is raised to, where ``floor`` says the own one would fit (a 1 cm creature),
+    else its mass."""
+    start = f"the MJCF export's anchor pad for contact '{pad.contact}'"
+    if floor:
+        return (
+            f"{start} has an inertia of {own:.3g} kg*m^2, below the least MuJoCo loads "
+            f"({MUJOCO_SMALLEST_INERTIA:g}, in SI units, which the MJCF export writes), and body "
+            f"'{pad.body}' cannot give the pad that least inertia: export the creature scaled up "
+            "(legdsl scale FILE --by 100: it moves the same, scaled by docs/scaling.md's rule), "
+            "or export with --no-anchor-pads"
+        )
+    return (
+        f"{start} needs {pad.mass:.3g} kg (for its tangent spring-damper at MuJoCo's time step) "
+        f"and body '{pad.body}' cannot give it: what is left of its mass and inertia is not a "
+        "rigid body. Make the body heavier or its inertia larger, or export with --no-anchor-pads"
+    )
