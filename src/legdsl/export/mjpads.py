@@ -186,14 +186,18 @@ def carrier_inertials(
 
     The body and its pads at rest (zero slides) have the declared mass, mass
     centre and inertia (a planar body: its moment about y); a ``LegError`` at the
-    contact says so if what is left is not a valid rigid body.
+    contact says so if what is left is not a valid rigid body. A body welded to the world
+    gives nothing: it never moves, and a 10 g test stand's frame was refused as too light.
     """
     out = {
         b.name: (b.mass, np.asarray(b.com, float), np.asarray(b.inertia, float))
         for b in model.bodies
     }
     refused: list[Diagnostic] = []  # every pad that cannot be carried, each told at its contact
+    static = _welded_to_world(model)
     for pad in pads:
+        if pad.body in static:  # MuJoCo never moves it: its mass is no one's, the pad's its own
+            continue
         rest, centre, left = _taken_out(model.planar, out[pad.body], pad, pad.inertia)
         if left is None:
             contact = next(x for x in model.contacts if x.name == pad.contact)
@@ -209,6 +213,15 @@ def carrier_inertials(
     if refused:
         raise LegError(refused, {})
     return out
+
+
+def _welded_to_world(model: Model) -> set[str]:
+    """The bodies welded to the world: a fixed root and what is welded to it."""
+    static: set[str] = set()
+    for body, joint in zip(model.bodies, model.joints, strict=True):
+        if joint.kind == "fixed" or (joint.kind == "weld" and joint.parent in static):
+            static.add(body.name)
+    return static
 
 
 def _taken_out(
