@@ -11,6 +11,7 @@ import pytest
 
 import legdsl
 from legdsl.cli import main
+from legdsl.lang.errors import UsageError
 from legdsl.sim.machine import overwritten
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -63,3 +64,18 @@ def test_legdsl_run_and_the_api_note_it_too(
         warnings.simplefilter("always")
         hopper.run(controller="hop", set={"hip_servo.kv": "5 N*m*s/rad"}, time=0.05)
     assert any("sets hip_servo.kv itself in every state" in str(w.message) for w in caught)
+
+
+def test_an_unknown_controller_is_told_not_looked_into(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The note looked up the controller before the run had checked its name: a misspelt
+    --controller (seed 21016 of the random API calls) was an internal error (StopIteration)."""
+    argv = ["run", str(HOPPER), "--controller", "hopx", "--set", "hip_servo.kp=10N*m/rad",
+            "--time", "0.1", "--out", str(tmp_path / "r"),
+            "--generated", str(tmp_path / "generated")]  # fmt: skip
+    assert main(argv) == 2
+    assert "has no such controller; did you mean 'hop'?" in capsys.readouterr().err
+    hopper = legdsl.load(HOPPER, generated=tmp_path / "generated")
+    with pytest.raises(UsageError, match="has no such controller"):
+        hopper.run(controller="hopx", time=0.1)

@@ -482,10 +482,12 @@ def refuse_repeated(texts: Sequence[str]) -> None:
 
 def overwritten_notes(settings: Sequence[str], controller: str | None, session: Any) -> list[str]:
     """``TEXT: why`` for each ``--set`` text of an actuator setting that ``controller`` writes
-    itself (``legdsl.sim.machine.overwritten``); none while the settings hold a mistake, which
-    the run tells alone."""
+    itself (``legdsl.sim.machine.overwritten``); none while the settings or the controller's
+    name hold a mistake, which the run tells alone."""
     if controller is None or session is None:
         return []
+    if controller not in {c.name for c in session.model.controllers}:
+        return []  # an unknown name: the run says so, with the names there are
     try:
         sort_settings(list(settings), session.model, controller)
     except UsageError:
