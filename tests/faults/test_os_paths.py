@@ -55,3 +55,16 @@ def test_odd_names_make_whole_run_directories(generated: Path, tmp_path: Path) -
     assert proc.returncode == 0, proc.stderr
     assert json.loads((out / "run.json").read_text())["status"] == "ok"
     shutil.rmtree(tmp_path / "a b")
+
+
+def test_a_name_missing_from_legdsls_own_module_is_not_told_as_a_missing_dependency() -> None:
+    """An outside user ran legdsl while its files were being changed: 'cannot import name
+    overwritten_notes from legdsl.pipeline.settings' was told to install the dependencies or
+    raise the memory limit, neither of which helps."""
+    from legdsl.cli.process import cannot_import
+
+    own = ImportError("cannot import name 'x' from 'legdsl.pipeline.settings'",
+                      name="legdsl.pipeline.settings")  # fmt: skip
+    said = cannot_import(own)
+    assert "legdsl's own files do not match one another" in said and "ulimit" not in said
+    assert "install legdsl's dependencies" in cannot_import(ImportError("no", name="numpy"))

@@ -54,6 +54,12 @@ def cannot_import(e: ImportError) -> str:
     """What to do when a library legdsl needs cannot be loaded: usually another Python than the
     one legdsl was installed in; under ``ulimit -v``, too little memory to map it."""
     said = str(e).strip().splitlines()[-1] if str(e).strip() else type(e).__name__
+    if (e.name or "").partition(".")[0] == "legdsl":  # a name one of its modules lacks
+        return (
+            f"cannot load {e.name} ({said}): legdsl's own files do not match one another (an "
+            "upgrade cut short, or files edited while it ran): run it again, or reinstall "
+            "legdsl (pip install --force-reinstall legdsl)"
+        )
     return (
         f"cannot load {e.name or 'a library legdsl needs'} ({said}): install legdsl's "
         "dependencies in this Python (pip install legdsl), or raise the memory limit "
