@@ -344,3 +344,28 @@ def test_a_creature_without_contacts_cannot_be_dropped(
     code, err = _run(capsys, [*argv, "--time", "0.05", "--drop", "0.1", "--backend", "python"])
     assert code == 2
     assert "creature 'ball' has no contacts: to start it higher" in err
+
+
+@pytest.mark.parametrize("command", READERS)
+def test_a_divergences_last_sample_past_float32_is_measured_not_exported(
+    capsys: pytest.CaptureFixture[str], a_run: Path, tmp_path: Path, command: str
+) -> None:
+    """A random rig (seed 850000 of the random metrics) diverged between two checks to q of
+    9e40: legdsl wrote it and every reader refused it as damaged ('holds values too large').
+    Metrics and plots read it; an animation, whose numbers are 32-bit, says what to run."""
+    run = tmp_path / "run"
+    shutil.copytree(a_run, run)
+    npz = run / "trajectory.npz"
+    with np.load(npz) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["q"][-1] = arrays["q"][-1] * 1e40 + 1e40  # the last sample, as a blow-up leaves it
+    np.savez(npz, **arrays)  # type: ignore[arg-type]
+    argv = [command, str(run)]
+    if command in ("animate", "export-motion"):
+        argv += ["--source", HOPPER, *(["-o", str(tmp_path / "m.glb")] * (command != "animate"))]
+    code, err = _run(capsys, argv)
+    if command in ("metrics", "plot"):
+        assert code == 0 and "Warning" not in err, err
+    else:
+        assert code == 2 and "past what an animation's 32-bit numbers hold" in err, err
+        assert "run it again with a --time before" in err

@@ -29,7 +29,7 @@ from legdsl.export.frames import enough_frames, frame_times, interpolate, interp
 from legdsl.export.stances import stance_note
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
-from legdsl.sim.trajectory import Trajectory, load_run_info
+from legdsl.sim.trajectory import FLOAT32_MAX, Trajectory, load_run_info
 
 DEFAULT_FPS = 60.0
 
@@ -323,6 +323,20 @@ def continuous(quaternions: np.ndarray) -> np.ndarray:
     return out
 
 
+def _within_float32(tr: Trajectory, status: str) -> None:
+    """Positions an animation's 32-bit floats hold: a divergence's last sample can be past them
+    (5 steps between its checks flung a stiff rig to 1e40 m), which would be written as inf."""
+    for name in ("q", "com", "root_pos"):
+        a = getattr(tr, name)
+        if a.size and np.max(np.abs(a)) >= FLOAT32_MAX:  # a welded creature has no q
+            at = float(tr.t[int(np.argmax(np.max(np.abs(a.reshape(len(a), -1)), axis=1)))])
+            raise UsageError(
+                f"the run's {name} reaches {np.max(np.abs(a)):.3g} at t = {at:.4f} s (it "
+                f"{status}), past what an animation's 32-bit numbers hold: run it again with a "
+                f"--time before {at:g} s"
+            )
+
+
 def motion_from(
     model: Model,
     trajectory: Trajectory,
@@ -336,6 +350,7 @@ def motion_from(
     """The run's frames at ``fps`` (``flag`` names that rate in a refusal: one frame of a
     run that moves is refused here, for every player, as ``legdsl animate`` refuses it)."""
     tr = trajectory
+    _within_float32(tr, status)
     enough_frames(float(tr.t[-1] - tr.t[0]), fps, flag=flag)
     at = frame_times(tr.t, fps)
     q = interpolate_q(model, tr.t, tr.q, at)

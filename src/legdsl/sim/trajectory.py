@@ -35,6 +35,7 @@ ARRAYS = (
 )  # fmt: skip
 LATER = ("work_positive", "work_negative")  # arrays a run of an older legdsl lacks (empty then)
 FLOAT32_MAX = float(np.finfo(np.float32).max)
+COMPUTABLE = 1e150  # past this a value's square overflows a double
 
 
 @dataclass
@@ -241,11 +242,14 @@ class Trajectory:
             a = getattr(self, name)
             if not np.issubdtype(a.dtype, np.number) or not np.all(np.isfinite(a)):
                 raise UsageError(f"{path}: the array {name} is not all finite numbers{again}")
-        # the exports write times and positions as float32: a recorded run (which stops past
-        # 1000 m/s) stays far inside its range
-        for name in ("t", "q", "com", "root_pos"):
+        # the exports write times and positions as float32; positions past it are a
+        # divergence's last sample (5 steps between its checks flung a stiff rig to 1e40 m),
+        # which the exports refuse (``legdsl.export.motion``) and metrics and plots read;
+        # past COMPUTABLE their squares overflow
+        for name, most in (("t", FLOAT32_MAX), ("q", COMPUTABLE), ("com", COMPUTABLE),
+                           ("root_pos", COMPUTABLE)):  # fmt: skip
             a = getattr(self, name)
-            if a.size and np.max(np.abs(a)) >= FLOAT32_MAX:  # a welded creature has no q
+            if a.size and np.max(np.abs(a)) >= most:  # a welded creature has no q
                 raise UsageError(f"{path}: the array {name} holds values too large{again}")
         if self.q.shape[1] != len(self.q_names) or self.v.shape[1] != len(self.v_names):
             raise UsageError(f"{path}: q or v does not match its coordinate names{again}")
