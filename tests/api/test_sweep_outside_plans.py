@@ -31,7 +31,10 @@ def test_a_value_too_stiff_later_in_the_plan_is_refused_before_any_run(
     assert main(sweep(tmp_path, "--grid", "leg_spring.k=3000,1e7")) == 2
     err = capsys.readouterr().err
     assert "sweep: its runs at leg_spring.k = 1e+07 N/m: actuator 'leg_spring' is too stiff" in err
-    assert "a step below 0.341 ms (dt in the file's simulation block; a sweep has no --dt)" in err
+    assert (
+        "a step below 0.341 ms (dt in the file's simulation block; a sweep or a tune has no --dt)"
+        in err
+    )
     assert not (tmp_path / "out" / "sweep.json").exists()
     assert not (tmp_path / "out" / "sweep.csv").exists()
     assert main(sweep(tmp_path, "--grid", "leg_spring.k=3000,5e6")) == 0
@@ -45,9 +48,9 @@ def test_a_too_long_time_is_told_a_step_a_sweep_can_take(
     err = capsys.readouterr().err
     assert "sweep: its first run (speed = 0.5 m/s): --time 1e+20s is" in err, err
     assert err.rstrip().endswith(
-        "or a longer step (dt in the file's simulation block; a sweep has no --dt)"
+        "or a longer step (dt in the file's simulation block; a sweep or a tune has no --dt)"
     )  # it advised --dt, which a sweep refuses as an unknown argument
-    assert "steps of 0.0004s" in err
+    assert "steps of dt 0.0004s" in err
     assert not (tmp_path / "out" / "sweep.json").exists()
 
 

@@ -224,7 +224,9 @@ def _creature(job: Job) -> Any:
     key = (job.source, job.creature, job.generated)
     if key not in _CREATURES:
         _CREATURES[key] = load(job.source, job.creature, job.generated)
-        _CREATURES[key].session.note = None  # a row says how its run went: no warning per run
+        session = _CREATURES[key].session
+        session.note = None  # a row says how its run went: no warning per run
+        session.step_flags = False  # its runs take the file's step: a sweep has no --dt
     return _CREATURES[key]
 
 

@@ -189,6 +189,7 @@ def _refuse_too_stiff(
     units = units_of(dims)
     options = run_options(session.model, args.time, {})
     session.note = None  # its runs' notes are the sweep's rows
+    session.step_flags = False  # and their step the file's
     for k, values in enumerate(tried):
         given = [f"{n}={v!r}{units[n]}" for n, v in values.items()]
         try:
@@ -196,14 +197,7 @@ def _refuse_too_stiff(
         except UsageError as e:
             shown = ", ".join(f"{n} = {v:g} {units[n]}".rstrip() for n, v in values.items())
             which = f"its runs at {shown}" if k else f"its first run ({shown})"
-            raise UsageError(f"sweep: {which}: {_without_dt(str(e))}") from None
-
-
-def _without_dt(said: str) -> str:
-    """A run's refusal as a sweep can act on it: a sweep has no --dt, its runs take the file's
-    step (it advised '--dt', which the sweep refused as an unknown argument)."""
-    return said.replace("(--dt, or dt in the simulation block)", "(dt in the file's simulation "
-                        "block; a sweep has no --dt)").replace("steps of --dt ", "steps of ")  # fmt: skip
+            raise UsageError(f"sweep: {which}: {e}") from None
 
 
 def _largest(points: list[tuple[float, ...]]) -> list[tuple[float, ...]]:

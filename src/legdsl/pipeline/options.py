@@ -25,6 +25,7 @@ from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given, written
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
+from legdsl.sim.stability import where_step
 
 
 @dataclass(frozen=True)
@@ -99,8 +100,9 @@ def check_fall_tilt(tilt: object) -> None:
         )
 
 
-def check_run_options(options: RunOptions) -> None:
-    """Raise ``UsageError`` for options no run can use (the API's path to the same rules)."""
+def check_run_options(options: RunOptions, flags: bool = True) -> None:
+    """Raise ``UsageError`` for options no run can use (the API's path to the same rules); a
+    step is advised as --dt if ``flags``, else (a sweep's or a tune's runs) as the file's."""
     positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}
     for field, flag in positive.items():
         value = getattr(options, field)
@@ -124,7 +126,7 @@ def check_run_options(options: RunOptions) -> None:
     check_fall_tilt(options.fall_tilt)
     if options.integrator not in ("euler", "rk4"):
         raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
-    _check_step_counts(options)
+    _check_step_counts(options, flags)
     if options.dt > options.duration:
         raise UsageError(
             f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s)"
@@ -144,18 +146,19 @@ def check_run_options(options: RunOptions) -> None:
 MOST_STEPS = 2**53
 
 
-def _check_step_counts(options: RunOptions) -> None:
+def _check_step_counts(options: RunOptions, flags: bool) -> None:
     """A step so small that its square is 0 (the stiffness check divides by it), or a run or
     control interval of more steps than ``MOST_STEPS``: refused."""
     dt = options.dt
+    step = "--dt" if flags else "dt"
     if not dt * dt > 0:
         raise UsageError(f"--dt {dt:g}s is too small to compute with; give --dt 1e-9s or more")
     for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
         if seconds / dt > MOST_STEPS:
             raise UsageError(
-                f"{flag} {seconds:g}s is {seconds / dt:.3g} steps of --dt {dt:g}s, more than a "
+                f"{flag} {seconds:g}s is {seconds / dt:.3g} steps of {step} {dt:g}s, more than a "
                 f"run can count ({MOST_STEPS:.3g}); give {flag} {MOST_STEPS * dt:.3g}s or less, "
-                "or a longer step (--dt, or dt in the simulation block)"
+                f"or a longer step {where_step(flags=flags)}"
             )
 
 

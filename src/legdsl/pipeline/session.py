@@ -94,6 +94,8 @@ class RunSession:
         self.syntax = syntax
         self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
         self.note: Callable[[str], None] | None = None  # without a log: the API's warnings
+        # its messages advise --dt and --integrator; a sweep's or a tune's runs take the file's
+        self.step_flags = True
         # the file as checked (hashed after the run, it was one saved while the run went on)
         self.source_sha256 = file_sha256(Path(model.source))
         self._controls: dict[str, ModuleType] = {}
@@ -171,7 +173,7 @@ class RunSession:
         ``auto``; None takes ``$LEGDSL_BACKEND``, else ``auto``: C where a compiler is found
         (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
-        check_run_options(asked)
+        check_run_options(asked, self.step_flags)
         welded = welded_root(self.model)
         if welded is not None and asked.drop is not None:
             raise UsageError(
@@ -252,6 +254,7 @@ class RunSession:
         sim = make_simulation(
             self.model, self.dynamics, options, machine, backend, where, self.log, self.note
         )
+        sim.step_flags = self.step_flags
         if scale is not None:
             scaled.scale_checks(sim, scale)
         self._check_start(sim)
@@ -284,6 +287,7 @@ class RunSession:
             if len(self._inverse_inertia) < 256:
                 self._inverse_inertia[key] = inverse
         opts, scale = sim.options, sim.size_scale  # a --scale L run tells its creature's numbers
+        flags = self.step_flags
         rotary = {a.name: a.rotary for a in self.model.actuators}
         spans = {a.name: a.span for a in self.model.actuators}
 
@@ -291,7 +295,7 @@ class RunSession:
             return setting_unit(f.setting, rotary[f.actuator])
 
         def said(f: TooStiff, saturating: bool = False) -> str:
-            return in_unit(f, unit(f), scale).message(opts.dt, unit(f), saturating)
+            return in_unit(f, unit(f), scale).message(opts.dt, unit(f), saturating, flags)
 
         def told(f: TooStiff) -> str:  # at its line (a template's names the instance)
             return said(f) + on_the_line(f, unit(f), scale) + spans[f.actuator].within
@@ -315,7 +319,7 @@ class RunSession:
         for f in stops_too_stiff(stops.values(), inverse, opts.dt, opts.integrator):
             stop = stops[f.actuator]
             line = on_the_line(f, stop.units[0 if f.setting == "k" else 1], scale)
-            self._tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale)}{line}; "
+            self._tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale, flags)}{line}; "
                        "a run that reaches it diverges there")  # fmt: skip
 
     def _tell(self, kind: str, text: str) -> None:

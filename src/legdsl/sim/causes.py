@@ -81,7 +81,8 @@ def cause_at(
     stiff: list[str] = []
     with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
         inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(list(model.q0)))
-        stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator, scale)
+        stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator, scale,
+                          sim.step_flags)  # fmt: skip
     pose = list(model.q0)
     if run is not None and len(run):
         finite = np.flatnonzero(np.all(np.isfinite(run.q), axis=1))
@@ -90,7 +91,8 @@ def cause_at(
     contacts = contact_inverse_masses(sim, pose)
     edge = under_edge(sim, through if through is not None else run)
     return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts,
-                        [edge] if edge is not None else [], scale, otherwise)  # fmt: skip
+                        [edge] if edge is not None else [], scale, otherwise,
+                        sim.step_flags)  # fmt: skip
 
 
 def under_edge(sim: Any, run: Trajectory | None) -> str | None:

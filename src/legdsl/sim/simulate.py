@@ -90,6 +90,8 @@ class Simulation:
         self.v = [float(x) for x in model.v0]
         # the divergence limit's size: a --scale L run sets L and each velocity's Table 1 factor
         self.size_scale, self.v_factors = 1.0, (1.0,) * len(self.v)
+        # its messages advise --dt and --integrator (a sweep's or a tune's runs: the file's step)
+        self.step_flags = True
         self.q_factors = (1.0,) * len(self.q)  # a --scale L run's Table 1 factors, for messages
         self.events: list[ContactEvent] = []
         self.contact_force: list[Vec] = [(0.0, 0.0, 0.0)] * len(self.contact_names)

@@ -67,8 +67,9 @@ class TooStiff:
     dt_limit: float  # the largest step the value allows (s, the model's)
     scale: float = 1.0  # value and limit are the creature's scaled by this (``in_unit``)
 
-    def message(self, dt: float, unit: str, saturating: bool = False) -> str:
-        """Told with the model's step ``dt`` (s), as the creature of ``scale``'s."""
+    def message(self, dt: float, unit: str, saturating: bool = False, flags: bool = True) -> str:
+        """Told with the model's step ``dt`` (s), as the creature of ``scale``'s, to a command
+        that takes ``--dt`` if ``flags`` (``smaller_step``)."""
         what = "stiff" if self.setting in ("k", "kp") else "damped"
         outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
                    if saturating else "diverges at once")  # fmt: skip
@@ -77,7 +78,7 @@ class TooStiff:
             f"actuator '{self.actuator}' is too {what} for the integration step: "
             f"{self.setting} = {self.value:.4g} {unit} with dt = "
             f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use {self.setting} below "
-            f"{below(self.limit)} {unit}, or {smaller_step(self.dt_limit, self.scale)}{fix}"
+            f"{below(self.limit)} {unit}, or {smaller_step(self.dt_limit, self.scale, flags)}{fix}"
         )
 
 
@@ -108,19 +109,24 @@ def setting_unit(setting: str, rotary: bool) -> str:
     return KINDS[setting_kind(setting, rotary)][1]
 
 
-def smaller_step(dt_limit: float, scale: float = 1.0) -> str:
-    """The advice of a step under ``dt_limit`` seconds of the model's, as every command can
-    take it (a sweep or a tune has no --dt: its runs take the file's). In a ``--scale L`` run
+def smaller_step(dt_limit: float, scale: float = 1.0, flags: bool = True) -> str:
+    """The advice of a step under ``dt_limit`` seconds of the model's, as the command can take
+    it: ``flags``, it takes --dt (``legdsl run``, the API); else, as a sweep or a tune, only the
+    file's step (told '--dt', the user of a sweep met 'unrecognized arguments'). In a ``--scale L`` run
     ``--dt`` is the scaled creature's, sqrt(L) times the model's, and the file's block is the
     model's: each is told its own (the model's alone told L = 0.01 to step 0.5 ms, and --dt
     0.5ms at that scale diverged again with the same advice)."""
     told = below(dt_limit * math.sqrt(scale) * 1e3)
-    return f"a step below {told} ms {_where_step(f'below {below(dt_limit * 1e3)} ms', scale)}"
+    where = where_step(f"below {below(dt_limit * 1e3)} ms", scale, flags)
+    return f"a step below {told} ms {where}"
 
 
-def _where_step(model: str, scale: float) -> str:
+def where_step(model: str = "", scale: float = 1.0, flags: bool = True) -> str:
     """Where a step is given: ``--dt`` (the scaled creature's in a ``--scale`` run) or the
-    file's block, where the step is the model's, ``model`` ('below 0.5 ms')."""
+    file's block, where the step is the model's, ``model`` ('below 0.5 ms'); without
+    ``flags``, the file's block alone (a sweep or a tune has no --scale either)."""
+    if not flags:
+        return "(dt in the file's simulation block; a sweep or a tune has no --dt)"
     if scale == 1.0:
         return "(--dt, or dt in the simulation block)"
     return f"(--dt; the file's simulation block is the unscaled creature's: dt {model} there)"
@@ -191,11 +197,13 @@ def stiff_now(
     dt: float,
     integrator: str,
     scale: float = 1.0,
+    flags: bool = True,
 ) -> list[str]:
     """The actuators at their settings now (a gain the controller set is not checked before
     the run) and the model's joint stops that are too stiff or too damped for the step, as
     causes of a divergence: an actuator's values in SI units, a stop's in those written on
-    its line, both for the creature scaled by ``scale`` (``in_unit``)."""
+    its line, both for the creature scaled by ``scale`` (``in_unit``), told as a command takes
+    a step (``flags``: ``smaller_step``)."""
     rotary = {a.name: a.rotary for a in model.actuators}
     causes = []
     for found in too_stiff(actuators, inverse_inertia, dt, integrator, set()):
@@ -204,11 +212,11 @@ def stiff_now(
         causes.append(
             f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} {unit} now, too "
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
-            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit, scale)}"
+            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit, scale, flags)}"
         )
     stops = model.stops
     return causes + [
-        stop_message(f, stops, scale)
+        stop_message(f, stops, scale, flags)
         for f in stops_too_stiff(stops, inverse_inertia, dt, integrator)
     ]
 
@@ -223,7 +231,9 @@ def stops_too_stiff(
     return too_stiff(pushing, inverse_inertia, dt, integrator, set())
 
 
-def stop_message(found: TooStiff, stops: Iterable[Stop], scale: float = 1.0) -> str:
+def stop_message(
+    found: TooStiff, stops: Iterable[Stop], scale: float = 1.0, flags: bool = True
+) -> str:
     """A stop of ``stops`` too stiff or too damped, told in the unit written on its line (a
     stop in kN*m/rad was told bare SI numbers, 1000 times its unit) for the creature scaled by
     ``scale``."""
@@ -234,7 +244,7 @@ def stop_message(found: TooStiff, stops: Iterable[Stop], scale: float = 1.0) -> 
         f"the stop of joint coordinate {f.actuator} is too "
         f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
         f"{f.value:.4g} {unit}): use {f.setting} below {below(f.limit)} {unit}, or "
-        f"{smaller_step(f.dt_limit, scale)}"
+        f"{smaller_step(f.dt_limit, scale, flags)}"
     )
 
 
@@ -250,6 +260,7 @@ def likely_cause(
     found: Sequence[str] = (),
     scale: float = 1.0,
     otherwise: str | None = None,
+    flags: bool = True,
 ) -> str:
     """Why a run diverged, from the contact stiffness, the step and the joint limits at ``q``,
     the mass matrix there (where the dynamics could compute it), the actuators and stops
@@ -257,9 +268,10 @@ def likely_cause(
     each contact's inverse effective masses there (``contacts``: ``ground_too_stiff``), with
     the causes ``found`` already (a foot pushed under a step's edge: ``legdsl.sim.causes``);
     told in the numbers of the creature scaled by ``scale`` (a ``--scale L`` run's); with none
-    of them, ``otherwise`` (a speed nothing grew to) or that the state grew without bound."""
+    of them, ``otherwise`` (a speed nothing grew to) or that the state grew without bound;
+    a step advised as a command takes it (``flags``: ``smaller_step``)."""
     causes = [*found, *stiff]
-    ground = ground_too_stiff(model, dt, integrator, contacts, scale)
+    ground = ground_too_stiff(model, dt, integrator, contacts, scale, flags)
     # A contact too stiff for the step pushes hard at its first sample down on any landing:
     # the push then says nothing of how deep the foot came down.
     if ground is None and recorded is not None and (pushed := _pushed_deep(model, recorded, scale)):
@@ -304,8 +316,8 @@ def likely_cause(
     if not causes:
         causes.append(
             otherwise
-            or "the state grew without bound; try a smaller step (--dt, or dt in the simulation "
-            "block) or --integrator rk4"
+            or f"the state grew without bound; try a smaller step {where_step(flags=flags)}"
+            + (" or --integrator rk4" if flags else "")
         )
     return "; ".join(causes)
 
@@ -321,9 +333,11 @@ def ground_too_stiff(
     integrator: str,
     contacts: Sequence[tuple[float, float]] | None = None,
     scale: float = 1.0,
+    flags: bool = True,
 ) -> str | None:
     """The ground's springs too stiff or too damped for the step, as a cause of a divergence
-    (told in the numbers of the creature scaled by ``scale``);
+    (told in the numbers of the creature scaled by ``scale``, to a command that takes --dt and
+    --integrator if ``flags``);
     None if the step is within ``GROUND_MARGIN`` of every bound. A contact's normal and tangent
     springs act on its effective mass in their direction (``contacts[i]``: the inverse of each,
     1/kg, from J M^-1 J^T where the dynamics gave it; else the lightest contact body's mass,
@@ -351,7 +365,11 @@ def ground_too_stiff(
     worst = min(found, key=lambda f: f.dt_limit)
     spring = springs[[s.name for s in springs].index(worst.actuator)]
     mass, limit = 1.0 / inverse[spring.v_index], worst.dt_limit
-    rk4 = integrator != "rk4" and not too_stiff(springs, inverse, dt / GROUND_MARGIN, "rk4", set())
+    rk4 = (
+        flags
+        and integrator != "rk4"
+        and not too_stiff(springs, inverse, dt / GROUND_MARGIN, "rk4", set())
+    )
 
     def by(kind: str) -> float:
         return factor(KINDS[kind][0], scale)
@@ -363,7 +381,7 @@ def ground_too_stiff(
         f"{spring.damping * by('linear damping'):.4g} N*s/m) acts on an effective mass of "
         f"{mass * by('mass'):.3g} kg there, and explicit stability needs dt < "
         f"{below(limit * tick * 1e3)} ms; try a step of {limit * tick / 4 * 1e3:.1g} ms "
-        f"{_where_step(f'of {limit / 4 * 1e3:.1g} ms', scale)}"
+        f"{where_step(f'of {limit / 4 * 1e3:.1g} ms', scale, flags)}"
         f"{' or --integrator rk4' if rk4 else ''}"
     )
 
