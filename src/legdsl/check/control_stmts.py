@@ -318,7 +318,8 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 s.span,
                 f"'place' needs one servo per goal, in the goals' order: {len(s.goals)} goal(s) "
                 f"({', '.join(name.name for name, _ in s.goals)}), {len(s.servos)} servo(s); "
-                "write 'place LEG at (x = ...) using SERVO', or (x = ..., y = ...) using two",
+                "write 'place LEG at (x = ...) using SERVO', or "
+                f"(x = ..., {'z' if self.scope.model.planar else 'y'} = ...) using two",
             )
             return None
         if not ok or not isinstance(legs, ir.Legs):
