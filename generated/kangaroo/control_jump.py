@@ -7,10 +7,6 @@ semantics. The states run in order, each entered when its event holds:
 
     FLIGHT -> LOADING -> COMPRESSION -> THRUST -> UNLOADING -> FLIGHT
 
-Role bindings (a swap moves from one to another):
-
-    0: 
-
 Every function takes s (the sensor values, in SENSORS order), u (the
 inputs), p (the parameters), r (the records) and tis (the time in the
 current state, s). SI units throughout.
