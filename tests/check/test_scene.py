@@ -209,3 +209,52 @@ def test_two_commands_for_one_input_at_one_time_in_a_scene_are_refused(tmp_path:
         f"biped.leg:{lines + 4}:3: error: two commands for speed at 1 s (the other at line "
         f"{lines + 3}); an input takes one command at a time: keep one"
     ) in caught.value.render()
+
+
+@pytest.mark.parametrize(
+    ("lines", "only"),
+    [
+        # a misspelt controller: its input and own value are not told absent as well
+        (
+            "controller rnu\n  set speed = 1.2 m/s\n  set run.height = 0.9 m",
+            "creature 'biped' has no controller 'rnu'",
+        ),
+        # a switch's time without its unit: the sets are still the switched-to controller's
+        (
+            "controller run\n  at 4 switch gallop\n  set gallop.k_speed = 50 ms\n"
+            "  set k_speed = 50 ms",
+            "the time after 'at' is a time (s): give its unit, e.g. 4 s",
+        ),
+    ],
+)
+def test_a_wrong_controller_line_is_the_scenes_only_error(
+    tmp_path: Path, lines: str, only: str
+) -> None:
+    """One mistake on a scene's controller line was also told at each `set` of the scene, as
+    a name no controller of the scene has (they have none): a screenful from one typo."""
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(BIPED.read_text() + f"scene s {{\n  {lines}\n  time 2 s\n}}\n")
+    with pytest.raises(LegError) as caught:
+        check_model(path)
+    assert [only in d.message for d in caught.value.diagnostics] == [True]
+    path.write_text(path.read_text().replace("rnu", "run").replace("at 4 switch", "at 4 s switch"))
+    check_model(path)  # the line alone was wrong
+
+
+def test_a_set_no_controller_has_is_told_beside_a_switch_time_without_unit(
+    tmp_path: Path,
+) -> None:
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene s {\n  controller run\n  at 4 switch gallop\n"
+        "  set k_sped = 50 ms\n  time 2 s\n}\n"
+    )
+    with pytest.raises(LegError) as caught:
+        check_model(path)
+    text = caught.value.render()
+    assert "the time after 'at' is a time (s)" in text
+    assert "no controller of this scene has an input or parameter 'k_sped'" in text

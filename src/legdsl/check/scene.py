@@ -95,12 +95,14 @@ class _SceneChecker:
         # names the scene sets may be theirs (a second, false error would say they are absent)
         self.refused = refused - set(self.controllers)
         self.partial = False
+        self.switched_to: list[str] = []  # the controllers of its `at T switch` lines
 
     def _controller(self, ident: ast.Ident) -> bool:
         if ident.name in self.controllers:
             return True
+        # an unknown controller's names are unknown too: a `set` of one is not told absent
+        self.partial = True
         if ident.name in self.refused:
-            self.partial = True
             return False
         known = ", ".join(self.controllers) or "none"
         if ident.name in self.elsewhere:
@@ -143,7 +145,7 @@ class _SceneChecker:
         switches = self._switches(bool(tables))
         bands = self._bands(tables[0]) if tables else ()
         # the table's controllers, even when a band is wrong: its sets are still theirs
-        names = [*(f.name.name for f in first[:1]), *(s.controller for s in switches),
+        names = [*(f.name.name for f in first[:1]), *self.switched_to,
                  *(b.controller.name for b in (tables[0].bands if tables else ()))]  # fmt: skip
         used = [self.controllers[n] for n in dict.fromkeys(names) if n in self.controllers]
         values = [v for item in decl.items if isinstance(item, ast.SceneSet)
@@ -188,6 +190,8 @@ class _SceneChecker:
             assert item.at is not None
             t = _number(item.at, _TIME, "the time after 'at'", diag)
             good = self._controller(item.controller)
+            if good:  # its sets are its own, even when the time is wrong
+                self.switched_to.append(item.controller.name)
             if t is not None and t <= 0:
                 diag.error(
                     item.at.span,
@@ -359,6 +363,8 @@ class _SceneChecker:
         diag = self.diag
         owner, key = item.target
         if owner.name not in [c.name for c in used]:
+            if self.partial:  # perhaps the controller of a line told wrong
+                return None
             runs = ", ".join(c.name for c in used) or "none"
             diag.error(
                 owner.span,
