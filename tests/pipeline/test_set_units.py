@@ -7,6 +7,7 @@ through ``legdsl.pipeline.settings`` for the cases that need no simulation.
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -198,3 +199,49 @@ def test_a_setting_written_as_elsewhere_is_told_how(
     assert main(_run([setting], generated, tmp_path / "run")) == 2
     err = capsys.readouterr().err
     assert says in err and err.count("\n") == 1, err
+
+
+# A parameter declared in radians, a gain in deg/m (an outside user's slips, repro 3).
+_DECLARED = """\
+creature c {
+  planar
+  body trunk free { mass 1 kg  inertia 0.01 kg*m^2  initial x = 0 m, z = 1 m }
+  body leg on trunk via revolute hip { mass 1 kg  inertia 0.01 kg*m^2  length 0.5 m }
+  actuator hip_servo on hip servo(kp = 10 N*m/rad)
+}
+controller hold {
+  param bend = 0.7 rad
+  param k_lean = 60 deg/m
+  table { state A on time > 0 s: hip_servo.setpoint = bend + k_lean * trunk.z }
+}
+"""
+
+
+@pytest.mark.parametrize(
+    ("setting", "advice", "si"),
+    [
+        # a bare number is told in the unit the file declares it in, not deg (57 times off)
+        ("bend=0.75", "give its unit, e.g. bend=0.75rad", 0.75),
+        ("hold.bend=0.75", "give its unit, e.g. hold.bend=0.75rad", 0.75),
+        # the user's unit over what it lacks of the declared one: 60deg/m, not 60rad/m
+        ("k_lean=60deg", "write e.g. k_lean=60deg/m", math.radians(60)),
+        ("k_lean=1rad", "write e.g. k_lean=1rad/m", 1.0),
+        ("k_lean=2N", "write e.g. k_lean=2deg/m", math.radians(2)),
+        # no declared unit for an actuator's setting: the usual one, and SI's
+        ("hip_servo.setpoint=0.5", "hip_servo.setpoint=0.5deg or hip_servo.setpoint=0.5rad", 0.5),
+    ],
+)
+def test_advice_keeps_the_unit_the_value_was_declared_in(
+    setting: str, advice: str, si: float, tmp_path: Path
+) -> None:
+    from legdsl.check.source import check_model
+
+    path = tmp_path / "c.leg"
+    path.write_text(_DECLARED, encoding="utf-8")
+    model = check_model(path)
+    with pytest.raises(UsageError) as told:
+        sort_settings([setting], model, "hold")
+    assert str(told.value).endswith(advice)
+    got = sort_settings([advice.rpartition(" ")[2]], model, "hold")  # the advice, followed
+    own = [v for values in got.by_controller.values() for v in values.values()]
+    assert [*got.params.values(), *got.actuators.values(), *own] == [pytest.approx(si)]

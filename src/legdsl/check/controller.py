@@ -31,6 +31,7 @@ from legdsl.check.values import (
     misspelt_unit,
     owning_creature,
     too_long,
+    written_unit,
 )
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import Constant, Type
@@ -397,7 +398,8 @@ class ControllerChecker:
             return None
         if isinstance(node, ast.EQuantity):
             q = node.quantity
-            return Constant(name.name, sign * q.value, q.dim, name.span)
+            unit = "".join(written_unit(node.text).split())
+            return Constant(name.name, sign * q.value, q.dim, name.span, unit)
         misspelt = misspelt_unit(node)
         if misspelt is not None:  # '1 N*m/rdd' reads as 1 N*m divided by a name
             self.err(*misspelt)

@@ -17,12 +17,15 @@ from legdsl.ir.model import Controller, Model
 
 
 def _clean(obj: Any) -> Any:
-    """A dataclass tree as plain data, without source spans (so comments and layout don't count)."""
+    """A dataclass tree as plain data, without source spans or other spelling (so comments,
+    layout and the unit a value was written in don't count)."""
     if is_dataclass(obj) and not isinstance(obj, type):
         return {
             f.name: _clean(getattr(obj, f.name))
             for f in fields(obj)
-            if f.name != "span" and (getattr(obj, f.name) or not f.metadata.get("omit_empty"))
+            if f.name != "span"
+            and not f.metadata.get("spelling")
+            and (getattr(obj, f.name) or not f.metadata.get("omit_empty"))
         }
     if isinstance(obj, tuple | list):
         return [_clean(x) for x in obj]

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import Span
@@ -120,6 +120,9 @@ class Constant:
     value: float
     dim: Dim
     span: Span
+    # the unit its default was written in ('deg/m'), which --set advice keeps; spelling, like
+    # the span, so left out of fingerprints (the generated code does not depend on it)
+    unit: str = field(default="", metadata={"spelling": True})
 
 
 # ------------------------------------------------------------------ what names stand for

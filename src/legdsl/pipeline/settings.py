@@ -181,13 +181,17 @@ def a_kind(dim: Dim) -> str:
     return ("an " if name[0] in "aeiou" else "a ") + name
 
 
-def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) -> None:
+def check_dimension(
+    where: str, what: str, given: Given, want: Dim, write: str, declared: str = ""
+) -> None:
     """Raise a ``UsageError`` unless ``given`` has the dimension ``want``.
 
     ``what`` says what is wanted ("speed is a velocity (m/s)"), ``write`` how to write the
-    value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example.
+    value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example;
+    ``declared`` the unit the file wrote the value in, which the example keeps.
     """
-    example = write.format(written(given, want, _unit_to_write(given, want)))
+    unit = _unit_to_write(given, want, declared if _measures(declared, want) else "")
+    example = write.format(written(given, want, unit))
     if want == DIMENSIONLESS:
         if given.dim is not None and given.dim != DIMENSIONLESS:
             raise UsageError(
@@ -196,8 +200,10 @@ def check_dimension(where: str, what: str, given: Given, want: Dim, write: str) 
             )
         return
     if given.dim is None:
-        if given.value != 0:
-            raise UsageError(f"{where}: {what}; give its unit, e.g. {example}")
+        if given.value != 0:  # a unit that is not SI's, guessed: the number in SI's too
+            in_si = si_unit(want) if parse_unit(unit)[0] != 1 else ""
+            also = f" or {write.format(given.number + in_si)}" if in_si else ""
+            raise UsageError(f"{where}: {what}; give its unit, e.g. {example}{also}")
         return
     if given.dim != want:
         raise UsageError(
@@ -215,15 +221,27 @@ def written(given: Given, want: Dim, unit: str) -> str:
     return given.number + unit
 
 
-def _unit_to_write(given: Given, want: Dim) -> str:
-    """The user's own unit per second where that is wanted and scales unlike the wanted
-    kind's unit (a turn rate given as '10deg' is '10deg/s', not '10rad/s', 57 times as
-    fast), else the wanted kind's unit."""
-    return per_second(given.unit, want) or unit_for(want)
+def _unit_to_write(given: Given, want: Dim, declared: str) -> str:
+    """The user's own unit per second, or over the declared unit's denominator, where that
+    is wanted and scales unlike the wanted kind's unit (a turn rate given as '10deg' is
+    '10deg/s', not '10rad/s', 57 times as fast; a gain declared in deg/m given as '60deg' is
+    '60deg/m'), else the declared unit, else the wanted kind's unit."""
+    below = declared.partition("/")[2]
+    over = f"{given.unit}/{below}"
+    per_below = over if given.unit and below and _measures(over, want) else None
+    return per_second(given.unit, want) or per_below or declared or unit_for(want)
 
 
-def _check_named(where: str, name: str, given: Given, want: Dim) -> None:
-    check_dimension(where, f"{name} is {a_kind(want)}", given, want, f"{name}={{}}")
+def _measures(unit: str, want: Dim) -> bool:
+    """Whether ``unit`` is a unit of the dimension ``want``."""
+    try:
+        return bool(unit) and parse_unit(unit)[1] == want
+    except UnitError:
+        return False
+
+
+def _check_named(where: str, name: str, given: Given, want: Dim, declared: str = "") -> None:
+    check_dimension(where, f"{name} is {a_kind(want)}", given, want, f"{name}={{}}", declared)
 
 
 @dataclass
@@ -329,7 +347,7 @@ def sort_settings(
         if ir is None:
             _no_controller_chosen(model, name)
         if name in inputs:
-            _check_named(where, name, given, inputs[name].dim)
+            _check_named(where, name, given, inputs[name].dim, inputs[name].unit)
             if at is None:
                 out.inputs[name] = given.value
             else:
@@ -340,7 +358,7 @@ def sort_settings(
                     f"{where}: {name} is a parameter; only controller inputs change during a run "
                     f"(inputs: {', '.join(inputs) or 'none'})"
                 )
-            _check_named(where, name, given, params[name].dim)
+            _check_named(where, name, given, params[name].dim, params[name].unit)
             out.params[name] = given.value
         else:
             known = ", ".join([*inputs, *params]) or "none"
@@ -394,7 +412,8 @@ def _controller_setting(
             + _caret(text, 0, len(owner))
         )
     ctl = model.controller(owner)
-    dims = {c.name: c.dim for c in (*ctl.inputs, *ctl.params)}
+    declared = {c.name: c for c in (*ctl.inputs, *ctl.params)}
+    dims = {c.name: c.dim for c in declared.values()}
     if key not in dims:
         known = ", ".join(dims) or "none"
         raise UsageError(
@@ -407,7 +426,7 @@ def _controller_setting(
             f"an input during the run write --set {key}=...@T"
             + _caret(text, text.rfind("@"), len(text) - text.rfind("@"))
         )
-    _check_named(where, name, given, dims[key])
+    _check_named(where, name, given, dims[key], declared[key].unit)
 
 
 def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -> None:
