@@ -203,9 +203,10 @@ class ExprChecker(NameResolver):
         left, right = self.number(e.left, local), self.number(e.right, local)
         if left is None or right is None:
             return None
-        if e.op == "/" and self.constant_value(right) == 0:
-            why = " (the creature's gravity, g, is 0)" if _reads(right, "g") else ""
-            self.err(e.right.span, f"division by zero: this is 0{why}")
+        if e.op == "/" and (
+            zero := self.zeros.divisor(right, self.constant_value(right), self.signal_ir)
+        ):
+            self.err(e.right.span, f"division by zero: {zero}")
             return None
         if e.op in ("*", "/"):
             sign = 1 if e.op == "*" else -1
@@ -444,13 +445,6 @@ _DOMAIN = {
     "asin": "asin() of a number outside -1 to 1",
     "acos": "acos() of a number outside -1 to 1",
 }
-
-
-def _reads(e: ir.Expr, builtin: str) -> bool:
-    """Whether ``e`` reads the built-in value ``builtin``."""
-    return any(
-        isinstance(x, ir.Named) and x.kind == "builtin" and x.name == builtin for x in ir.leaves(e)
-    )
 
 
 def _finite(compute: Callable[[], float], op: str) -> float:

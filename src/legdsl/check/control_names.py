@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from legdsl.check.always_zero import ZeroTest
 from legdsl.check.control_words import PLANAR_COUNTERPARTS, SPATIAL_ALIASES, no_alias_message
 from legdsl.check.values import TRUTHS, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
@@ -137,6 +138,7 @@ class NameResolver:
         self._signals_open: list[str] = []
         self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo
         self._constants: dict[int, tuple[ir.Expr, float | None]] = {}  # constant_value's memo
+        self.zeros = ZeroTest()  # divisors that are 0 in every state
         self.within_expression = False  # checking a statement's expression (ExprChecker)
         self._planar_sites: set[Span] = set()
         self._reported_at_call: set[tuple[Span, str]] = set()
