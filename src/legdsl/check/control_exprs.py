@@ -34,6 +34,7 @@ from legdsl.check.control_names import (
     thing_kind,
 )
 from legdsl.check.control_words import describe_type, expression_text
+from legdsl.check.plain_declared import plain_declared
 from legdsl.check.values import did_you_mean
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
@@ -252,6 +253,9 @@ class ExprChecker(NameResolver):
             if found is None:
                 found = value.type
             elif value.type != found:
+                if (told := plain_declared(self.scope.unitless, values)) is not None:
+                    self.err(*told)  # the unit left out where it is declared
+                    return MISMATCH
                 spans = [x.span for x in exprs]
                 span = Span(
                     spans[0].file,

@@ -102,6 +102,8 @@ class Scope:
     # name -> the members read of it (``route.lateral``), to tell what an unknown name is
     dotted: dict[str, set[str]] = field(default_factory=dict)
     lets: dict[str, Span] = field(default_factory=dict)  # every 'let NAME', where first given
+    # input or parameter declared as a plain number -> its kind and value (plain_declared)
+    unitless: dict[str, tuple[str, ast.Expr]] = field(default_factory=dict)
     # role -> each group of legs the table's swaps bind it to, the initial one first
     bound: dict[str, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
 

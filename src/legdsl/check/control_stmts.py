@@ -13,6 +13,7 @@ from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
+from legdsl.check.plain_declared import plain_declared
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
 from legdsl.ir.model import NON_NEGATIVE, Actuator, Leg, setting_kind
@@ -139,6 +140,10 @@ class Elaborator(ExprChecker, LegMotionProbe):
         if value is None:
             return []
         self.record_use(value, want)
+        told = plain_declared(self.scope.unitless, [value], want)
+        if told is not None and not fits(value.type, want):
+            self.err(*told)  # the unit left out where it is declared
+            return []
         if not fits(value.type, want):
             self.err(
                 s.value.span,

@@ -125,6 +125,7 @@ class ControllerChecker:
 
         inputs: list[Constant] = []
         params: list[Constant] = []
+        unitless: dict[str, tuple[str, ast.Expr]] = {}
         signals: dict[str, ast.SignalDecl] = {}
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
@@ -138,6 +139,8 @@ class ControllerChecker:
                 dim = constant.dim if constant is not None else None
                 if define(item.name, ir.Named(kind, item.name.name, dim)) and constant:
                     (inputs if kind == "input" else params).append(constant)
+                    if constant.dim == ir.ONE and not constant.unit:  # perhaps a unit left out
+                        unitless[item.name.name] = (kind, item.value)
             elif isinstance(item, ast.SignalDecl):
                 if define(item.name, Opaque(item.name.name)):
                     del names[item.name.name]  # signals are resolved lazily, by the elaborator
@@ -241,6 +244,7 @@ class ControllerChecker:
                 continue
             seen_states[row.state.name] = row
         scope = Scope(self.model, names, self.roles, self.actions, signals, {}, d.span.file)
+        scope.unitless = unitless
         scope.dotted = dotted_members((self.items, tuple(self.actions.values())), lets=scope.lets)
         elaborated = self.elaborate(scope, rows, records)
         self.check_unreached(scope, reachable, shadowed)
@@ -370,7 +374,7 @@ class ControllerChecker:
         loose = Scope(
             self.model, names, scope.roles, scope.actions, scope.signals, {}, scope.user_file
         )
-        loose.dotted, loose.lets = scope.dotted, scope.lets
+        loose.dotted, loose.lets, loose.unitless = scope.dotted, scope.lets, scope.unitless
         for action in [*shadowed, *self.actions.values()]:
             called = action.name.name in reachable and action is self.actions[action.name.name]
             if called or id(action) not in own:
