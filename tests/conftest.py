@@ -42,6 +42,36 @@ def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         os.environ["LEGDSL_CACHE"] = before
 
 
+def _project_files() -> dict[str, tuple[int, int]]:
+    """Each file of generated/ with its size and time of change, and each top-level entry."""
+    found = {str(p.relative_to(ROOT)): (p.stat().st_size, p.stat().st_mtime_ns)
+             for p in GENERATED.rglob("*") if p.is_file() and "__pycache__" not in p.parts}  # fmt: skip
+    return found | {entry.name: (0, 0) for entry in ROOT.iterdir()}
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _project_untouched() -> Iterator[None]:
+    """No test writes into the project: a ``legdsl run`` of a copied .leg without
+    ``--generated`` wrote its modules over the golden generated/biped (the next golden check
+    then saw them changed). Told at the session's end, with each changed file's first line,
+    which names the test's folder ('from test_NAME_0/biped.leg')."""
+    before = _project_files()
+    yield
+    after = _project_files()
+    changed = sorted(name for name in before.keys() | after.keys()
+                     if before.get(name) != after.get(name) and not name.startswith("."))  # fmt: skip
+    if changed:
+
+        def first_line(name: str) -> str:
+            path = ROOT / name
+            if not path.is_file():
+                return "" if path.exists() else " (removed)"
+            return f": {path.read_text(errors='replace').partition(chr(10))[0]}"
+
+        listed = "\n".join(f"  {name}{first_line(name)}" for name in changed[:20])
+        pytest.fail(f"tests wrote into the project (give them tmp_path):\n{listed}")
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _shared_generated(tmp_path_factory: pytest.TempPathFactory) -> None:
     """The folder the outside creatures compile into, shared by the xdist workers as the C

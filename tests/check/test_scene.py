@@ -54,7 +54,8 @@ def test_legdsl_run_scene_runs_it_and_the_command_line_adds_to_it(
         " at 0.6 s switch gallop; time 30 s }\n"
     )
     out = tmp_path / "run"
-    args = ["run", str(path), "--scene", "quick", "--time", "1", "--out", str(out)]
+    args = ["run", str(path), "--scene", "quick", "--time", "1", "--out", str(out),
+            "--generated", str(tmp_path / "generated")]  # fmt: skip
     assert main([*args, "--set", "speed=1.2m/s@0.8s"]) == 0
     info = json.loads((out / "run.json").read_text())
     assert info["sim_time"] == pytest.approx(1.0)  # --time overrides the scene's time
@@ -65,7 +66,7 @@ def test_legdsl_run_scene_runs_it_and_the_command_line_adds_to_it(
     capsys.readouterr()
     assert main([*args, "--controller", "gallop"]) == 2
     assert "leave out --controller" in capsys.readouterr().err
-    assert main(["run", str(path), "--scene", "slow", "--time", "1"]) == 2
+    assert main([*args[:2], "--scene", "slow", "--time", "1"]) == 2
     assert "no scene 'slow'" in capsys.readouterr().err
 
 
