@@ -87,3 +87,20 @@ def test_a_wrong_edge_is_refused_before_anything_is_written(
     err = capsys.readouterr().err
     assert err.startswith(f"legdsl: {said}") and "Traceback" not in err, err
     assert not (tmp_path / "metrics.json").exists()
+
+
+def test_an_edge_that_leaves_no_interior_says_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--friction-edge 10 (10 s: a time without its unit is seconds) left every interior row
+    n/a with only the label's '10000 ms' to say why."""
+    tr = slipping_edges_run()
+    assert compute_metrics(tr).option_notes == {}
+    said = compute_metrics(tr, edge=10.0).option_notes["--friction-edge"]
+    assert said.startswith("--friction-edge 10 s leaves no sample inside any stance"), said
+    assert "the longest contact in the window lasts 0.100 s" in said
+    tr.save(tmp_path)
+    assert main(["metrics", str(tmp_path), "--friction-edge", "10"]) == 0
+    err = capsys.readouterr().err
+    assert "legdsl: note: --friction-edge 10 s leaves no sample" in err
+    assert "for 10 ms write --friction-edge 10ms" in err

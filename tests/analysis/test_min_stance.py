@@ -126,3 +126,34 @@ def test_the_foot_speed_at_touchdown_leaves_the_scuffs_out_too(
     assert main(["metrics", str(tmp_path), "--min-stance", "20ms"]) == 0
     assert main(["metrics", str(tmp_path)]) == 0
     assert [s.tolist() for s in seen] == [[0, 0, 0], [1, 1, 1]]
+
+
+def test_a_min_stance_that_leaves_out_stances_says_so() -> None:
+    """A --min-stance longer than the stances (20 given without its unit: 20 s) erased them
+    all, and the table blamed the run for touching down too few times."""
+    m = compute_metrics(scuffed_run(), min_stance=20.0)
+    assert m.n_strides == 0 and m.summary("stance_duration").n == 0
+    assert m.note.endswith("(--min-stance 20 s left out 7 more)"), m.note
+    said = m.option_notes["--min-stance"]
+    assert said.startswith("--min-stance 20 s left out all 6 stances of the feet"), said
+    assert "median stance, 0.100 s" in said and "at most --min-stance 33ms" in said
+    assert m.to_dict()["option_notes"] == m.option_notes
+    uneven = scuffed_run()
+    uneven.contact[200:250, 0] = 1  # the first stance lasts 150 ms, the others 100
+    partly = compute_metrics(uneven, min_stance=0.12).option_notes["--min-stance"]
+    assert partly.startswith("--min-stance 120 ms left out 5 of the 6 stances of the feet"), partly
+    # the scuff alone, as min_stance is meant: nothing to say
+    assert compute_metrics(scuffed_run(), min_stance=0.033).option_notes == {}
+
+
+@pytest.mark.parametrize(("value", "bare"), [("20", True), ("20s", False)])
+def test_legdsl_metrics_says_a_time_without_its_unit_is_seconds(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], value: str, bare: bool
+) -> None:
+    scuffed_run().save(tmp_path)
+    assert main(["metrics", str(tmp_path), "--min-stance", value]) == 0
+    captured = capsys.readouterr()
+    assert "legdsl: note: --min-stance 20 s left out all 6 stances of the feet" in captured.err
+    assert "(--min-stance 20 s left out 7 more)" in captured.out
+    hint = "a time without its unit is seconds: for 20 ms write --min-stance 20ms"
+    assert (hint in captured.err) == bare, captured.err

@@ -43,6 +43,7 @@ from collections.abc import Mapping, Sequence
 
 from legdsl.analysis.energy import energy_rows
 from legdsl.analysis.friction import LEVEL, MIN_NORMAL_FRACTION, contact_friction
+from legdsl.analysis.option_notes import friction_edge_note, min_stance_note, time_text
 from legdsl.analysis.pairs import pair_rows
 from legdsl.analysis.results import (
     FRICTION_EDGE,
@@ -60,6 +61,7 @@ from legdsl.analysis.strides import (
     scuff_note,
     stance_units,
     stride_series,
+    touchdowns_in_window,
     touching,
 )
 from legdsl.analysis.support import with_support_rows
@@ -126,11 +128,17 @@ def compute_metrics(
         raise MetricsError(f"--friction-edge {edge!r}: give a time of 0 s or more, e.g. 10ms")
     units = stance_units(tr, dict(groups or {}))
     scuffs = scuff_note(tr, units, t_from, t_to) if min_stance is None else ""
-    tr = debounced(tr, min_stance)
+    raw, tr = tr, debounced(tr, min_stance)
     ref_name, ref_contacts = reference(tr, units, leg)
     cols = coordinates(tr, joint, against)
 
     starts, ends, note = counted_strides(t, touching(tr, ref_contacts), t_from, t_to, ref_name)
+    if note and min_stance is not None:  # the run touched down more than the filter left
+        left_out = touchdowns_in_window(
+            t, touching(raw, ref_contacts), t_from, t_to
+        ) - touchdowns_in_window(t, touching(tr, ref_contacts), t_from, t_to)
+        if left_out:
+            note += f" (--min-stance {time_text(min_stance)} left out {left_out} more)"
     if not tr.contact_names:
         note = "the creature has no contacts, so it takes none (only the work rows apply)"
     per_stride = stride_series(tr, starts, ends, cols, joint_slides)
@@ -146,6 +154,10 @@ def compute_metrics(
         contact_friction(tr, c, t_from, t_to, edge, min_normal_fraction, ground_normal)
         for c in range(len(tr.contact_names))
     ]
+    notes = {
+        "--min-stance": min_stance_note(raw, units, t_from, t_to, min_stance),
+        "--friction-edge": friction_edge_note(tr, friction, t_from, t_to),
+    }
     options = {
         "leg": leg,
         "groups": {k: list(v) for k, v in (groups or {}).items()},
@@ -176,4 +188,5 @@ def compute_metrics(
         note=note,
         options=options,
         scuff_note=scuffs,
+        option_notes={flag: said for flag, said in notes.items() if said},
     )

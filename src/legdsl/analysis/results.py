@@ -106,6 +106,8 @@ class GaitMetrics:
     options: dict[str, Any] = field(default_factory=dict)
     scuff_note: str = ""  # touchdowns that look like scuffs, when no min_stance was given
     unwritten: str = ""  # why metrics.json could not be written (a read-only run folder)
+    # flag -> what its value did that it may not have been meant to (option_notes.py)
+    option_notes: dict[str, str] = field(default_factory=dict)
 
     @property
     def n_strides(self) -> int:
@@ -131,6 +133,7 @@ class GaitMetrics:
             "n_strides": self.n_strides,
             "note": self.note,
             "scuff_note": self.scuff_note,
+            "option_notes": self.option_notes,
             "options": self.options,
             "summary": {
                 s.key: {k: v for k, v in asdict(s).items() if k != "key"} for s in self.summaries

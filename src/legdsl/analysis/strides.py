@@ -143,14 +143,17 @@ def counted_strides(
     a, b = a[keep], b[keep]
     note = ""
     if a.size == 0:
-        inside = int(
-            np.count_nonzero((t[touchdowns] >= lo - EPS_T) & (t[touchdowns] <= hi + EPS_T))
-        )
+        inside = touchdowns_in_window(t, ref_on, lo, hi)
         note = (
             f"the reference foot ({ref_name}) touches down {inside} time(s) in the window; "
             "a stride needs two"
         )
     return a, b, note
+
+
+def touchdowns_in_window(t: np.ndarray, on: np.ndarray, lo: float, hi: float) -> int:
+    touchdowns, _ = _edges(on)
+    return int(np.count_nonzero((t[touchdowns] >= lo - EPS_T) & (t[touchdowns] <= hi + EPS_T)))
 
 
 def _stride_of(index: int, starts: np.ndarray, ends: np.ndarray) -> int:
@@ -300,16 +303,25 @@ def debounced(tr: Trajectory, min_stance: float | None) -> Trajectory:
     return replace(tr, contact=contact)
 
 
-def scuff_note(tr: Trajectory, units: list[Unit], lo: float, hi: float) -> str:
-    """Which feet's contacts in the window last under ``SCUFF_FRACTION`` of the median stance
-    of every foot there, and the ``--min-stance`` that would leave them out ("" if none)."""
+def feet_contacts(
+    tr: Trajectory, units: list[Unit], lo: float, hi: float
+) -> list[tuple[float, str, float]]:
+    """(touchdown, foot, duration) of each complete contact in the window of each leg's foot
+    (of each contact, for a run without legs)."""
     feet = [(u.name, u.contacts[0]) for u in units if u.kind != "group" and u.contacts]
-    seen: list[tuple[float, str, float]] = []  # touchdown, foot, duration
+    seen: list[tuple[float, str, float]] = []
     for name, c in feet:
         a, b = runs(tr.contact[:, c] != 0)
         keep = in_window(tr.t, a, b, lo, hi)
         ta, tb = tr.t[a[keep]], tr.t[b[keep]]
         seen += [(float(x), name, float(y - x)) for x, y in zip(ta, tb, strict=True)]
+    return seen
+
+
+def scuff_note(tr: Trajectory, units: list[Unit], lo: float, hi: float) -> str:
+    """Which feet's contacts in the window last under ``SCUFF_FRACTION`` of the median stance
+    of every foot there, and the ``--min-stance`` that would leave them out ("" if none)."""
+    seen = feet_contacts(tr, units, lo, hi)
     if not seen:
         return ""
     usual = float(np.median([d for _, _, d in seen]))

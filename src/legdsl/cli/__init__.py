@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import sys
 import traceback
 from collections.abc import Sequence
@@ -21,13 +20,14 @@ from legdsl.cli.common import (
     EXIT_INTERNAL,
     EXIT_USER_ERROR,
     Command,
+    add_window,
     empty_argument,
     file_read_as_option,
     interrupted,
     negative_values_joined,
     os_refusal,
-    read_window,
 )
+from legdsl.cli.metrics import add_metrics_parser
 from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.process import (
     THREAD_REFUSED,
@@ -97,49 +97,6 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_metrics(args: argparse.Namespace) -> int:
-    from legdsl.analysis.segments import segment_table
-    from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
-    from legdsl.pipeline.measure import measure_run, run_segments, unmeasured_without_source
-    from legdsl.pipeline.options import read_seconds
-    from legdsl.pipeline.report import path_summary
-
-    read_window(args)  # a mistake is main's to tell, as every command's is
-    min_stance = None if args.min_stance is None else read_seconds("--min-stance", args.min_stance)
-    edge = read_seconds("--friction-edge", args.friction_edge, "nonnegative")
-    if args.table2 is not None and args.table2 not in TABLE2:
-        known = ", ".join(repr(k) for k in TABLE2)
-        raise UsageError(f"--table2 {args.table2!r}: Table 2 has {known}")
-    metrics, reports = measure_run(
-        args.dir, args.t_from, args.t_to, args.leg, args.group, args.joint, args.against,
-        args.generated, args.table2, min_stance, edge,
-    )  # fmt: skip
-    segments = run_segments(args.dir)
-    for note in (unmeasured_without_source(args.dir), metrics.scuff_note, metrics.unwritten):
-        if note:
-            print(f"legdsl: note: {note}", file=sys.stderr)
-    if args.json:
-        data = metrics.to_dict()
-        if reports:
-            data["path_reports"] = reports
-        if segments:
-            data["segments"] = segments
-        print(json.dumps(data, indent=2, allow_nan=False))
-        return 0
-    print(metrics.table(), end="")
-    if segments:
-        print(segment_table(segments), end="")
-    if args.table2 is not None:
-        print(f"\nbeside Table 2 of the paper, {args.table2}:")
-        table = compare_table(metrics, TABLE2[args.table2], measured_as=MEASURE[args.table2])
-        print(table, end="")
-    if reports:
-        print("path following:")
-        for report in reports:
-            print(path_summary(report))
-    return 0
-
-
 def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
@@ -183,15 +140,6 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     return EXIT_USER_ERROR if failed else 0
 
 
-# legdsl run's numeric simulation options (RunOptions): flag, default, metavar, help
-def _add_window(p: argparse.ArgumentParser) -> None:
-    """--from and --to: the part of a run to measure or draw."""
-    p.add_argument("--from", dest="t_from", default=0.0, metavar="T",
-                   help="start of the window in s (default 0)")  # fmt: skip
-    p.add_argument("--to", dest="t_to", default=None, metavar="T",
-                   help="end of the window in s (default: the end of the run)")  # fmt: skip
-
-
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="legdsl",
@@ -227,68 +175,7 @@ def _parser() -> argparse.ArgumentParser:
 
     _COMMANDS["run"] = add_run_parser(sub)
 
-    m = sub.add_parser(
-        "metrics",
-        help="gait metrics of a recorded run, as in Table 2 of the paper",
-        description="Measure a recorded run (DIR/trajectory.npz): stride duration and length, "
-        "flight and stance durations, pitch and roll magnitude, change of leg length, speed "
-        "and its error, peak vertical acceleration, the friction coefficient that would have "
-        "prevented slipping and the elastic energy recirculated per step. Strides run from one "
-        "touchdown of the reference foot to the next; only complete strides inside the window "
-        "count. Prints a table (or JSON) and writes DIR/metrics.json. See docs/metrics.md.",
-        epilog="Example: legdsl metrics runs/kangaroo --from 3 --joint tail_base --against hip",
-    )
-    m.add_argument("dir", metavar="DIR", help="a run directory holding trajectory.npz")
-    m.add_argument(
-        "--table2",
-        metavar="ROWS",
-        default=None,
-        help="also print the run beside these rows of the paper's Table 2: 'kangaroo hop', "
-        "'biped run', 'quadruped trot' or 'quadruped bound'",
-    )
-    _add_window(m)
-    m.add_argument(
-        "--leg",
-        metavar="NAME",
-        help="reference leg (or virtual leg, or contact) whose touchdowns delimit strides "
-        "(default: the first leg)",
-    )
-    m.add_argument(
-        "--group",
-        action="append",
-        default=[],
-        metavar="NAME=LEG,LEG",
-        help="a virtual leg: the union of the contacts of these legs (of a run without legs: "
-        "these contacts), e.g. front=fl,fr (repeat for each virtual leg)",
-    )
-    m.add_argument(
-        "--joint",
-        metavar="NAME",
-        help="also the per-stride magnitude (peak to peak, deg) of this coordinate, e.g. tail_base",
-    )
-    m.add_argument(
-        "--against",
-        metavar="NAME",
-        help="with --joint: its correlation with this coordinate (-1 is anti-phase), e.g. hip",
-    )
-    m.add_argument(
-        "--min-stance",
-        metavar="TIME",
-        help="a contact shorter than this (e.g. 20ms) is no touchdown: it starts no stride and "
-        "is no stance (default: every contact counts; a note names those that look like scuffs)",
-    )
-    m.add_argument(
-        "--friction-edge",
-        default="10ms",
-        metavar="TIME",
-        help="left out at each end of a stance for the interior friction row (default 10ms, "
-        "the paper's; a creature scaled by L: 10ms times the square root of L)",
-    )
-    m.add_argument("--json", action="store_true", help="print JSON instead of the table")
-    m.add_argument("--generated", default="generated", metavar="DIR",
-                   help="where the run's generated modules live, for the foot clearance at the apex "
-                   "(default generated/; never compiled here)")  # fmt: skip
-    _COMMANDS["metrics"] = _cmd_metrics
+    _COMMANDS["metrics"] = add_metrics_parser(sub)
 
     k = sub.add_parser(
         "compile",
@@ -324,7 +211,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     pl.add_argument("dir", metavar="DIR", help="a run directory (legdsl run --out DIR)")
     pl.add_argument("-o", "--output", metavar="FILE.png", help="where to write the picture")
-    _add_window(pl)
+    add_window(pl)
     pl.add_argument(
         "--top",
         action="store_true",

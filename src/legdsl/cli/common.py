@@ -168,3 +168,11 @@ def interrupted(process_ends: bool) -> int:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
     print("legdsl: interrupted", file=sys.stderr)
     return EXIT_INTERRUPTED
+
+
+def add_window(p: argparse.ArgumentParser) -> None:
+    """--from and --to: the part of a run to measure or draw."""
+    p.add_argument("--from", dest="t_from", default=0.0, metavar="T",
+                   help="start of the window in s (default 0)")  # fmt: skip
+    p.add_argument("--to", dest="t_to", default=None, metavar="T",
+                   help="end of the window in s (default: the end of the run)")  # fmt: skip
