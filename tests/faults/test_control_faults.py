@@ -29,7 +29,8 @@ CASES = {
     "select": ("hip_servo.setpoint = 1 deg * sqrt(select(com.z > 0.7 m, -1, 1))",
                "sqrt(-1) has no real value", "com.z = 0.7651"),
     "division": ("hip_motor.force = 1 N*m*s / time_in_state",
-                 "1/0 (a division) is undefined", "time_in_state = 0"),
+                 "a division by 0: its divisor 'time_in_state' is 0 here; give a value to use "
+                 "while it is, as in select(time_in_state != 0, ..., ...)", "time_in_state = 0"),
     # sign() of a NaN is NaN: it was 1 (math.copysign), a full deflection from a stance time
     # not measured yet
     "sign": ("hip_servo.setpoint = 10 deg * sign(active.stance_time)",
@@ -79,3 +80,30 @@ def test_a_failing_control_law_names_its_statement(
     info = json.loads((out / "run.json").read_text())
     assert info["status"] == "diverged" and info["ended_at"] == pytest.approx(0.18)
     assert info["samples"] == 35 and what in info["cause"]  # every 5.2 ms until 0.18 s
+
+
+def test_a_division_by_0_in_a_signal_is_told_at_the_signal(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path
+) -> None:
+    """A division written in a signal, read through another by the statement that fails: it
+    was told at the statement, as Python's '0.0 cannot be raised to a negative power', the
+    signals between never named."""
+    text = (ROOT / "creatures" / "hopper.leg").read_text()
+    head = "controller hop {\n"
+    signals = "  signal inverse = 1 N*m*s / time_in_state\n  signal twice = 2 * inverse\n"
+    leg = tmp_path / "hopper.leg"
+    leg.write_text(
+        text.replace(head, head + signals).replace(ROW, f"{ROW}; hip_motor.force = twice")
+    )
+    out = tmp_path / "run"
+    argv = ["run", str(leg), "--controller", "hop", "--time", "2", "--generated", str(generated),
+            "--out", str(out), "--backend", "c"]  # fmt: skip
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    line = text[: text.index(head)].count("\n") + 2  # the signal inverse
+    row = text[: text.index(ROW)].count("\n") + 3
+    assert (
+        f"{leg}:{line}:3: the control law failed in state COMPRESSION at t = 0.1800 s: in " in err
+    )
+    assert f"signal inverse (read by hip_motor.force = ... at {leg}:{row}:" in err
+    assert "its divisor 'time_in_state' is 0 here" in err and "negative power" not in err

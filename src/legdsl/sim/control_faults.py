@@ -6,7 +6,8 @@ returns a value that is not finite, ``explain`` lowers the controller again (onl
 takes a moment) and evaluates each of the state's statements, in order, with the values of
 that tick, as the generated code does (only the chosen branch of a ``select``). The first
 that fails names the statement (``file:line:col``, and the action calls it was inlined
-through), the operation and its operands, and the values it read.
+through), the operation and its operands, and the values it read; where the operation is
+written in a signal the statement reads (through others, perhaps), that signal's line.
 """
 
 from __future__ import annotations
@@ -18,18 +19,20 @@ from typing import Any
 
 import sympy
 
+from legdsl.ir import controller as ir
 from legdsl.ir.controller import FUNCTION_VALUES
 from legdsl.ir.model import Model
 from legdsl.lang.errors import Span
-from legdsl.lower.control import FUNCTIONS
+from legdsl.lower.control import FUNCTIONS, Lowerer
 from legdsl.sim.run_loop import ControlFault
 
 
 class _Bad(Exception):
-    def __init__(self, what: str, operands: Sequence[float]):
+    def __init__(self, what: str, operands: Sequence[float], node: Any):
         super().__init__(what)
         self.what = what
         self.operands = tuple(operands)
+        self.node = node  # the operation that failed
 
 
 # the sympy functions a lowered control law is made of, and their values (sqrt is a Pow and
@@ -88,14 +91,16 @@ def _ev(e: Any, values: dict[Any, float]) -> Any:
             out = _MATH[e.func](*args)
         else:
             out = complex(e.func(*args).evalf())
-    except (ValueError, ZeroDivisionError, OverflowError, TypeError) as err:
-        raise _Bad(f"{_call_text(e, args)} is undefined ({err})", args) from None
+    except ZeroDivisionError:  # a division is a power -1 in sympy: Python's words tell that
+        raise _Bad(f"{_call_text(e, args)} divides by 0", args, e) from None
+    except (ValueError, OverflowError, TypeError) as err:
+        raise _Bad(f"{_call_text(e, args)} is undefined ({err})", args, e) from None
     if isinstance(out, complex):
         if out.imag != 0:
-            raise _Bad(f"{_call_text(e, args)} has no real value", args)
+            raise _Bad(f"{_call_text(e, args)} has no real value", args, e)
         out = out.real
     if not math.isfinite(out) and all(math.isfinite(a) for a in args):
-        raise _Bad(f"{_call_text(e, args)} is {out}", args)
+        raise _Bad(f"{_call_text(e, args)} is {out}", args, e)
     return out
 
 
@@ -130,12 +135,14 @@ def explain(
     index: int | None = None,  # which output was not finite, or which place failed
 ) -> ControlFault:
     """A ``ControlFault`` naming the statement that failed, with the values it read."""
-    from legdsl.lower.control import lower_controller, sensor_symbol
+    from legdsl.lower.control import sensor_symbol
 
     s, u, p, r, tis = args
     head = f"the control law failed in state {state} at t = {t:.4f} s"
     try:
-        lc = lower_controller(model, model.controller(module.CONTROLLER))
+        controller = model.controller(module.CONTROLLER)
+        lowerer = Lowerer(model, controller)
+        lc = lowerer.lower()
     except Exception:  # pragma: no cover - explaining must never hide the fault itself
         return ControlFault(f"{head}: {error}")
     names: dict[Any, str] = {sensor_symbol(k): k for k in module.SENSORS}
@@ -176,7 +183,14 @@ def explain(
         try:
             out = _ev(expr, values)
         except _Bad as bad:
-            return ControlFault(_message(where, head, label, bad.what, expr, names, values))
+            what = _divisor_zero(bad, names) or bad.what
+            roles = dict(controller.bindings[key[0]]) if key[0] < len(controller.bindings) else {}
+            found = _signal_at_fault(lowerer, controller, roles, bad.node, values)
+            if found is not None:  # told where the operation is written
+                signal, expr = found
+                label = f"signal {signal.name} (read by {label} at {_where(where)})"
+                where = (signal.span,)
+            return ControlFault(_message(where, head, label, what, expr, names, values))
         except (KeyError, TypeError):
             continue
         if isinstance(out, float) and not math.isfinite(out):
@@ -185,6 +199,59 @@ def explain(
             )
     first = candidates[0][2] if candidates else ()
     return ControlFault(f"{_where(first)}: {head}: {error}")
+
+
+def _divisor_zero(bad: _Bad, names: dict[Any, str]) -> str:
+    """For a division by 0, the divisor as the user writes it (``last_stance``), and the way
+    out; '' for any other failure. ``x / y`` is ``x * y^-1`` in sympy."""
+    node = bad.node
+    if node.func is not sympy.Pow or bad.operands[0] != 0 or not bad.operands[1] < 0:
+        return ""
+    base = node.args[0]
+    shown = {x: sympy.Symbol(_written(names[x])) for x in base.free_symbols if x in names}
+    text = str(base.xreplace(shown))
+    if len(text) > 60:
+        return "a division by 0: its divisor is 0 here"
+    return (
+        f"a division by 0: its divisor '{text}' is 0 here; give a value to use while it is, "
+        f"as in select({text} != 0, ..., ...)"
+    )
+
+
+def _written(name: str) -> str:
+    """A value's name as the controller writes it: ``record last_stance`` is ``last_stance``,
+    the sensor ``leg.main.rate`` is ``main.rate``."""
+    word = name.split(" ")[-1]
+    return word.split(".", 1)[1] if word.count(".") == 2 else word
+
+
+def _signal_at_fault(
+    lowerer: Lowerer,
+    controller: ir.Controller,
+    roles: dict[str, tuple[str, ...]],
+    node: Any,
+    values: dict[Any, float],
+) -> tuple[ir.Signal, Any] | None:
+    """The signal in which the failing operation ``node`` is written, and its value: of the
+    signals that hold it and fail on it, the one that reads no other such (``ts``, not the
+    ``xf`` that reads ``ts``); None if it is written in the statement itself."""
+    failing: dict[str, tuple[ir.Signal, Any]] = {}
+    for signal in controller.signals:
+        try:
+            value = lowerer.expr(signal.value, roles)
+            if not (isinstance(value, sympy.Basic) and value.has(node)):
+                continue
+            _ev(value, values)
+        except _Bad as bad:
+            if bad.node == node:
+                failing[signal.name] = (signal, value)
+        except Exception:  # noqa: BLE001 - a signal of an `each` member, or of no value: not it
+            continue
+    for signal, value in failing.values():
+        reads = (x for x in ir.leaves(signal.value) if isinstance(x, ir.Named))
+        if not any(x.kind == "signal" and x.name in failing for x in reads):
+            return signal, value
+    return None
 
 
 def _message(
@@ -203,7 +270,7 @@ def _message(
     if unmeasured:
         text += f"; {unmeasured[0]} is NaN (not measured yet)"
         if unmeasured[0].endswith(("stance_time", "flight_time")):
-            sensor = unmeasured[0].split(".", 1)[1]  # as the controller writes it: main.stance_time
+            sensor = _written(unmeasured[0])  # as the controller writes it: main.stance_time
             text += (
                 f": give a time to use until it is, as in select({sensor} > 0 s, {sensor}, 0.3 s)"
             )
