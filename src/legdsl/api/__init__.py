@@ -133,8 +133,10 @@ class Creature:
         asked = controller is not notes.NOT_GIVEN
         plan = session_args(self.model, controller if asked else None, set, time, path, switch,
                             scene, **options)  # fmt: skip
-        self._before(plan, asked)
-        done = self.session.run(**plan)
+        unreached = plan.pop("unreached")
+        prepared = self.session.prepare(**plan)  # a refused run is told its mistake alone
+        self._before({**plan, "unreached": unreached}, asked)
+        done = prepared.finish(prepared.sim.run())
         done.scene = scene
         self._after(done)
         return self._wrap(done)

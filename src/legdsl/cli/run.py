@@ -74,8 +74,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     from legdsl.pipeline.options import (
         RUN_NUMERIC,
+        check_drop,
         check_fall_tilt,
         check_output_dir,
+        check_run_options,
         notes_before_run,
         os_error,
         space_note,
@@ -83,7 +85,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import check_scale, check_scaled_defaults, run_options
     from legdsl.pipeline.scenes import switches_not_made
-    from legdsl.pipeline.session import RunSession
+    from legdsl.pipeline.session import RunSession, check_file
     from legdsl.pipeline.settings import overwritten_notes, refuse_repeated
 
     values = {
@@ -97,32 +99,25 @@ def cmd_run(args: argparse.Namespace) -> int:
     check_scale(args.scale)  # so is --scale (--scale 0 was refused after compiling)
     if args.out:  # checked before anything is compiled or simulated
         check_output_dir(args.out, "--out")
-    with sigterm_unwinds():  # a compile of stale modules, its controller processes stopped
-        session = RunSession.from_file(
-            args.file, args.creature, args.generated, sys.stderr, args.scene, args.controller
-        )
+    model, syntax = check_file(args.file, args.creature, args.scene, args.controller)
     if args.scale is not None and args.animate:  # its run.json names the unscaled creature
         raise UsageError(
             "--animate draws the file's creature: animate the run of 'legdsl scale's file"
         )
     # dt, control_dt and record_rate not given come from the creature's simulation block
-    options = run_options(
-        session.model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values
-    )
+    options = run_options(model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values)
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
     unreached: list[str] = []  # --set texts for gait bands the run never reaches
     refuse_repeated(settings)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
         from legdsl.pipeline.scenes import find_scene, scene_plan
 
-        scene = find_scene(session.model, args.scene)
+        scene = find_scene(model, args.scene)
         if args.scale is not None:  # the scene as the scaled file has it, for the scaled creature
             from legdsl.pipeline.scaled import scale_scene
 
-            scene = scale_scene(scene, session.model, args.scale)
-        controller, settings, switches = scene_plan(
-            scene, session.model, settings, switches, unreached
-        )
+            scene = scale_scene(scene, model, args.scale)
+        controller, settings, switches = scene_plan(scene, model, settings, switches, unreached)
         if args.controller not in (None, controller):  # a gait table's start is its first band's
             chosen = " (its gait table's band for the first command)" if scene.bands else ""
             raise UsageError(
@@ -138,24 +133,32 @@ def cmd_run(args: argparse.Namespace) -> int:
         if scene.duration is not None and not isinstance(args.time, str):
             options.duration = scene.duration
     check_scaled_defaults(options, args.scale, values)
+    check_run_options(options)  # the options together, and --drop: before anything is compiled
+    if options.drop is not None:
+        check_drop(options.drop, model, args.scale)
+    with sigterm_unwinds():  # a compile of stale modules, its controller processes stopped
+        session = RunSession.from_checked(model, args.file, syntax, args.generated, sys.stderr)
     sources = {}
     if args.scene is not None:  # a note names the scene's lines as written
         from legdsl.pipeline.scenes import scene_sources
 
         sources = scene_sources(scene)
-    for note in [*unreached, *notes_before_run(settings, options, session.model, sources)]:
-        print(f"legdsl: note: {note}", file=sys.stderr)
-    for note in overwritten_notes(settings, controller, session):
-        print(f"legdsl: note: --set {note}", file=sys.stderr)
-    out = check_output_dir(args.out or Path("runs") / session.model.name, "--out")
-    if (cramped := space_note(out, "--out", options, session.model)) is not None:
-        print(f"legdsl: note: {cramped}", file=sys.stderr)
+    out = check_output_dir(args.out or Path("runs") / model.name, "--out")
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
     with _Interrupts(out).installed() as interrupts:
-        run = session.run(
-            controller, settings, args.path, options, progress, args.scale, switches, **backend
+        plan = session.prepare(
+            controller, settings, args.path, options, args.scale, switches, **backend
         )
+        # notes on a run it will make: a refused one is told its mistake alone (the notes
+        # advised a longer --time for a run refused for another reason)
+        for note in [*unreached, *notes_before_run(settings, options, model, sources)]:
+            print(f"legdsl: note: {note}", file=sys.stderr)
+        for note in overwritten_notes(settings, controller, session):
+            print(f"legdsl: note: --set {note}", file=sys.stderr)
+        if (cramped := space_note(out, "--out", options, model)) is not None:
+            print(f"legdsl: note: {cramped}", file=sys.stderr)
+        run = plan.finish(plan.sim.run(progress))
         interrupts.simulating = False  # from here on a signal waits for the directory
         run.scene = args.scene
         _say_writing(run, out)

@@ -23,6 +23,7 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given, written
+from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
 from legdsl.sim.stability import where_step
@@ -168,8 +169,23 @@ DROP_RESOLUTION = 1e-6
 
 
 def check_drop(drop: float, model: Model, scale: float | None = None) -> None:
-    """``--drop H`` with H * eps (the spacing of doubles near H, at most) more than
-    ``DROP_RESOLUTION`` of the shortest link (of the creature scaled by ``scale``): refused."""
+    """``--drop H`` for a creature it cannot lift (welded to the world, or without a contact to
+    lift), or with H * eps (the spacing of doubles near H, at most) more than
+    ``DROP_RESOLUTION`` of the shortest link (of the creature scaled by ``scale``): refused.
+    It needs the checked creature alone: ``legdsl run`` asks before compiling it."""
+    welded = welded_root(model)
+    if welded is not None:
+        raise UsageError(
+            f"--drop lifts a free root, but creature '{model.name}' is welded to the world (its "
+            f"root body '{welded}' is 'fixed'): to start it higher, move the point after "
+            "'fixed at' in the .leg file"
+        )
+    if not model.contacts:  # it lifts the lowest contact: without one it would do nothing
+        raise UsageError(
+            f"--drop lifts the creature until its lowest contact is H above the ground, but "
+            f"creature '{model.name}' has no contacts: to start it higher, give its root a "
+            "larger 'initial z = ...' in the .leg file"
+        )
     links = [(b.length, b.name) for b in model.bodies if b.length]
     if not links:
         return

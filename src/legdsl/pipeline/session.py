@@ -64,15 +64,23 @@ DERIVED_FILES = ("figure6.png", "top.png", "footfall.png", "animation.html", "me
                  "mujoco.mp4", *(f"motion.{f}" for f in ("glb", "gltf", "usd", "usda", "bvh")))  # fmt: skip
 
 
-def _only_owner(models: list[Model], scene: str | None, controller: str | None) -> str | None:
-    """The one creature that has the scene (or else the controller) asked for, if only one has."""
-    if scene is not None:
-        owners = [m.name for m in models if any(s.name == scene for s in m.scenes)]
-    elif controller is not None:
-        owners = [m.name for m in models if any(c.name == controller for c in m.controllers)]
-    else:
-        return None
-    return owners[0] if len(owners) == 1 else None
+def check_file(
+    path: str | Path, creature: str | None = None, scene: str | None = None,
+    controller: str | None = None,
+) -> tuple[Model, ast.SourceFile]:  # fmt: skip
+    """Parse and check ``path`` (once) and pick the creature: of several, with no ``creature``
+    named, the only one that has ``scene`` (or else ``controller``), if only one has."""
+    source = Path(path)
+    syntax, text = parse_file(source, recover=True)
+    models = check_tree(syntax, text, source)
+    if creature is None and len(models) > 1:
+        owners: list[str] = []
+        if scene is not None:
+            owners = [m.name for m in models if any(s.name == scene for s in m.scenes)]
+        elif controller is not None:
+            owners = [m.name for m in models if any(c.name == controller for c in m.controllers)]
+        creature = owners[0] if len(owners) == 1 else None
+    return choose(models, creature, source), syntax
 
 
 class RunSession:
@@ -115,13 +123,15 @@ class RunSession:
         """Parse and check ``path`` (once), pick the creature, load or compile its dynamics.
         Of several creatures, with no ``creature`` named, the only one that has ``scene`` (or
         else ``controller``) is picked: the scene's ``for`` says which."""
-        source = Path(path)
-        syntax, text = parse_file(source, recover=True)
-        models = check_tree(syntax, text, source)
-        if creature is None and len(models) > 1:
-            creature = _only_owner(models, scene, controller)
-        model = choose(models, creature, source)
-        dynamics = load_dynamics(model, source, Path(generated), log, syntax)
+        model, syntax = check_file(path, creature, scene, controller)
+        return cls.from_checked(model, path, syntax, generated, log)
+
+    @classmethod
+    def from_checked(cls, model: Model, source: str | Path, syntax: ast.SourceFile,
+                     generated: str | Path = "generated", log: Any = None) -> RunSession:  # fmt: skip
+        """``from_file``'s second half, for a creature ``check_file`` gave: its dynamics loaded,
+        compiled first if stale (``legdsl run`` refuses its options in between)."""
+        dynamics = load_dynamics(model, Path(source), Path(generated), log, syntax)
         return cls(model, source, dynamics, generated, syntax, log)
 
     @property
@@ -174,25 +184,13 @@ class RunSession:
         (``legdsl.pipeline.backend``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked, self.step_flags)
+        if asked.drop is not None:
+            check_drop(asked.drop, self.model, scale)
         welded = welded_root(self.model)
-        if welded is not None and asked.drop is not None:
-            raise UsageError(
-                f"--drop lifts a free root, but creature '{self.model.name}' is welded to the "
-                f"world (its root body '{welded}' is 'fixed'): to start it higher, "
-                "move the point after 'fixed at' in the .leg file"
-            )
         if welded is not None and asked.fall_height is not None:  # it never falls (runtime.md)
             self._tell("note", f"--fall-height is left out: creature '{self.model.name}' is "
                        f"welded to the world (its root body '{welded}' is 'fixed'): it never falls")  # fmt: skip
             asked = replace(asked, fall_height=None)
-        if asked.drop is not None and not self.model.contacts:
-            raise UsageError(  # it lifts the lowest contact: without one it would do nothing
-                f"--drop lifts the creature until its lowest contact is H above the ground, but "
-                f"creature '{self.model.name}' has no contacts: to start it higher, give its "
-                "root a larger 'initial z = ...' in the .leg file"
-            )
-        if asked.drop is not None:
-            check_drop(asked.drop, self.model, scale)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
         paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
