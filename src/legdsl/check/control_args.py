@@ -18,6 +18,7 @@ from itertools import combinations
 
 from legdsl.check.control_names import Blame, NameResolver, Value
 from legdsl.check.control_words import describe_type
+from legdsl.check.plain_declared import plain_declared
 from legdsl.check.values import per_second, place_of, written_unit
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import ONE
@@ -237,6 +238,11 @@ class ArgumentProbe(NameResolver):
             self.report_swap(s, action, blame)
             return
         arg = s.args[blame.index]
+        told = plain_declared(self.scope.unitless, [blame.given], blame.fits[0])
+        if told is not None and len(blame.fits) == 1 and blame.otherwise is None:
+            self.blamed += 1
+            self.err(*told)  # an input or parameter given with no unit: told where it is
+            return
         text = _text(self.diag.sources, arg.span)
         needed = " or ".join(describe_type(d) for d in blame.fits)
         if blame.otherwise is not None:
