@@ -54,7 +54,7 @@ def _run(argv: list[str], generated: Path, out: Path) -> list[str]:
         # the user's unit per second, not rad/s (57 times as fast)
         (
             "ramp=60deg",
-            "ramp is an angular velocity (rad/s), but 60deg is an angle (deg); write e.g. ramp=60deg/s",
+            "ramp is an angular velocity (deg/s), but 60deg is an angle (deg); write e.g. ramp=60deg/s",
         ),
         ("speed=2cm", "speed is a velocity (m/s), but 2cm is a length (m); write e.g. speed=2cm/s"),
         (
@@ -245,3 +245,16 @@ def test_advice_keeps_the_unit_the_value_was_declared_in(
     got = sort_settings([advice.rpartition(" ")[2]], model, "hold")  # the advice, followed
     own = [v for values in got.by_controller.values() for v in values.values()]
     assert [*got.params.values(), *got.actuators.values(), *own] == [pytest.approx(si)]
+
+
+def test_the_kind_is_told_in_the_unit_the_file_declared(tmp_path: Path) -> None:
+    """'bend is an angle (deg); give its unit, e.g. bend=0.75rad' named two units."""
+    from legdsl.check.source import check_model
+
+    path = tmp_path / "c.leg"
+    path.write_text(_DECLARED, encoding="utf-8")
+    model = check_model(path)
+    with pytest.raises(UsageError, match=r"bend is an angle \(rad\); give its unit"):
+        sort_settings(["bend=0.75"], model, "hold")
+    with pytest.raises(UsageError, match=r"k_lean is a quantity in deg/m, but 60deg is an angle"):
+        sort_settings(["k_lean=60deg"], model, "hold")

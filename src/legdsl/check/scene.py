@@ -17,7 +17,13 @@ from __future__ import annotations
 import dataclasses
 import re
 
-from legdsl.check.values import did_you_mean, owning_creature, per_second, written_unit
+from legdsl.check.values import (
+    did_you_mean,
+    measures,
+    owning_creature,
+    unit_to_write,
+    written_unit,
+)
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
@@ -27,10 +33,16 @@ from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe, out_of_range
 _TIME: Dim = KINDS["time"][0]
 
 
-def _kind(dim: Dim) -> str:
+def _kind(dim: Dim, unit: str = "") -> str:
+    """'an angle (deg)', 'a quantity in N*m*s'; with ``unit`` (the file's, of ``dim``) 'an
+    angle (rad)', 'a quantity in deg/m'."""
     if dim == DIMENSIONLESS:
         return "dimensionless"
     name = describe(dim)
+    if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
+        return f"a quantity in {unit or name}"
+    if unit:
+        name = f"{name.partition(' (')[0]} ({unit})"
     return ("an " if name[0] in "aeiou" else "a ") + name
 
 
@@ -46,9 +58,13 @@ def _digits(text: str) -> str:
     return match.group(0) if match else text
 
 
-def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float | None:
-    """The SI value of a number written for ``what`` (of dimension ``want``), or None after
-    reporting why not."""
+def _number(
+    value: ast.Value, want: Dim, what: str, diag: Diagnostics, declared: str = ""
+) -> float | None:
+    """The SI value of a number written for ``what`` (of dimension ``want``, which the file
+    declared in the unit ``declared``, if any: the advice keeps it), or None after reporting
+    why not."""
+    declared = declared if measures(declared, want) else ""
     sign = 1.0
     while isinstance(value, ast.Neg):
         sign, value = -sign, value.value
@@ -70,15 +86,16 @@ def _number(value: ast.Value, want: Dim, what: str, diag: Diagnostics) -> float 
         if number != 0:
             diag.error(
                 value.span,
-                f"{what} is {_kind(want)}: give its unit, e.g. {value.text} {_example(want)}",
+                f"{what} is {_kind(want, declared)}: give its unit, e.g. {value.text} "
+                f"{declared or _example(want)}",
             )
             return None
         return 0.0
     if q.dim != want:
-        unit = per_second(written_unit(value.text), want) or _example(want)
+        unit = unit_to_write(written_unit(value.text), want, declared) or _example(want)
         diag.error(
             value.span,
-            f"{what} is {_kind(want)}, but {value.text} is {_kind(q.dim)}; write e.g. "
+            f"{what} is {_kind(want, declared)}, but {value.text} is {_kind(q.dim)}; write e.g. "
             f"{_digits(value.text)} {unit}".rstrip(),
         )
         return None
@@ -337,7 +354,7 @@ class _SceneChecker:
         inputs = {c.name: c for ctl in reversed(used) for c in ctl.inputs}
         params = {c.name: c for ctl in reversed(used) for c in ctl.params}
         if name in inputs:
-            dim = inputs[name].dim
+            dim, declared = inputs[name].dim, inputs[name].unit
         elif name in params:
             if at is not None:
                 diag.error(
@@ -345,7 +362,7 @@ class _SceneChecker:
                     f"{name} is a parameter; only inputs change during a run (inputs: {', '.join(inputs) or 'none'})",
                 )
                 return None
-            dim = params[name].dim
+            dim, declared = params[name].dim, params[name].unit
         elif self.partial:  # perhaps a name of a refused controller of the scene
             return None
         else:
@@ -353,7 +370,7 @@ class _SceneChecker:
             diag.error(where, f"no controller of this scene has an input or parameter '{name}' "
                               f"(they have {', '.join(known) or 'none'}){did_you_mean(name, known)}")  # fmt: skip
             return None
-        value = _number(item.value, dim, name, diag)
+        value = _number(item.value, dim, name, diag, declared)
         return None if value is None else SceneValue(name, value, dim, at, item.span)
 
     def _own_value(
@@ -380,13 +397,14 @@ class _SceneChecker:
             )
             return None
         ctl = self.controllers[owner.name]
-        dims = {c.name: c.dim for c in (*ctl.inputs, *ctl.params)}
-        if key.name not in dims:
+        own = {c.name: c for c in (*ctl.inputs, *ctl.params)}
+        if key.name not in own:
             diag.error(key.span, f"controller {owner.name} has no input or parameter '{key.name}'"
-                                 f"{did_you_mean(key.name, dims)}")  # fmt: skip
+                                 f"{did_you_mean(key.name, own)}")  # fmt: skip
             return None
-        value = _number(item.value, dims[key.name], name, diag)
-        return None if value is None else SceneValue(name, value, dims[key.name], None, item.span)
+        constant = own[key.name]
+        value = _number(item.value, constant.dim, name, diag, constant.unit)
+        return None if value is None else SceneValue(name, value, constant.dim, None, item.span)
 
     def _actuator(self, item: ast.SceneSet, name: str, at: float | None) -> SceneValue | None:
         diag = self.diag

@@ -351,6 +351,30 @@ def per_second(unit: str, want: Dim) -> str | None:
     return None
 
 
+def unit_to_write(written: str, want: Dim, declared: str) -> str | None:
+    """The unit to advise for a value of dimension ``want`` written in the unit ``written``
+    (perhaps none) where the file declared it in ``declared`` (perhaps none): the written unit
+    per second, or over the declared unit's denominator, where that is wanted and scales
+    unlike the wanted kind's unit (a turn rate given as '10deg' is '10deg/s', not '10rad/s',
+    57 times as fast; a gain declared in deg/m given as '60deg' is '60deg/m'), else the
+    declared unit (a bare 0.75 for 'param bend = 0.7 rad' is 0.75 rad, not deg); None if
+    neither tells (the caller's kind's own unit then)."""
+    if not measures(declared, want):
+        declared = ""
+    below = declared.partition("/")[2]
+    over = f"{written}/{below}"
+    per_below = over if written and below and measures(over, want) else None
+    return per_second(written, want) or per_below or declared or None
+
+
+def measures(unit: str, want: Dim) -> bool:
+    """Whether ``unit`` is a unit of the dimension ``want``."""
+    try:
+        return bool(unit) and parse_unit(unit)[1] == want
+    except UnitError:
+        return False
+
+
 def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
     """'mass is a mass (kg), but '3 m' is a length (m)'; a rate written in the unit of
     what it is a rate of is told that unit per second."""

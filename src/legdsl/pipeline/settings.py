@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.values import did_you_mean, per_second
+from legdsl.check.values import did_you_mean, measures, unit_to_write
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
@@ -171,13 +171,16 @@ def unit_for(dim: Dim) -> str:
     return si_unit(dim)
 
 
-def a_kind(dim: Dim) -> str:
-    """'a velocity (m/s)', 'an angle (deg)', 'dimensionless', 'a quantity in m^-1*rad'."""
+def a_kind(dim: Dim, unit: str = "") -> str:
+    """'a velocity (m/s)', 'an angle (deg)', 'dimensionless', 'a quantity in m^-1*rad'; with
+    ``unit`` (of ``dim``: the file's), that unit in place of the kind's ('an angle (rad)')."""
     if dim == DIMENSIONLESS:
         return "dimensionless"
     name = describe(dim)
     if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
-        return f"a quantity in {unit_for(dim)}"
+        return f"a quantity in {unit or unit_for(dim)}"
+    if unit:
+        name = f"{name.partition(' (')[0]} ({unit})"
     return ("an " if name[0] in "aeiou" else "a ") + name
 
 
@@ -190,7 +193,7 @@ def check_dimension(
     value, with ``{}`` for its number and unit (``speed={}``, ``@{}``), for the example;
     ``declared`` the unit the file wrote the value in, which the example keeps.
     """
-    unit = _unit_to_write(given, want, declared if _measures(declared, want) else "")
+    unit = unit_to_write(given.unit, want, declared) or unit_for(want)
     example = write.format(written(given, want, unit))
     if want == DIMENSIONLESS:
         if given.dim is not None and given.dim != DIMENSIONLESS:
@@ -221,27 +224,9 @@ def written(given: Given, want: Dim, unit: str) -> str:
     return given.number + unit
 
 
-def _unit_to_write(given: Given, want: Dim, declared: str) -> str:
-    """The user's own unit per second, or over the declared unit's denominator, where that
-    is wanted and scales unlike the wanted kind's unit (a turn rate given as '10deg' is
-    '10deg/s', not '10rad/s', 57 times as fast; a gain declared in deg/m given as '60deg' is
-    '60deg/m'), else the declared unit, else the wanted kind's unit."""
-    below = declared.partition("/")[2]
-    over = f"{given.unit}/{below}"
-    per_below = over if given.unit and below and _measures(over, want) else None
-    return per_second(given.unit, want) or per_below or declared or unit_for(want)
-
-
-def _measures(unit: str, want: Dim) -> bool:
-    """Whether ``unit`` is a unit of the dimension ``want``."""
-    try:
-        return bool(unit) and parse_unit(unit)[1] == want
-    except UnitError:
-        return False
-
-
 def _check_named(where: str, name: str, given: Given, want: Dim, declared: str = "") -> None:
-    check_dimension(where, f"{name} is {a_kind(want)}", given, want, f"{name}={{}}", declared)
+    kind = a_kind(want, declared if measures(declared, want) else "")
+    check_dimension(where, f"{name} is {kind}", given, want, f"{name}={{}}", declared)
 
 
 @dataclass
