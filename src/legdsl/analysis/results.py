@@ -106,6 +106,7 @@ class GaitMetrics:
     options: dict[str, Any] = field(default_factory=dict)
     scuff_note: str = ""  # touchdowns that look like scuffs, when no min_stance was given
     unwritten: str = ""  # why metrics.json could not be written (a read-only run folder)
+    unmeasured: str = ""  # why the rows on the creature's geometry are left out, if they are
     # flag -> what its value did that it may not have been meant to (option_notes.py)
     option_notes: dict[str, str] = field(default_factory=dict)
 

@@ -14,7 +14,7 @@ from legdsl.lang.errors import UsageError
 def cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.analysis.segments import segment_table
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
-    from legdsl.pipeline.measure import measure_run, run_segments, unmeasured_without_source
+    from legdsl.pipeline.measure import measure_run, run_segments
     from legdsl.pipeline.options import read_seconds
     from legdsl.pipeline.report import path_summary
 
@@ -31,7 +31,7 @@ def cmd_metrics(args: argparse.Namespace) -> int:
     segments = run_segments(args.dir)
     given = {"--min-stance": args.min_stance, "--friction-edge": args.friction_edge}
     told = [_bare_seconds(note, flag, given[flag]) for flag, note in metrics.option_notes.items()]
-    for note in (unmeasured_without_source(args.dir), metrics.scuff_note, *told, metrics.unwritten):
+    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:

@@ -46,22 +46,64 @@ class Kinematics(NamedTuple):
 def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> Kinematics | None:
     """The kinematics of a run's creature, or None when its generated dynamics are not at
     hand (missing, stale, or another creature's)."""
+    found = kinematics_or_why(run, tr, generated)
+    return found if isinstance(found, Kinematics) else None
+
+
+ROWS = (
+    "the rows measured on the creature's geometry (foot clearance at the apex, touchdown "
+    "speed, margins to the terrain) are left out"
+)
+HERE = "run legdsl metrics from the folder the run was made in"
+
+
+def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics | str:
+    """The kinematics of a run's creature, or a note saying why they are not at hand and how
+    to have them: each case left the rows out without a word, and copying the .leg file as
+    advised did not bring them back (its generated modules, or the files it uses, were not
+    found). "" for a trajectory without run.json, which names no creature."""
     try:
         info = load_run_info(run)
     except UsageError:
-        return None
-    if run_source(run, info) is None:
-        return None
+        return ""
+    named = str(info.get("source", ""))
+    source = run_source(run, info)
+    if source is None:
+        if Path(named).is_absolute():
+            return f"the file {named!r} that {run}/run.json names is gone, so {ROWS}; put it back"
+        return (
+            f"the file {named!r} that {run}/run.json names is not found from here, so {ROWS}; "
+            f"{HERE}, or copy the file (and the files it uses) into {run} and give --generated "
+            "the folder of its generated modules (generated/ where the run was made)"
+        )
     try:
-        _, model = recorded_model(run, info)  # a creature changed since the run: a UsageError
-    except LegError:
-        return None
+        _, model = recorded_model(run, info, source)  # a creature changed since: a UsageError
+    except LegError as e:
+        return (
+            f"{source}, the file {run}/run.json names, does not load "
+            f"({e.render().splitlines()[0]}), so {ROWS}; {HERE}, or copy the files it uses "
+            "to where its use lines name them"
+        )
     path = generated / model.name / "dynamics.py"
-    if model.nq != tr.q.shape[1] or not path.is_file():
-        return None
+    if model.nq != tr.q.shape[1]:
+        return (
+            f"the creature of {source} has {model.nq} coordinates and the run's {tr.q.shape[1]}, "
+            f"so {ROWS}; run it again"
+        )
+    if not path.is_file():
+        return (
+            f"{path}, the creature's generated kinematics, is not there (legdsl metrics never "
+            f"compiles it), so {ROWS}; give --generated the "
+            f"folder of the run's generated modules (generated/ where the run was made), or "
+            f"make them with legdsl compile {source} --out {generated}"
+        )
     dyn = import_module_file(path, f"legdsl_apex_{model.name}")
     if getattr(dyn, "MODEL_FINGERPRINT", None) != model_fingerprint(model):
-        return None
+        return (
+            f"{path} is not compiled from the creature of {source} as it is now, so {ROWS}; "
+            f"give --generated the folder of the run's generated modules, or make them again "
+            f"with legdsl compile {source} --out {generated}"
+        )
     scale = float(info.get("scale") or 1.0)
     return Kinematics(model, dyn, q_factors(model, scale), scale)
 

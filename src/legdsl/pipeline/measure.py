@@ -19,7 +19,7 @@ from legdsl.analysis.table2 import MEASURE, virtual_legs
 from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.apex import clearance_row, with_clearance
+from legdsl.pipeline.apex import clearance_row, kinematics_or_why, with_clearance
 from legdsl.pipeline.terrain_rows import ground_normal, terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -90,6 +90,8 @@ def measure_run(
         at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
         metrics.summaries.insert(at, speed)
     metrics.summaries += terrain_rows(run, trajectory, t_from, t_to, Path(generated))
+    found = kinematics_or_why(run, trajectory, Path(generated))
+    metrics.unmeasured = found if isinstance(found, str) else ""
     try:
         write_json(metrics, run / "metrics.json")
     except OSError as e:  # the measurement stands: it was refused, with nothing printed
@@ -110,30 +112,6 @@ def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
             f"--table2 {table2!r} measures groups named {' and '.join(PAIR_NAMES[pairing])}, "
             f"and no --group is named {' or '.join(missing)}: give {group_hint(pairing)}"
         )
-
-
-def unmeasured_without_source(run: str | Path) -> str:
-    """A note when the run's ``.leg`` file is gone: the rows measured on the creature's own
-    geometry are then left out of its metrics (else "")."""
-    run = Path(run)
-    if not (run / "run.json").is_file():  # a trajectory alone names no creature
-        return ""
-    info = load_run_info(run)
-    if run_source(run, info) is not None:
-        return ""
-    named = str(info.get("source", ""))
-    rows = (
-        "the rows measured on the creature's geometry (foot clearance at the apex, touchdown "
-        "speed, margins to the terrain) are left out"
-    )
-    if not Path(named).is_absolute():  # named from the folder the run was made in
-        return (
-            f"the file {named!r} that {run}/run.json names is not found from here, so {rows}; "
-            f"run legdsl metrics from the folder the run was made in, or copy the file into {run}"
-        )
-    return (
-        f"the file {named!r} that {run}/run.json names is gone, so {rows}; put it back to have them"
-    )
 
 
 def run_segments(run: str | Path) -> list[dict[str, Any]]:
