@@ -5,17 +5,19 @@ centre of mass at the hip) feeds energy in: the total leaps from 25.8 J to 1153 
 the hip turns at 1500 rad/s between two checks of the divergence rule, and the run used to end
 as an ordinary fall (exit 4). The energy check (``legdsl.sim.energy_check``) tells it as a
 divergence, with the rise and the step the ground allows, on both backends alike; at 0.02 ms
-the same drop lands and ends ok."""
+the same drop lands without a rise (and, standing on one leg, tips over by itself at 1.126 s)."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
+import shlex
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import OUTSIDE
+from conftest import OUTSIDE, ROOT
 from runtime_helpers import needs_c_compiler
 
 from legdsl.cli import main
@@ -23,6 +25,7 @@ from legdsl.sim.energy_check import RISE, unexplained_rise
 from legdsl.sim.trajectory import empty
 
 LEG = OUTSIDE / "blob.leg"
+REL = "tests/good/outside/blob.leg"
 DROP = ["--time", "0.5", "--set", "hip_servo.setpoint=2deg"]
 RISE_LINE = (
     "legdsl: the simulation diverged at t = 0.3208 s: the total energy rose from 25.75 J at "
@@ -81,7 +84,10 @@ def test_a_sweeps_row_says_where_the_energy_rose(tmp_path: Path, gen: Path) -> N
     assert run(tmp_path / "r", gen, "c") == 3
     job = Job(index=0, source=str(LEG), creature=None, controller="", values={}, units={},
               fixed=(), duration=0.5, start=0.0, generated=str(gen), keep=None)  # fmt: skip
-    assert _row(job, legdsl.open_run(tmp_path / "r"))["outcome"] == "diverged at 0.322 s"
+    assert (
+        _row(job, legdsl.open_run(tmp_path / "r", generated=gen))["outcome"]
+        == "diverged at 0.322 s"
+    )
 
 
 @needs_c_compiler
@@ -105,6 +111,45 @@ def test_at_a_step_the_ground_allows_the_drop_ends_ok(
     assert "energy rose" not in out + err and "diverged" not in out + err
     info = json.loads((tmp_path / "r" / "run.json").read_text())
     assert info["status"] == "ok" and "cause" not in info
+
+
+def _doc_example() -> tuple[list[str], str]:
+    """docs/runtime.md's example of an energy rise: its command (after '$ ') and the message
+    under it, its lines joined."""
+    lines = (ROOT / "docs" / "runtime.md").read_text(encoding="utf-8").splitlines()
+    (k,) = [k for k, line in enumerate(lines) if line.strip().startswith(f"$ legdsl run {REL}")]
+    said = itertools.takewhile(str.strip, lines[k + 1 :])
+    return shlex.split(lines[k].strip().removeprefix("$ ")), " ".join(s.strip() for s in said)
+
+
+@needs_c_compiler
+def test_the_docs_example_is_what_its_command_prints(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """It quoted a run recorded at every step as the plain command's (which tells the rise
+    between two samples 13 steps apart: other figures)."""
+    command, said = _doc_example()
+    assert command[:3] == ["legdsl", "run", REL]
+    argv = [*command[1:2], str(LEG), *command[3:], "--generated", str(gen), "--out", str(tmp_path)]
+    assert main(argv) == 3
+    assert said.startswith("legdsl: the simulation diverged") and said == RISE_LINE
+    assert said in capsys.readouterr().err.splitlines()
+
+
+@needs_c_compiler
+def test_at_the_advised_step_the_blob_lands_and_later_tips_over_by_itself(
+    tmp_path: Path, gen: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/runtime.md: at --dt 0.02ms (the message's advice) nothing diverges; --time 1 ends
+    ok, and at the default --time 5 the blob, standing on one leg, falls at 1.126 s, the same
+    at half the step: its own fall, not the step's."""
+    drop = ["run", str(LEG), "--set", "hip_servo.setpoint=2deg", "--generated", str(gen)]
+    assert main([*drop, "--dt", "0.02ms", "--time", "1", "--out", str(tmp_path / "1s")]) == 0
+    for dt in ("0.02ms", "0.01ms"):
+        assert main([*drop, "--dt", dt, "--out", str(tmp_path / dt)]) == 4
+        info = json.loads((tmp_path / dt / "run.json").read_text())
+        assert info["status"] == "fell" and round(info["ended_at"], 3) == 1.126, info["message"]
+    assert "diverged" not in capsys.readouterr().err
 
 
 @needs_c_compiler
