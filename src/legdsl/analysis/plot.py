@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
 from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
 from legdsl.signals import import_held
@@ -162,12 +163,14 @@ def plot_run(
         for ax in axes:
             ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
             ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
+    labels = []
     for t_switch, controller in switch_times(run):  # controller changes (legdsl run --switch)
         if t_from <= t_switch <= end:
             for ax in axes:
                 ax.axvline(t_switch, color="tab:red", linewidth=1.2)
-            height.text(t_switch, 1.0, f" {controller}", color="tab:red", fontsize=8,
-                        va="bottom", transform=height.get_xaxis_transform())  # fmt: skip
+            labels.append(height.text(t_switch, 1.0, f" {controller}", color="tab:red",
+                                      fontsize=8, va="bottom",
+                                      transform=height.get_xaxis_transform()))  # fmt: skip
     if t[-1] > t[0]:  # the window's samples, not a stance begun before it or a --to past the end
         height.set_xlim(t[0], t[-1])
     creature = run.name
@@ -179,6 +182,8 @@ def plot_run(
         else f"{creature}: {len(stances)} stances of leg '{tr.leg_names[0]}', too many to mark"
     )
     fig.tight_layout()
+    if stack_labels(labels) > 1:  # rows of labels over the top panel: laid out again
+        fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
@@ -200,7 +205,7 @@ def switch_times(run: Path) -> list[tuple[float, str]]:
 def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
     """The footfall diagram of a run (PNG): each foot's stance as a bar over time, one row
     per leg (per contact for a creature without legs), the first leg at the top, then a row
-    for each other contact that touched (``footfall_bars``); each
+    for each other contact that touched, a sole of a leg with several too (``footfall_bars``); each
     controller change is a vertical line labelled with the controller it starts."""
     plt = pyplot()
 
@@ -208,16 +213,13 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))  # as Figure 6's axis
     rows = footfall_bars(tr)
     fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
-    for k, (_name, stances) in enumerate(rows):
-        y = len(rows) - 1 - k
-        bars = [(max(a, t_from), min(b, end) - max(a, t_from)) for a, b in stances
-                if b >= t_from and a <= end]  # fmt: skip
-        ax.broken_barh(bars, (y - 0.35, 0.7), facecolors="k")
     ax.set_yticks(range(len(rows)), [name for name, _ in reversed(rows)])
+    labels = []
     for t, controller in switch_times(run):
         if t_from <= t <= end:
             ax.axvline(t, color="tab:red", linewidth=1.2)
-            ax.text(t, len(rows) - 0.45, f" {controller}", color="tab:red", fontsize=8, va="bottom")
+            labels.append(ax.text(t, len(rows) - 0.45, f" {controller}", color="tab:red",
+                                  fontsize=8, va="bottom"))  # fmt: skip
     if end > t_from:  # a run of one sample has no time axis to fix
         ax.set_xlim(t_from, end)
     ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
@@ -226,6 +228,16 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     ax.set_axisbelow(True)  # the grid behind the bars
     ax.grid(True, axis="x", color="0.9")
     fig.tight_layout()
+    if (levels := stack_labels(labels)) > 1:  # taller by the rows of labels, the legs' as they were
+        room = (levels - 1) * LABEL_STEP * fig.dpi / 72  # px
+        bottom, top = ax.get_ylim()
+        ax.set_ylim(bottom, top + room * (top - bottom) / ax.get_window_extent().height)
+        fig.set_figheight(fig.get_figheight() + room / fig.dpi)
+        fig.tight_layout()
+    pixel = seconds_per_pixel(ax, t_from, end)  # the axes laid out: a pixel's time
+    for k, (_name, stances) in enumerate(rows):
+        y = len(rows) - 1 - k
+        ax.broken_barh(visible_bars(stances, t_from, end, pixel), (y - 0.35, 0.7), facecolors="k")
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
@@ -234,14 +246,19 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
 
 def footfall_bars(tr: Trajectory) -> list[tuple[str, list[tuple[float, float]]]]:
     """Each leg's (each contact's, for a creature without legs) stances as (start, end) times,
-    then those of each other contact that touched in the run (a heel beside a leg's toe, a
-    tail), under its own name: a leg's stance is while any of its soles touches."""
+    then those of each other contact that touched in the run, under its own name: a tail, a
+    heel beside a leg's toe, and each sole of a leg that has several. A leg's stance is while
+    any of its soles touches, as the metrics count it, so its soles' own rows are what shows
+    a heel strike apart from the toe's landing."""
     width = tr.contact.shape[1]
     if tr.leg_names:
         rows = [(name, tr.soles_of(i)) for i, name in enumerate(tr.leg_names)]
-        feet = {c for _, soles in rows for c in soles}
-        rows += [(name, (c,)) for c, name in enumerate(tr.contact_names)
-                 if c not in feet and bool(np.any(tr.contact[:, c] != 0))]  # fmt: skip
+        alone = {soles[0] for _, soles in rows if len(soles) == 1}  # a leg's row is its foot's
+        # soles in their legs' order (foot, heel, toe), then the other contacts
+        order = dict.fromkeys([c for _, soles in rows for c in soles if c not in alone])
+        order |= dict.fromkeys(range(width))
+        rows += [(tr.contact_names[c], (c,)) for c in order
+                 if c not in alone and bool(np.any(tr.contact[:, c] != 0))]  # fmt: skip
     else:
         rows = [(name, (c,)) for c, name in enumerate(tr.contact_names)]
     return [
