@@ -41,8 +41,10 @@ def test_the_stance_runs_from_heel_strike_to_toe_off() -> None:
     assert stances == [(0.2, 0.6), (0.8, 1.2), (1.4, 1.8)]
     assert {f.before for f in m.flights} == {"main"}
     rows = footfall_bars(tr)
-    assert [name for name, _ in rows] == ["main"]  # the heel is the leg's: no row of its own
+    # the leg's row is its stance; its soles' rows tell the heel strike from the toe's landing
+    assert [name for name, _ in rows] == ["main", "toe", "heel"]
     assert _r(rows[0][1]) == [(0.2, 0.6), (0.8, 1.2), (1.4, 1.8)]
+    assert _r(rows[1][1])[0] == (0.3, 0.6) and _r(rows[2][1])[0] == (0.2, 0.4)
     assert _r(stance_phases(tr, 0))[0] == (0.2, 0.6)
 
 
