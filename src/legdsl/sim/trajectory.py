@@ -1,8 +1,9 @@
 """A recorded run: the arrays the simulator writes and every later tool reads.
 
 A run directory holds ``trajectory.npz`` (this dataclass, one row per recorded
-sample), ``trajectory.csv`` (the same samples for people, with units in the
-column names) and ``run.json`` (inputs, parameters, events, status).
+sample), ``trajectory.csv`` (the same samples for people, to 9 significant digits, with
+units in the column names but for the coordinates, whose unit is their joint's; without
+``root_pos`` and ``leg_spring_energy``) and ``run.json`` (inputs, parameters, events, status).
 
 Shapes: N samples, NQ/NV coordinates, NC contacts, NL legs, NA actuators.
 
@@ -277,7 +278,8 @@ class Trajectory:
         return self.state_names[index] if 0 <= index < len(self.state_names) else ""
 
     def write_csv(self, out: TextIO) -> None:
-        """One row per sample into ``out``; column names carry their units."""
+        """One row per sample into ``out``; column names carry their units, but ``q.*`` and
+        ``v.*`` (m or rad by joint: the arrays do not say which, ``analysis.series_units``)."""
         cols: list[tuple[str, np.ndarray]] = [("t [s]", self.t)]
         for i, name in enumerate(self.q_names):
             cols.append((f"q.{name}", self.q[:, i]))
