@@ -348,7 +348,15 @@ class NameResolver:
     def no_actuator_member(self, base: ir.Part | ir.Alias, name: str, members: list[str]) -> str:
         """An actuator lacks ``name``; through a leg's alias (a library action's
         ``leg.spring.k``) the fix is the alias, naming an actuator of a kind that has it."""
-        kind = (self.actuator_of(base) or ("force", False))[0]
+        kind, rotary = self.actuator_of(base) or ("force", False)
+        if kind == "force" and rotary:
+            kind = "torque"  # as the file declares it: torque(...)
+        if name == "torque" and "force" in members:  # the member is 'force' on a hinge too
+            return (
+                f"a {kind} actuator's command is its 'force'"
+                f"{' (a torque, in N*m, on a revolute joint)' if rotary else ''}: write '.force' "
+                "in place of '.torque'"
+            )
         if isinstance(base, ir.Alias):
             kinds = [k for k, (set_, read) in ir.ACTUATOR_MEMBERS.items() if name in set_ + read]
             wanted = " or ".join(f"a {k}" for k in kinds) if kinds else "another"
