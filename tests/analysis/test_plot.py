@@ -105,6 +105,23 @@ def test_a_window_without_samples_is_refused(
     assert not (run / "figure6.png").exists() and not (run / "footfall.png").exists()
 
 
+def test_a_window_of_one_sample_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A window holding one sample drew four empty panels on an axis of the stance around it
+    (--from the last sample of a long run: 100 s past its end), exit 0: it is refused as an
+    empty window is, with the record interval."""
+    run = _run(tmp_path)
+    assert main(["plot", str(run), "--from", "0.4999", "--to", "0.5009"]) == 2
+    err = capsys.readouterr().err
+    assert "only the sample at 0.5 s lies from 0.4999 to 0.5009 s" in err
+    assert "widen the window: the run was recorded every 0.001 s" in err
+    assert main(["plot", str(run), "--from", "0.9995"]) == 2
+    assert "only the sample at 1 s lies from 0.9995 to 1 s" in capsys.readouterr().err
+    assert not (run / "figure6.png").exists() and not (run / "footfall.png").exists()
+    assert main(["plot", str(run), "--from", "0.998"]) == 0  # two samples: a curve
+
+
 def test_a_run_of_one_sample_draws_without_warnings(tmp_path: Path) -> None:
     import warnings
 

@@ -50,23 +50,30 @@ def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
 
 
 def samples_in_window(
-    tr: Trajectory, run: Path, t_from: float, t_to: float | None, verb: str
+    tr: Trajectory, run: Path, t_from: float, t_to: float | None, verb: str, curve: bool = False
 ) -> np.ndarray:
     """Which samples lie in the window (a mask); ``UsageError`` when none does, as a window
     past the end of the run: drawn, its panels were empty on axes matplotlib made up, and
-    measured, every row n/a."""
+    measured, every row n/a. A ``curve`` (a picture) needs two: one sample of a longer run
+    drew no line, on an axis of the stance around it (100 s past a long run's end)."""
     end = tr.t[-1] if t_to is None else t_to
     window = (tr.t >= t_from) & (tr.t <= end)
+    last = float(tr.t[-1])
+    every = f"the run was recorded every {last / (len(tr) - 1):.3g} s" if len(tr) > 1 else ""
     if not window.any():
-        last = float(tr.t[-1])
         if t_from > last:
             where = f"--from {t_from:g}s is after its last sample, at {last:g} s"
         else:
             where = f"none lies from {t_from:g} to {end:g} s"
         fix = f"give --from and --to within 0 to {last:g} s"
         if len(tr) > 1 and tr.t[0] <= t_from <= end <= last:  # between two samples
-            fix = f"widen the window: the run was recorded every {last / (len(tr) - 1):.3g} s"
+            fix = f"widen the window: {every}"
         raise UsageError(f"nothing of {run} to {verb}: {where}; {fix}")
+    if curve and window.sum() == 1 and len(tr) > 1:  # a run of one sample is drawn as it is
+        raise UsageError(
+            f"too little of {run} to {verb}: only the sample at {tr.t[window][0]:g} s lies from "
+            f"{t_from:g} to {end:g} s; widen the window: {every}"
+        )
     return window
 
 
@@ -115,7 +122,7 @@ def plot_run(
     plt = pyplot()
 
     tr = Trajectory.load(run)
-    window = samples_in_window(tr, run, t_from, t_to, "draw")
+    window = samples_in_window(tr, run, t_from, t_to, "draw", curve=True)
     end = tr.t[-1] if t_to is None else t_to
     t = tr.t[window]
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
