@@ -49,9 +49,24 @@ def sensor_symbol(key: str) -> Symbol:
     return Symbol(key.replace(".", "_"))
 
 
-# Where a statement came from: its span, then the spans of the action calls it was inlined
+@dataclass(frozen=True)
+class EachPass:
+    """One member's pass through an ``each VAR in GROUP { ... }`` block (``span``: the
+    block's), as a place a statement came through."""
+
+    span: Span
+    var: str
+    leg: str
+
+    # where a Span is read (the generated code's origins): the block's place
+    file = property(lambda self: self.span.file)
+    line = property(lambda self: self.span.line)
+    col = property(lambda self: self.span.col)
+
+
+# Where a statement came from: its span, then the action calls and each blocks it was inlined
 # through, innermost first (for run-time faults; generated code does not depend on it).
-Where = tuple[Span, ...]
+Where = tuple[Span | EachPass, ...]
 
 
 @dataclass(frozen=True)
@@ -186,9 +201,8 @@ class Lowerer:
             elif isinstance(s, ir.Place):
                 places.extend(self.place(s, roles, (s.span, *calls)))
             elif isinstance(s, ir.Each):
-                inner = (s.span, *calls)
                 for leg in self.legs(s.group, roles):
-                    member = {**roles, s.var: (leg,)}
+                    member, inner = {**roles, s.var: (leg,)}, (EachPass(s.span, s.var, leg), *calls)
                     self.statements(s.body, member, records, settings, places, inner, record_where)
             # swaps are done on entry, before anything else (the IR's bindings)
 
@@ -229,7 +243,7 @@ class Lowerer:
         if not _finite_everywhere(value):
             user = next((w for w in where if w.file == self.model.span.file), where[-1])
             raise LegError.at(
-                user,
+                user.span if isinstance(user, EachPass) else user,
                 "this gives no finite real number, whatever the creature's state (sympy makes an infinity, NaN "
                 "or a complex number of it: a product or power past a double, or a division "
                 "by something that is always 0); write it otherwise",

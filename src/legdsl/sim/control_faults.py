@@ -22,8 +22,7 @@ import sympy
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import FUNCTION_VALUES
 from legdsl.ir.model import Model
-from legdsl.lang.errors import Span
-from legdsl.lower.control import FUNCTIONS, Lowerer
+from legdsl.lower.control import FUNCTIONS, EachPass, Lowerer, Where
 from legdsl.sim.run_loop import ControlFault
 
 
@@ -113,14 +112,23 @@ def _call_text(e: Any, args: Sequence[float]) -> str:
     return f"{name}({', '.join(f'{a:.4g}' for a in args)})"
 
 
-def _where(where: tuple[Span, ...]) -> str:
+def _where(where: Where) -> str:
+    """'file:line:col', then the action calls and each blocks it came through, innermost
+    first: ' (inlined from the action called at A, called at B; for m = fl in the each at C)'."""
     if not where:
         return "the controller"
-    text = str(where[0])
-    if len(where) > 1:
-        text += " (inlined from the action called at " + ", called at ".join(map(str, where[1:]))
-        text += ")"
-    return text
+    through, called = [], False
+    for w in where[1:]:
+        if isinstance(w, EachPass):
+            var = w.var.partition("#")[0]  # the checker numbers each block's variable
+            through.append(f"; for {var} = {w.leg} in the each at {w.span}")
+            called = False
+        else:
+            through.append(
+                f", called at {w}" if called else f"; inlined from the action called at {w}"
+            )
+            called = True
+    return f"{where[0]} ({''.join(through)[2:]})" if through else str(where[0])
 
 
 def explain(
@@ -156,7 +164,7 @@ def explain(
     values |= {sympy.Symbol(f"record_{n}"): v for n, v in zip(module.RECORDS, r, strict=True)}
     values[sympy.Symbol("time_in_state")] = tis
     body = lc.bodies.get(key)
-    candidates: list[tuple[str, Any, tuple[Span, ...]]] = []
+    candidates: list[tuple[str, Any, Where]] = []
     if kind == "event":
         candidates = [("its event", lc.events[key], lc.event_where.get(key, ()))]
     elif kind == "entry" and body is not None:
@@ -255,7 +263,7 @@ def _signal_at_fault(
 
 
 def _message(
-    where: tuple[Span, ...],
+    where: Where,
     head: str,
     label: str,
     what: str,
