@@ -158,7 +158,12 @@ def cmd_run(args: argparse.Namespace) -> int:
             print(f"legdsl: note: --set {note}", file=sys.stderr)
         if (cramped := space_note(out, "--out", options, model)) is not None:
             print(f"legdsl: note: {cramped}", file=sys.stderr)
-        run = plan.finish(plan.sim.run(progress))
+        try:
+            simulated = plan.sim.run(progress)
+        finally:  # a run stopped short (a fall, Ctrl-C, an error): its bar's line ended first
+            if progress is not None:
+                progress.end()
+        run = plan.finish(simulated)
         interrupts.simulating = False  # from here on a signal waits for the directory
         run.scene = args.scene
         _say_writing(run, out)

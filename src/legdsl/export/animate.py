@@ -172,9 +172,12 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
         if motion.note:
             print(motion.note, file=sys.stderr)
-        result = render_video(
-            motion, video, fps, size, overlays, progress=stderr_progress(), slow=slow
-        )
+        progress = stderr_progress()
+        try:
+            result = render_video(motion, video, fps, size, overlays, progress=progress, slow=slow)
+        finally:  # a render stopped short (Ctrl-C, ffmpeg failing): its bar's line ended first
+            if progress is not None:
+                progress.end()
         slowed = f", {slow:g} times slower" if slow != 1.0 else ""
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "

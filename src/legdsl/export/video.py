@@ -16,7 +16,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -28,6 +28,9 @@ from legdsl.export.video_rates import most_fps
 from legdsl.export.video_views import SKY, PerspectiveView, SideView, View
 from legdsl.files import atomic_path, refused_in
 from legdsl.lang.errors import UsageError
+
+if TYPE_CHECKING:
+    from legdsl.pipeline.report import ProgressBar
 
 FFMPEG_HINT = (
     "writing .mp4 needs ffmpeg, which is not installed: pip install 'legdsl[export]' "
@@ -185,7 +188,7 @@ def _write_gif(frames: Any, path: Path, fps: float, report: Callable[[int], None
     )
 
 
-def stderr_progress() -> Callable[[float, float], None] | None:
+def stderr_progress() -> ProgressBar | None:
     """A video's progress bar on stderr when it is a terminal."""
     from legdsl.pipeline.report import ProgressBar
 

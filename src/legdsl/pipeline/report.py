@@ -11,9 +11,23 @@ from legdsl.ir.model import Model
 from legdsl.sim.run_loop import RunResult
 
 
-def progress_line(done: float, total: float, unit: str, left: float | None) -> None:
+def time_left(seconds: float) -> str:
+    """A wall time still to go: minutes and seconds under an hour, then hours and minutes,
+    then days and hours (a --time 1e9 run was 'about 24722m22s left')."""
+    whole = int(seconds)
+    if whole < 3600:
+        return f"{whole // 60}m{whole % 60:02d}s"
+    if whole < 86400:
+        return f"{whole // 3600}h{whole % 3600 // 60:02d}m"
+    return f"{whole // 86400}d{whole % 86400 // 3600:02d}h"
+
+
+def progress_line(
+    done: float, total: float, unit: str, left: float | None, stopped: bool = False
+) -> None:
     """A progress bar on standard error, written over itself: how much of ``total`` is done
-    (seconds of a run or a video, or runs of a sweep) and, when known, the time left."""
+    (seconds of a run or a video, or runs of a sweep) and, when known, the time left; a bar
+    ``stopped`` short of its end (a fall, Ctrl-C) says so and ends its line, as 'done' does."""
     width = 30
     frac = min(1.0, done / total) if total > 0 else 1.0
     filled = int(frac * width)
@@ -24,12 +38,14 @@ def progress_line(done: float, total: float, unit: str, left: float | None) -> N
     else:
         amount = f"{done:g}/{total:g} {unit}"
     if frac >= 1.0:
-        tail = "done\n"
-    elif left is None:
+        tail = ", done\n"
+    elif stopped:
+        tail = ", stopped\033[K\n"
+    elif left is None:  # no estimate yet: no comma after the amount
         tail = "\033[K"
     else:
-        tail = f"about {int(left // 60)}m{int(left % 60):02d}s left\033[K"  # \033[K: clear the rest
-    print(f"\r[{'#' * filled}{'.' * (width - filled)}] {amount}, {tail}", end="",
+        tail = f", about {time_left(left)} left\033[K"  # \033[K: clear the rest
+    print(f"\r[{'#' * filled}{'.' * (width - filled)}] {amount}{tail}", end="",
           file=sys.stderr, flush=True)  # fmt: skip
 
 
@@ -52,9 +68,7 @@ class ProgressLog:
         if not (due and done < total) and not (self.said and done >= total):
             return
         self.last, self.said = now, True
-        eta = (
-            f", about {int(left // 60)}m{int(left % 60):02d}s left" if left and done < total else ""
-        )
+        eta = f", about {time_left(left)} left" if left and done < total else ""
         print(f"legdsl: {self.what}: {done:g} of {total:g} {self.unit}{eta}", file=sys.stderr,
               flush=True)  # fmt: skip
 
@@ -66,6 +80,7 @@ class ProgressBar:
     def __init__(self, unit: str = "s") -> None:
         self.unit = unit
         self._first: tuple[float, float] | None = None  # (wall clock, t) at the first call
+        self._open: tuple[float, float] | None = None  # (t, total) of a line not yet ended
 
     def __call__(self, t: float, total: float) -> None:
         now = time.perf_counter()
@@ -74,6 +89,14 @@ class ProgressBar:
         wall, t0 = self._first
         left = (now - wall) * (total - t) / (t - t0) if t > t0 else None
         progress_line(t, total, self.unit, left)
+        self._open = (t, total) if total > 0 and t / total < 1.0 else None  # as 'done' is told
+
+    def end(self) -> None:
+        """The bar's line ended where the work stopped short (a fall, a divergence, Ctrl-C,
+        an error): left open, the next message was printed on it, after a stale time left."""
+        if self._open is not None:
+            progress_line(*self._open, self.unit, None, stopped=True)
+            self._open = None
 
 
 class CompileProgress:
