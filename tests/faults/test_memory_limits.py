@@ -247,3 +247,45 @@ def test_plot_short_of_memory_asks_for_a_shorter_window(
         "window: --from T, --to T)\n"
     )
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("command", "advice"),
+    [
+        ("animate", "or ask for less (fewer frames: a lower --fps, e.g. --fps 10)\n"),
+        ("export-motion", "or ask for less (fewer keyframes: a lower --fps, e.g. --fps 10)\n"),
+    ],
+)
+def test_a_player_short_of_memory_asks_for_fewer_frames(
+    run: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str], command: str, advice: str,
+) -> None:  # fmt: skip
+    """``animate`` of a 300 s run at 800 MB was told "(a shorter --time, a lower
+    --record-rate)", legdsl run's options; its own --fps is what stores fewer frames."""
+    import legdsl.export.motion as motion
+
+    def short(*_: object, **__: object) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(motion, "load_motion", short)
+    out = tmp_path / ("p.html" if command == "animate" else "m.glb")
+    assert main([command, str(run), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"legdsl: out of memory: raise the memory limit (ulimit -v) {advice}"
+    assert "--time" not in err and list(tmp_path.iterdir()) == []
+
+
+def test_a_command_without_options_to_ask_less_is_told_the_limit_alone(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``legdsl compile`` has no --time nor --record-rate to lower."""
+    import legdsl.cli as cli
+
+    def short(*_: object) -> int:
+        raise MemoryError
+
+    monkeypatch.setattr(cli, "_cmd_compile", short)
+    assert main(["compile", str(CREATURES / "hopper.leg"), "-o", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (
+        "legdsl: out of memory: raise the memory limit (ulimit -v) and run again\n"
+    )

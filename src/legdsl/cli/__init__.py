@@ -371,7 +371,7 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
     except OSError as e:  # the file system refused: a path or permission of the user's
         if args.debug:
             traceback.print_exc()
-        print(f"legdsl: {os_refusal(e)}", file=sys.stderr)
+        print(f"legdsl: {os_refusal(e, args.command)}", file=sys.stderr)
         return EXIT_USER_ERROR
     except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
         if args.debug:

@@ -125,17 +125,17 @@ def _options_with_a_value(parser: argparse.ArgumentParser, short: bool = False) 
     return found
 
 
-def os_refusal(e: OSError) -> str:
-    """What the file system's refusal ``e`` means for the user: a full disk or a quota says
-    what to free; anything else is a path or a permission."""
+def os_refusal(e: OSError, command: str = "run") -> str:
+    """What the file system's refusal ``e`` means for the user of ``command``: a full disk or
+    a quota says what to free; anything else is a path or a permission."""
     from legdsl.files import REFUSED_WRITES, refused
 
     if e.errno in (errno.EMFILE, errno.ENFILE):  # ulimit -n, not a path: the path is fine
         return f"{e.strerror}: raise the limit of open files (ulimit -n) and run again"
     if e.errno == errno.ENOMEM:
-        from legdsl.cli.process import OUT_OF_MEMORY
+        from legdsl.cli.process import out_of_memory
 
-        return OUT_OF_MEMORY
+        return out_of_memory(command)
     if e.errno in REFUSED_WRITES:
         where = f"cannot write {e.filename}: " if e.filename else ""
         return f"{where}{refused(e, e.filename or '').strerror}, or give another place to write"

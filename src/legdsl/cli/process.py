@@ -13,15 +13,17 @@ from typing import Any, TextIO
 
 from legdsl.signals import handled
 
-OUT_OF_MEMORY = (
-    "out of memory: raise the memory limit (ulimit -v) or ask for less "
-    "(a shorter --time, a lower --record-rate)"
-)
-# a recorded run's commands with a window to narrow, not a --time to shorten
-OUT_OF_MEMORY_IN_A_WINDOW = (
-    "out of memory: raise the memory limit (ulimit -v) or ask for less (a shorter window: "
-    "--from T, --to T)"
-)
+# what each command can ask less of, in its own options: `animate` was told legdsl run's
+# --time and --record-rate, when its --fps (the frames it stores) is what helps
+LESS_OF = {
+    "run": "a shorter --time, a lower --record-rate",
+    "plot": "a shorter window: --from T, --to T",
+    "metrics": "a shorter window: --from T, --to T",
+    "animate": "fewer frames: a lower --fps, e.g. --fps 10",
+    "export-motion": "fewer keyframes: a lower --fps, e.g. --fps 10",
+    "sweep": "a shorter --time, fewer --jobs",
+    "tune": "a shorter --time, fewer --jobs",
+}
 OUT_OF_MEMORY_TO_LOAD = (
     "out of memory to load legdsl and its libraries (numpy, sympy): raise the memory limit "
     "(ulimit -v) and run again"
@@ -29,10 +31,13 @@ OUT_OF_MEMORY_TO_LOAD = (
 
 
 def out_of_memory(command: str) -> str:
-    """What a command short of memory is told to ask less of ("": legdsl itself, loading)."""
-    if command in ("plot", "metrics"):
-        return OUT_OF_MEMORY_IN_A_WINDOW
-    return OUT_OF_MEMORY if command else OUT_OF_MEMORY_TO_LOAD
+    """What a command short of memory is told to ask less of ("": legdsl itself, loading);
+    one without such options (check, compile) only to raise the limit."""
+    if not command:
+        return OUT_OF_MEMORY_TO_LOAD
+    if command not in LESS_OF:
+        return "out of memory: raise the memory limit (ulimit -v) and run again"
+    return f"out of memory: raise the memory limit (ulimit -v) or ask for less ({LESS_OF[command]})"
 
 
 def streams_that_cannot_fail() -> None:
