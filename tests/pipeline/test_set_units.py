@@ -258,3 +258,14 @@ def test_the_kind_is_told_in_the_unit_the_file_declared(tmp_path: Path) -> None:
         sort_settings(["bend=0.75"], model, "hold")
     with pytest.raises(UsageError, match=r"k_lean is a quantity in deg/m, but 60deg is an angle"):
         sort_settings(["k_lean=60deg"], model, "hold")
+
+
+def test_a_negative_gain_without_its_unit_is_told_negative_first() -> None:
+    """'hip_servo.kp=-5' was advised 'e.g. hip_servo.kp=-5N*m/rad', which was then refused as
+    negative."""
+    from legdsl.check.source import check_model
+
+    model = check_model(Path(__file__).resolve().parents[2] / "creatures" / "hopper.leg")
+    with pytest.raises(UsageError, match="'kp' must not be negative") as told:
+        sort_settings(["hip_servo.kp=-5"], model, "hop")
+    assert "-5N*m/rad" not in str(told.value)

@@ -428,11 +428,11 @@ def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -
         raise UsageError(
             f"--set {name}: {fixed}a {a.kind}'s settings are {', '.join(SETTABLE[a.kind])}"
         )
-    _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
     if key in NON_NEGATIVE and given.value < 0:  # the rule the .leg checker applies
-        raise UsageError(
+        raise UsageError(  # before the unit: its advice would be the negative value
             f"{where}: '{key}' must not be negative (as in the .leg file); give 0 or more"
         )
+    _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
 
 
 def parse_path_option(text: str) -> PathSpec:
