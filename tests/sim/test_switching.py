@@ -214,11 +214,19 @@ def test_a_change_after_the_end_of_the_run_is_noted(
     """An input change timed after --time happened never, silently."""
     from legdsl.pipeline.scenes import too_late
 
-    notes = too_late(["speed=2m/s@5s", "speed=1m/s@500ms", "k=2"], 2.0)
+    from legdsl.sim.run_loop import RunOptions
+
+    notes = too_late(["speed=2m/s@5s", "speed=1m/s@500ms", "k=2"], RunOptions(duration=2.0))
     assert notes == [
         "--set speed=2m/s@5s comes after the run's end (2 s) and has no effect; give a longer "
         "--time to see it",
     ]  # a switch that never took over is told after the run (tests/cli/test_cli_switch_late.py)
+    # after the last tick (1.998 s at the 2 ms control interval) nothing reads it either
+    late = too_late(["speed=2m/s@1.999s", "speed=2m/s@1.998s"], RunOptions(duration=2.0))
+    assert late == [
+        "--set speed=2m/s@1.999s comes after the controller's last tick (1.998 s of the 2 s "
+        "run) and has no effect; give a longer --time to see it"
+    ]
     argv = ["run", str(CREATURES / "hopper.leg"), "--controller", "hop", "--time", "0.1",
             "--set", "speed=1m/s@0.2s", "--out", str(tmp_path / "r")]  # fmt: skip
     assert main(argv) == 0

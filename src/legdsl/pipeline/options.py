@@ -216,7 +216,7 @@ def notes_before_run(
 
     check_run_options(options)
     falling = fall_note(options, model)
-    return [*too_late(settings, options.duration, sources), *([falling] if falling else [])]
+    return [*too_late(settings, options, sources), *([falling] if falling else [])]
 
 
 def fall_note(options: RunOptions, model: Model) -> str | None:

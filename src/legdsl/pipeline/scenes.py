@@ -16,6 +16,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim
 from legdsl.pipeline.scaled import scale_path
 from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
+from legdsl.sim.run_loop import RunOptions, last_tick
 from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 
 _TIME: Dim = KINDS["time"][0]
@@ -45,22 +46,30 @@ def parse_switch(text: str, model: Model) -> Switch:
 
 
 def too_late(
-    settings: Sequence[str], duration: float, sources: Mapping[str, str] | None = None
+    settings: Sequence[str], options: RunOptions, sources: Mapping[str, str] | None = None
 ) -> list[str]:
     """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
-    run's end: notes for the user, since they will not happen (a switch that never took over
-    is told after the run, which knows whether it waited for a liftoff). ``sources`` names
-    a scene's lines as written (``scene_sources``), not as the ``--set`` they stand for."""
+    run's end, or after its last control tick (which reads them): notes for the user, since
+    they will not happen (a switch that never took over is told after the run, which knows
+    whether it waited for a liftoff). ``sources`` names a scene's lines as written
+    (``scene_sources``), not as the ``--set`` they stand for."""
+    duration, last = options.duration, last_tick(options)
     notes = []
     sources = sources or {}
     for text in (text for text in settings if "@" in text):
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
             given = parse_given(text.rpartition("@")[2], text)
             check_dimension(text, "", given, _TIME, "@{}")
+            said = sources.get(text, f"--set {text}")
             if given.value > duration:
                 notes.append(
-                    f"{sources.get(text, f'--set {text}')} comes after the run's end "
-                    f"({duration:g} s) and has no effect; give a longer --time to see it"
+                    f"{said} comes after the run's end ({duration:g} s) and has no effect; "
+                    "give a longer --time to see it"
+                )
+            elif given.value > last + 1e-12:  # as the machine reads a change (machine.py)
+                notes.append(
+                    f"{said} comes after the controller's last tick ({last:.4g} s of the "
+                    f"{duration:g} s run) and has no effect; give a longer --time to see it"
                 )
     return notes
 

@@ -40,6 +40,13 @@ def steps_per_control(options: RunOptions) -> int:
     return max(1, int(round(options.control_dt / options.dt)))
 
 
+def last_tick(options: RunOptions) -> float:
+    """When the controller runs for the last time (s): at the last multiple of its interval
+    before the run's last step ends it; an input changed after it never acts."""
+    steps, every = int(round(options.duration / options.dt)), steps_per_control(options)
+    return max(0, steps - 1) // every * every * options.dt
+
+
 def intervals_as_run(options: RunOptions) -> dict[str, float]:
     """run.json's record and control intervals: the options' rounded to whole steps."""
     return {
