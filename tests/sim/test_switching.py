@@ -213,7 +213,6 @@ def test_a_change_after_the_end_of_the_run_is_noted(
 ) -> None:
     """An input change timed after --time happened never, silently."""
     from legdsl.pipeline.scenes import too_late
-
     from legdsl.sim.run_loop import RunOptions
 
     notes = too_late(["speed=2m/s@5s", "speed=1m/s@500ms", "k=2"], RunOptions(duration=2.0))
