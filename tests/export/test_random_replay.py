@@ -188,9 +188,10 @@ def test_a_rig_whose_light_body_cannot_carry_an_anchor_pad_replays(tmp_path: Pat
 
 
 def test_a_one_sample_run_replays_as_one_frame(tmp_path: Path) -> None:
-    """A rig that fell at its first sample (a fall height above it): one frame at any rate."""
+    """A rig that fell at its first sample (tilted past a fall tilt of 0.001 deg): one frame
+    at any rate."""
     source, _ = recorded_rig(6, tmp_path, DURATION, 100.0)  # planar, free root
-    argv = ["run", str(source), "--time", "0.3", "--backend", "python", "--fall-height", "100"]
+    argv = ["run", str(source), "--time", "0.3", "--backend", "python", "--fall-tilt", "0.001deg"]
     argv += ["--out", str(tmp_path / "one"), "--generated", str(tmp_path / "generated")]
     status, said = legdsl_in_process(argv)
     assert status == 4, said

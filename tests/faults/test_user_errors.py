@@ -369,3 +369,18 @@ def test_a_divergences_last_sample_past_float32_is_measured_not_exported(
     else:
         assert code == 2 and "past what an animation's 32-bit numbers hold" in err, err
         assert "run it again with a --time before" in err
+
+
+def test_a_fall_height_above_the_start_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'--fall-height 5m' on a hopper starting at 0.95 m ran 0 steps and ended 'fell' (exit 4),
+    where a negative one is refused; with --drop the start is the lifted one."""
+    argv = ["run", str(ROOT / "creatures" / "hopper.leg"), "--time", "0.1",
+            "--generated", str(tmp_path / "generated"), "--out", str(tmp_path / "r")]  # fmt: skip
+    assert main([*argv, "--fall-height", "5m"]) == 2
+    err = capsys.readouterr().err
+    assert "--fall-height 5m: the root starts 0.95 m above the ground" in err, err
+    assert "give a --fall-height below 0.95m" in err
+    assert not (tmp_path / "r").exists()
+    assert main([*argv, "--fall-height", "1.5m", "--drop", "1m"]) == 0

@@ -39,7 +39,7 @@ from legdsl.pipeline.options import check_drop, check_run_options
 from legdsl.pipeline.report import path_summary, summary
 from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
-from legdsl.pipeline.start_pose import check_start, welded_root
+from legdsl.pipeline.start_pose import check_fall_height, check_start, welded_root
 from legdsl.sim import switching
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
@@ -268,6 +268,7 @@ class RunSession:
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is refused at the line that places it."""
         check_start(self.model, sim, self.source)
+        check_fall_height(sim)
 
     def _check_stiffness(
         self, sim: Simulation, controls: Iterable[ModuleType | None], given: set[str]

@@ -19,6 +19,24 @@ from legdsl.lang.spellings import mask, offset_span
 from legdsl.sim.sizes import start_depth
 
 
+def check_fall_height(sim: Any) -> None:
+    """A ``--fall-height`` at or above where the root starts (over the ground under it) would
+    end the run as fallen before its first step: refused, as a negative one is. Told in the
+    numbers of a ``--scale L`` run's creature."""
+    limit = sim.options.fall_height
+    if limit is None or welded_root(sim.model) is not None:
+        return
+    root = sim.dyn.body_poses(list(sim.q))[0][0]
+    above = root[2] - (sim.ground.height(root[0], root[1]) if sim.ground is not None else 0.0)
+    if above < limit:  # as the fall rule reads it (simulate.py)
+        size = sim.size_scale
+        raise UsageError(
+            f"--fall-height {limit * size:.4g}m: the root starts {above * size:.4g} m above the "
+            f"ground, so the run would end as fallen before its first step; give a "
+            f"--fall-height below {above * size:.4g}m"
+        )
+
+
 def welded_root(model: Model) -> str | None:
     """The root body's name when it is welded to the world (no z to lift), else None."""
     root = next(j for j in model.joints if j.parent is None)
