@@ -60,6 +60,7 @@ def _render(e: LegError) -> str:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    from legdsl.check.event_notes import never_entered
     from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.pipeline.compile import check_lowered
 
@@ -78,12 +79,13 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 else ""
             )
             print(f"{path}: creature '{m.name}' is well-formed ({m.nv} DOF{ctl})")
-            for note in leg_contact_notes(m):
+            for note in [*leg_contact_notes(m), *never_entered(m)]:
                 print(f"legdsl: note: {note}", file=sys.stderr)
     return EXIT_USER_ERROR if failed else 0
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
+    from legdsl.check.event_notes import never_entered
     from legdsl.check.leg_notes import leg_contact_notes
     from legdsl.check.source import check_model
     from legdsl.ir.describe import describe_model
@@ -92,7 +94,7 @@ def _cmd_show(args: argparse.Namespace) -> int:
         raise UsageError("show prints the creature, and standard output is closed (>&-)")
     model = check_model(args.file, args.creature)
     print(describe_model(model), end="")
-    for note in leg_contact_notes(model):
+    for note in [*leg_contact_notes(model), *never_entered(model)]:
         print(f"legdsl: note: {note}", file=sys.stderr)
     return 0
 
