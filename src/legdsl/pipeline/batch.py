@@ -59,7 +59,7 @@ from legdsl.sim.c_backend import (
 )
 from legdsl.sim.c_library import address
 from legdsl.sim.c_machine import pull_machine, state_events
-from legdsl.sim.energy_check import told, unexplained_rise
+from legdsl.sim.energy_check import held_in_copies, told, unexplained_rise
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.recorder import Divergence, empty_trajectory
 from legdsl.sim.run_loop import Interrupted, RunLoop, RunOptions, RunResult, signal_of
@@ -382,11 +382,11 @@ class Copies:
             if done.status == "interrupted":  # a Ctrl-C: the copies left stay where C left them
                 self.interrupted = done.result.cause
                 break
-        status = np.full(n, "ok", dtype=object)
+        status, held = np.full(n, "ok", dtype=object), held_in_copies(self.batch.sim, self.blocks)
         for k in range(n):
             if k in self._reruns:
                 status[k] = self._reruns[k].status
-            elif codes[k] != DONE or unexplained_rise(self.trajectory(k)) is not None:
+            elif codes[k] != DONE or unexplained_rise(self.trajectory(k), held[k]) is not None:
                 status[k] = self.result(k).status  # one that ran to its end may have diverged
         self.status = status.astype(str)
 

@@ -11,13 +11,18 @@ Over a window of the recording (up to ``WINDOW`` samples) the total energy (kine
 gravitational, elastic) can rise by no more than the actuators' positive work in it plus
 what the springs hold at its end: a controller that moves a spring's rest or a servo's
 setpoint, or stiffens it, stores energy in it with no work, and all of that is in the elastic
-energy. What the integrator adds at a sound step is a small part of the energy in motion and
+energy. A spring or servo whose stiffness and rest nothing changes in the run, and that has no
+``max``, is a source of neither (``held_springs``): its work only gives back what it stored,
+which is in the total already, and what it holds is part of the total it started with (a
+passive pogo's 5 g foot chattering on the ground at twice its stable step had its leg spring
+do 1129 J of positive work, 25 times the drop's energy, and was told ok). What the integrator adds at a sound step is a small part of the energy in motion and
 in the springs; a rise past that bound by more than ``RISE`` times the energy scale (the most
 the creature had in motion and in its springs so far, plus a tenth of its weight times its
 height, plus a tenth of the actuators' work in the window) is no motion of the creature's
 own. The shipped creatures' and the outside ones' runs, hops, jumps and gallops stay under
-the bound (their largest rise past it is under a hundredth of the scale, at 0.4 ms and at
-0.8 ms); the blow-up of a light leg on a stiff ground rises past it 5 to 500 times the scale.
+the bound (their largest rise past it is under a hundredth of the scale at their own steps,
+and a tenth at 0.8 ms, where the kangaroo's held tail springs are no source); the blow-up of
+a light leg on a stiff ground rises past it 5 to 500 times the scale.
 
 ``told`` looks at a run that ended ok or fell (a divergence found while it ran is told
 already) and tells such a rise as a divergence, with its likely cause at the sample the rise
@@ -30,12 +35,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from legdsl.sim.causes import cause_at
+from legdsl.sim.machine import settings_written
 from legdsl.sim.recorder import TooFast
 from legdsl.sim.run_loop import RunResult
 from legdsl.sim.sizes import DIVERGENCE_HEIGHT
@@ -51,10 +58,60 @@ SLACK = 0.1
 
 
 @dataclass(frozen=True)
+class HeldSpring:
+    """A spring or servo (actuator ``index``, on coordinate ``q_index``) whose stiffness
+    ``gain`` and rest ``target`` stay as they are through the run, and that has no ``max``:
+    with its damping it stores what it is given and gives back no more."""
+
+    index: int
+    q_index: int
+    gain: float
+    target: float
+
+    def holds(self, q: np.ndarray) -> np.ndarray:
+        """(N,) J: the energy it holds at each pose of ``q`` (N, NQ)."""
+        stretch = q[:, self.q_index] - self.target
+        return 0.5 * self.gain * stretch * stretch
+
+
+def held_springs(
+    sim: Any, settings: Iterable[tuple[float, float]] | None = None
+) -> tuple[HeldSpring, ...]:
+    """The springs and servos of ``sim`` (a ``legdsl.sim.simulate.Simulation``) that no
+    controller of its run writes the stiffness or the rest of, and that have no ``max`` (a
+    clipped force is not the spring's): at each one's (gain, target) in ``settings`` (a batch
+    copy's), or its settings now."""
+    controller = sim.controller
+    modules = getattr(controller, "modules", None) or (
+        {"": controller.module} if controller is not None else {}
+    )
+    written = {name for module in modules.values() for name in settings_written(module)}
+    states = sim.actuators.states
+    values = settings if settings is not None else ((a.gain, a.target) for a in states)
+    held = []
+    for i, (a, (gain, target)) in enumerate(zip(states, values, strict=False)):  # C pads
+        stiff, rest = ("k", "rest") if a.kind == "spring" else ("kp", "setpoint")
+        if a.kind == "force" or a.limit is not None:
+            continue
+        if f"{a.name}.{stiff}" not in written and f"{a.name}.{rest}" not in written:
+            held.append(HeldSpring(i, a.q_index, float(gain), float(target)))
+    return tuple(held)
+
+
+def held_in_copies(sim: Any, blocks: dict[str, np.ndarray]) -> list[tuple[HeldSpring, ...]]:
+    """Each copy's ``held_springs`` of a batch of ``sim``'s runs, from its actuators' gains and
+    targets at its end (``blocks``: the C struct's arrays, a row a copy; a setting no
+    controller writes is the copy's own throughout)."""
+    rows = zip(blocks["act_gain"], blocks["act_target"], strict=True)
+    return [held_springs(sim, zip(gains, targets, strict=True)) for gains, targets in rows]
+
+
+@dataclass(frozen=True)
 class EnergyRise:
     """The total energy rose from ``before`` (at sample ``start``, time ``t0``) to ``after``
-    (at sample ``end``, ``t1``) with only ``work`` of the actuators' positive work between;
-    ``ratio`` is how far past the bound it went, in the energy scale at its start."""
+    (at sample ``end``, ``t1``) with only ``work`` of the actuators' positive work between
+    (and ``given_back``, the held springs', which is no source); ``ratio`` is how far past the
+    bound it went, in the energy scale at its start."""
 
     start: int
     end: int
@@ -64,17 +121,22 @@ class EnergyRise:
     after: float
     work: float
     ratio: float
+    given_back: float = 0.0
 
     def said(self, scale: float = 1.0) -> str:
         """The rise in words, as the creature scaled by ``scale``'s (a ``--scale L`` run's)."""
         n = self.end - self.start
         energy, tick = scale**4, math.sqrt(scale)
+        back = ""
+        if self.given_back > 0:
+            back = (f" (not counting {self.given_back * energy:.3g} J of springs and servos whose "
+                    "stiffness and rest never change: they only give back what they stored)")  # fmt: skip
         return (
             f"the total energy rose from {self.before * energy:.4g} J at t = {self.t0 * tick:.4f} "
             f"s to {self.after * energy:.4g} J at t = {self.t1 * tick:.4f} s "
             f"({'one sample' if n == 1 else f'{n} samples'}"
-            f" later) with only {self.work * energy:.3g} J of actuator work between, and nothing else in a "
-            "creature adds energy"
+            f" later) with only {self.work * energy:.3g} J of actuator work between{back}, and "
+            "nothing else in a creature adds energy"
         )
 
 
@@ -87,36 +149,44 @@ def energy_floor(traj: Trajectory) -> float:
     return FLOOR * traj.total_mass * traj.gravity * max(h for h in heights if np.isfinite(h))
 
 
-def rises(traj: Trajectory) -> list[EnergyRise]:
-    """For each window length (1 to ``WINDOW`` samples), its largest rise past the bound; none
-    for a recording without the actuators' work (an older legdsl's)."""
+def rises(traj: Trajectory, held: Sequence[HeldSpring] = ()) -> list[EnergyRise]:
+    """For each window length (1 to ``WINDOW`` samples), its largest rise past the bound, the
+    ``held`` springs' work and what they hold no source; none for a recording without the
+    actuators' work (an older legdsl's)."""
     n = len(traj)
     if n < 2 or traj.work_positive.shape[0] != n:
         return []
     total = traj.kinetic + traj.potential + traj.elastic
     live = traj.kinetic + traj.elastic
-    work = traj.work_positive.sum(axis=1)
-    finite = np.isfinite(total) & np.isfinite(live) & np.isfinite(work)
+    sources = np.ones(traj.work_positive.shape[1], dtype=bool)
+    stored = traj.elastic.copy()  # what the springs whose settings may change hold
+    for spring in held:
+        sources[spring.index] = False
+        stored -= spring.holds(traj.q)
+    work = traj.work_positive[:, sources].sum(axis=1)
+    back = traj.work_positive[:, ~sources].sum(axis=1)
+    finite = np.isfinite(total) & np.isfinite(live) & np.isfinite(work) & np.isfinite(stored)
     # the most energy in motion and in the springs up to each sample, and the floor
     scale = np.maximum.accumulate(np.where(finite, live, 0.0)) + energy_floor(traj)
     found = []
     for lag in range(1, min(WINDOW, n - 1) + 1):
         worked = work[lag:] - work[:-lag]
-        past = total[lag:] - total[:-lag] - worked - traj.elastic[lag:]
+        past = total[lag:] - total[:-lag] - worked - stored[lag:]
         room = scale[:-lag] + SLACK * worked  # > 0 but for a weightless creature at rest
         ratio = np.divide(past, room, out=np.zeros(n - lag), where=room > 0)
         ratio[~(finite[lag:] & finite[:-lag])] = -np.inf
         a = int(np.argmax(ratio))
         b = a + lag
         found.append(EnergyRise(a, b, float(traj.t[a]), float(traj.t[b]), float(total[a]),
-                                float(total[b]), float(work[b] - work[a]), float(ratio[a])))  # fmt: skip
+                                float(total[b]), float(work[b] - work[a]), float(ratio[a]),
+                                float(back[b] - back[a])))  # fmt: skip
     return found
 
 
-def unexplained_rise(traj: Trajectory) -> EnergyRise | None:
+def unexplained_rise(traj: Trajectory, held: Sequence[HeldSpring] = ()) -> EnergyRise | None:
     """The rise past the bound by more than ``RISE`` times the energy scale in the shortest
-    window that has one (the largest there), or None."""
-    return next((r for r in rises(traj) if r.ratio > RISE), None)
+    window that has one (the largest there), or None; the ``held`` springs are no source."""
+    return next((r for r in rises(traj, held) if r.ratio > RISE), None)
 
 
 def told(sim: Any, result: RunResult) -> RunResult:
@@ -127,7 +197,7 @@ def told(sim: Any, result: RunResult) -> RunResult:
     if result.status not in ("ok", "fell"):
         return result
     try:
-        rise = unexplained_rise(result.trajectory)
+        rise = unexplained_rise(result.trajectory, held_springs(sim))
     except MemoryError:  # its recording took the memory there was: the run is as it ended
         return result
     if rise is None:
@@ -166,7 +236,7 @@ def own_speed(sim: Any, err: BaseException | None, run: Trajectory | None) -> st
     last = np.flatnonzero(np.all(np.isfinite(run.v), axis=1))
     if not len(last) or not abs(run.v[last[-1], err.index]) >= OWN_SHARE * err.limit:
         return None
-    if unexplained_rise(run.head(int(last[-1]) + 1)) is not None:
+    if unexplained_rise(run.head(int(last[-1]) + 1), held_springs(sim)) is not None:
         return None
     model, k, tick = sim.model, err.index, math.sqrt(sim.size_scale)
     unit = "rad/s" if model.v_angular[k] else "m/s"
