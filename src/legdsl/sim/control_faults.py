@@ -20,8 +20,18 @@ from typing import Any
 import sympy
 
 from legdsl.ir import controller as ir
-from legdsl.ir.controller import FUNCTION_VALUES
-from legdsl.ir.model import Model
+from legdsl.ir.controller import (
+    BODY_MEMBERS,
+    COM_MEMBERS,
+    CONTACT_MEMBERS,
+    FUNCTION_VALUES,
+    LEG_MEMBERS,
+    PATH_MEMBERS,
+    TERRAIN_MEMBERS,
+)
+from legdsl.ir.model import Model, setting_kind
+from legdsl.lang.scaling import factor
+from legdsl.lang.units import KINDS, Dim
 from legdsl.lower.control import FUNCTIONS, EachPass, Lowerer, Where
 from legdsl.sim.run_loop import ControlFault
 
@@ -141,12 +151,15 @@ def explain(
     state: str,
     error: str,
     index: int | None = None,  # which output was not finite, or which place failed
+    scale: float = 1.0,
 ) -> ControlFault:
-    """A ``ControlFault`` naming the statement that failed, with the values it read."""
+    """A ``ControlFault`` naming the statement that failed, with the values it read; its time
+    and values as the creature scaled by ``scale``'s (a ``--scale L`` run's: each by its
+    Table 1 factor), as the scaled file's run tells them."""
     from legdsl.lower.control import sensor_symbol
 
     s, u, p, r, tis = args
-    head = f"the control law failed in state {state} at t = {t:.4f} s"
+    head = f"the control law failed in state {state} at t = {t * math.sqrt(scale):.4f} s"
     try:
         controller = model.controller(module.CONTROLLER)
         lowerer = Lowerer(model, controller)
@@ -163,6 +176,8 @@ def explain(
     values |= {sympy.Symbol(f"param_{n}"): v for n, v in zip(module.PARAMS, p, strict=True)}
     values |= {sympy.Symbol(f"record_{n}"): v for n, v in zip(module.RECORDS, r, strict=True)}
     values[sympy.Symbol("time_in_state")] = tis
+    dims = _dims(model, controller, module)
+    shown = {x: v * factor(dims.get(names.get(x, "")), scale) for x, v in values.items()}
     body = lc.bodies.get(key)
     candidates: list[tuple[str, Any, Where]] = []
     if kind == "event":
@@ -181,10 +196,10 @@ def explain(
         ]
         if kind == "place" and index is not None and index < len(body.places):
             pl = body.places[index]
-            return ControlFault(
-                f"{_where(pl.where)}: {head}: place {pl.leg}: {error}; "
-                f"goals {', '.join(f'{a} = {_ev(g, values):.4g}' for a, g in zip(pl.axes, pl.goals, strict=True))}"
-            )
+            goals = (f"{a} = {_ev(g, values) * scale:.4g}"  # offsets from the hip: lengths
+                     for a, g in zip(pl.axes, pl.goals, strict=True))  # fmt: skip
+            return ControlFault(f"{_where(pl.where)}: {head}: place {pl.leg}: {error}; "
+                                f"goals {', '.join(goals)}")  # fmt: skip
     if index is not None and kind != "place" and index < len(candidates):
         candidates = [candidates[index], *candidates]
     for label, expr, where in candidates:
@@ -192,21 +207,57 @@ def explain(
             out = _ev(expr, values)
         except _Bad as bad:
             what = _divisor_zero(bad, names) or bad.what
+            if scale != 1.0 and bad.operands:  # an operand's dimension is not known here
+                what += " (its operands are the unscaled file's numbers)"
             roles = dict(controller.bindings[key[0]]) if key[0] < len(controller.bindings) else {}
             found = _signal_at_fault(lowerer, controller, roles, bad.node, values)
             if found is not None:  # told where the operation is written
                 signal, expr = found
                 label = f"signal {signal.name} (read by {label} at {_where(where)})"
                 where = (signal.span,)
-            return ControlFault(_message(where, head, label, what, expr, names, values))
+            return ControlFault(_message(where, head, label, what, expr, names, shown))
         except (KeyError, TypeError):
             continue
         if isinstance(out, float) and not math.isfinite(out):
             return ControlFault(
-                _message(where, head, label, f"the value is {out}", expr, names, values)
+                _message(where, head, label, f"the value is {out}", expr, names, shown)
             )
     first = candidates[0][2] if candidates else ()
     return ControlFault(f"{_where(first)}: {head}: {error}")
+
+
+# a sensor's dimension by its key's kind (``legdsl.sim.sensors``): the member's, where fixed
+_MEMBERS = {"com": COM_MEMBERS, "contact": CONTACT_MEMBERS, "terrain": TERRAIN_MEMBERS,
+            "path": PATH_MEMBERS, "body": BODY_MEMBERS, "leg": LEG_MEMBERS}  # fmt: skip
+
+
+def _dims(model: Model, controller: ir.Controller, module: ModuleType) -> dict[str, Dim | None]:
+    """The dimension of each value a statement reads, by its name in ``explain``'s words
+    (``input speed``, ``com.z``); None where it has none to scale by (a flag, a bare number)."""
+    own = {c.name: c.dim for c in (*controller.inputs, *controller.params)}
+    dims: dict[str, Dim | None] = {f"input {n}": own.get(n) for n in module.INPUTS}
+    dims |= {f"param {n}": own.get(n) for n in module.PARAMS}
+    dims |= {f"record {n}": d if isinstance(d, tuple) else None for n, d in controller.records}
+    dims["time_in_state"] = KINDS["time"][0]
+    motion = {d.name: d.motion for d in model.dofs}
+    rotary = {a.name: a.rotary for a in model.actuators}
+    for key in module.SENSORS:
+        kind, _, rest = key.partition(".")
+        name, _, member = rest.rpartition(".")
+        dim: Dim | None = _MEMBERS.get(kind, {}).get(member)
+        if kind == "time":
+            dim = KINDS["time"][0]
+        elif kind == "coord" and name in motion:
+            angular = motion[name] == "hinge"
+            kinds = ("angle", "angular velocity") if angular else ("length", "velocity")
+            dim = KINDS[kinds[member == "rate"]][0]
+        elif kind == "act" and name in rotary:
+            dim = KINDS[setting_kind(member, rotary[name])][0]
+        elif kind == "integral" and isinstance(own.get(rest), tuple):
+            a, b, c, d = own[rest]  # an input's integral over time
+            dim = (a, b, c + 1, d)
+        dims[key] = dim
+    return dims
 
 
 def _divisor_zero(bad: _Bad, names: dict[Any, str]) -> str:

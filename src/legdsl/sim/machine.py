@@ -28,6 +28,7 @@ from typing import Any
 from legdsl.ir.model import NON_NEGATIVE, Model, setting_kind
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS
 from legdsl.signals import import_held
 from legdsl.sim.handover import Clock, Pair, cycle, take_over
@@ -142,6 +143,7 @@ class StateMachine:
         self.binding_at_start = 0
         self.events: list[dict[str, Any]] = []
         self._sane = True  # the simulation's state is finite (set at each call)
+        self._scale = 1.0  # a --scale L run's L: a fault is told in that creature's numbers
         self._history: list[tuple[float, list[float]]] = [(0.0, list(self.inputs))]
 
     @property
@@ -210,14 +212,15 @@ class StateMachine:
         # sympy (some 0.4 s to import) lowers the controller again: only once a law has failed
         explain = import_held("legdsl.sim.control_faults").explain
         return explain(self.model, self.module, kind, key, args, t, self.state_names[state],
-                       error, index)  # fmt: skip
+                       error, index, self._scale)  # fmt: skip
 
     def _negative(self, actuator: str, setting: str, value: float) -> str:
         """Why a negative stiffness or damping stops the run (the C machine hands the tick to
         Python where one is set, so that both say this)."""
         rotary = next(a.rotary for a in self.model.actuators if a.name == actuator)
-        unit = KINDS[setting_kind(setting, rotary)][1]
+        dim, unit = KINDS[setting_kind(setting, rotary)]
         what = "stiffness" if setting in ("k", "kp") else "damping"
+        value *= factor(dim, self._scale)
         return (
             f"it sets {actuator}.{setting} = {value:.4g} {unit}, and {setting} must not be "
             f"negative (a negative {what} feeds energy in, and the run would diverge); keep it "
@@ -259,6 +262,7 @@ class StateMachine:
     def __call__(self, sim: Any) -> None:
         t = sim.t
         self._sane = all(math.isfinite(x) for x in sim.q) and all(math.isfinite(x) for x in sim.v)
+        self._scale = getattr(sim, "size_scale", 1.0)
         self._apply_schedule(t)
         touching = (
             sim.ground.touching if sim.ground is not None else [False] * len(self.sensors.clocks)
