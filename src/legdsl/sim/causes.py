@@ -20,6 +20,7 @@ import numpy as np
 
 from legdsl.ir.model import Pad
 from legdsl.sim.contact import pad_force
+from legdsl.sim.recorder import TooFast
 from legdsl.sim.stability import (
     CLEAR_IT,
     PUSHED,
@@ -73,6 +74,8 @@ def cause_at(
     pushed under a step's edge is looked for in ``through`` (what the run recorded past ``q``,
     up to an energy rise's end, where the push is; ``run`` if None); ``otherwise`` is told
     if nothing is found."""
+    if isinstance(err, TooFast) and sim.t == 0.0:  # before the first step: nothing else is
+        return start_speed(sim, err)
     model, opts, scale = sim.model, sim.options, sim.size_scale  # told as --scale L's creature
     mass = None
     if isinstance(err, ZeroDivisionError):
@@ -155,4 +158,24 @@ def under_edge(sim: Any, run: Trajectory | None) -> str | None:
         f"{t1 * tick:.4f} s) and was pushed with {push * scale**3:.3g} N{least_}, "
         f"{push / weight:.0f} times the creature's weight{how}; "
         f"{TOPS_ONLY}; {CLEAR_IT}"
+    )
+
+
+def start_speed(sim: Any, err: TooFast) -> str:
+    """A speed past the limit before the first step: the start velocity the file gives, which
+    no step or integrator changes (a root pushed at 1200 m/s was told to try a smaller step or
+    rk4, and told so again after both). Told as a --scale L run's creature, with the bound its
+    file's line, the unscaled creature's, should stay below."""
+    k, by = err.index, sim.v_factors[err.index]
+    unit = "rad/s" if sim.model.v_angular[k] else "m/s"
+    name, speed, most = sim.model.v_names[k], err.speed * by, err.limit * by
+    given, bound = f"{name} = {speed:.4g} {unit}", f"{most:.4g} {unit}"
+    if by != 1.0:
+        given += f", as --scale {sim.size_scale:g} makes the file's {err.speed:.4g} {unit}"
+        bound = f"{err.limit:.4g} {unit} there ({bound} scaled)"
+    return (
+        f"nothing grew without bound: the creature starts at this speed, the start velocity "
+        f"its file gives ({given}), which no step or integrator changes; the limit is the "
+        f"divergence rule's for a creature of its size (docs/runtime.md#divergence-and-falls): "
+        f"give its `velocity` a speed under {bound}"
     )
