@@ -231,6 +231,16 @@ def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
     )
 
 
+def apart(a: float, b: float, digits: int = 3) -> tuple[str, str]:
+    """``a`` and ``b`` to ``digits`` significant digits, or to as many more as tell them apart
+    ('fell to 0.2099 m (the limit is 0.21 m)', not 'fell to 0.21 m (the limit is 0.21 m)')."""
+    for n in range(digits, 18):
+        shown = f"{a:.{n}g}", f"{b:.{n}g}"
+        if shown[0] != shown[1] or a == b:
+            break
+    return shown
+
+
 def percentage(number: str | None) -> str:
     """The message for a number written as a percentage: the plain number to write instead,
     the user's own (``number``, the digits before '%') where it reads as one."""

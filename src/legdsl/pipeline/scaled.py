@@ -24,7 +24,7 @@ from legdsl.ir.paths import PathSpec
 from legdsl.ir.scene import Scene
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import factor
-from legdsl.lang.units import KINDS, Dim
+from legdsl.lang.units import KINDS, Dim, apart
 from legdsl.pipeline.settings import Settings, plain_number
 from legdsl.sim.machine import InputChange
 from legdsl.sim.run_loop import RunOptions, RunResult, default_control_dt
@@ -269,9 +269,8 @@ def scale_message(message: str, scale: float) -> str:
     divergence's cause is told in them already (``scale_checks``)."""
     tick = math.sqrt(scale)
     message = _FELL_TO.sub(
-        lambda m: (
-            f"the root fell to {float(m[1]) * scale:.3g} m above the ground "
-            f"(the limit is {float(m[2]) * scale:.3g} m)"
+        lambda m: "the root fell to {} m above the ground (the limit is {} m)".format(
+            *apart(float(m[1]) * scale, float(m[2]) * scale)
         ),
         message,
     )

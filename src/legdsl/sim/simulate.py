@@ -17,6 +17,7 @@ from types import ModuleType
 from typing import Any, Protocol
 
 from legdsl.ir.model import Model
+from legdsl.lang.units import apart
 from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.causes import cause_at
 from legdsl.sim.contact import ContactEvent, GroundContact
@@ -361,9 +362,8 @@ class Simulation:
         height = limit if limit is not None else 0.3 * start_height if start_height > 0 else None
         above = pos[2] - self._ground_under(pos)
         if height is not None and above < height:
-            self.message = (
-                f"the root fell to {above:.3g} m above the ground (the limit is {height:.3g} m)"
-            )
+            shown, least = apart(above, height)
+            self.message = f"the root fell to {shown} m above the ground (the limit is {least} m)"
             return "fell"
         if tilt > self.options.fall_tilt:
             self.message = (
