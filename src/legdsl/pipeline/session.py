@@ -41,13 +41,13 @@ from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
 from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
 from legdsl.pipeline.start_pose import check_fall_height, check_start, welded_root
 from legdsl.sim import switching
+from legdsl.sim.coupled import inverse_inertia
 from legdsl.sim.machine import StateMachine
 from legdsl.sim.run_loop import RunOptions, RunResult, intervals_as_run
 from legdsl.sim.simulate import Simulation
 from legdsl.sim.stability import (
     TooStiff,
     in_unit,
-    inverse_inertia_diagonal,
     on_the_line,
     setting_unit,
     stop_message,
@@ -282,7 +282,7 @@ class RunSession:
         key = (sim.dyn, tuple(sim.q))
         inverse = self._inverse_inertia.get(key)
         if inverse is None:
-            inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(sim.q))
+            inverse = inverse_inertia(self.model, sim.dyn.mass_matrix, sim.q)
             if len(self._inverse_inertia) < 256:
                 self._inverse_inertia[key] = inverse
         opts, scale = sim.options, sim.size_scale  # a --scale L run tells its creature's numbers

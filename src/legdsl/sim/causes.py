@@ -20,12 +20,12 @@ import numpy as np
 
 from legdsl.ir.model import Pad
 from legdsl.sim.contact import pad_force
+from legdsl.sim.coupled import inverse_inertia
 from legdsl.sim.recorder import TooFast
 from legdsl.sim.stability import (
     CLEAR_IT,
     PUSHED,
     TOPS_ONLY,
-    inverse_inertia_diagonal,
     likely_cause,
     stiff_now,
 )
@@ -83,7 +83,7 @@ def cause_at(
             mass = sim.dyn.mass_matrix(list(q))
     stiff: list[str] = []
     with contextlib.suppress(ArithmeticError, ValueError):  # the inertia of the initial pose
-        inverse = inverse_inertia_diagonal(sim.dyn.mass_matrix(list(model.q0)))
+        inverse = inverse_inertia(model, sim.dyn.mass_matrix, model.q0)
         stiff = stiff_now(model, sim.actuators.states, inverse, opts.dt, opts.integrator, scale,
                           sim.step_flags)  # fmt: skip
     pose = list(model.q0)

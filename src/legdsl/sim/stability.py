@@ -12,7 +12,10 @@ whose matrix has trace ``2 - w^2 h^2 - c h`` and determinant ``1 - c h``; by
 Jury's test it is stable if and only if ``c h < 2`` and ``w^2 h^2 + 2 c h < 4``.
 RK4 is stable on the undamped spring for ``w h < 2.83`` and on pure damping for
 ``c h < 2.78``. A run past these bounds is certain to diverge, so it is refused
-with the bound and what to change instead of diverging after a few steps.
+with the bound and what to change instead of diverging after a few steps. Those that pass
+alone are checked together, on the whole of M^-1 (``legdsl.sim.coupled``): two on
+coordinates that share a light mode (a ball joint near gimbal lock) can each pass and
+together diverge.
 
 A run that diverges all the same is told its likely cause (``likely_cause``): a ground too
 stiff for the step, an actuator at the gains the controller set or a joint stop too stiff for
@@ -36,6 +39,7 @@ from legdsl.ir.model import Model, Pad, Stop, axes_spread, setting_kind
 from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, parse_unit
 from legdsl.sim.actuators import ActuatorState
+from legdsl.sim.coupled import InverseInertia, Pull, coupled_too_stiff
 from legdsl.sim.trajectory import Trajectory
 
 SINGULAR = 1e12  # a mass matrix's condition number past which it is taken as singular
@@ -66,6 +70,23 @@ class TooStiff:
     limit: float  # the largest value the step allows
     dt_limit: float  # the largest step the value allows (s, the model's)
     scale: float = 1.0  # value and limit are the creature's scaled by this (``in_unit``)
+    # the actuators on coupled coordinates it diverges with (``legdsl.sim.coupled``); each
+    # bound is then theirs too, at the same share of their own setting
+    together: tuple[str, ...] = ()
+    why: str = ""  # a pose that is the reason (a ball joint near gimbal lock)
+
+    def with_whom(self) -> str:
+        """' together with 'sz' (...)' where it diverges with others, else ''."""
+        if not self.together:
+            return ""
+        them = " and ".join(f"'{n}'" for n in self.together)
+        return (f" together with {them} (their coordinates share a mode lighter than any of "
+                "them alone)")  # fmt: skip
+
+    def lowered(self) -> str:
+        """How far the others' setting goes down with it."""
+        them = " and ".join(f"'{n}'" for n in self.together)
+        return f" (and the {self.setting} of {them} by as much)" if self.together else ""
 
     def message(self, dt: float, unit: str, saturating: bool = False, flags: bool = True) -> str:
         """Told with the model's step ``dt`` (s), as the creature of ``scale``'s, to a command
@@ -75,11 +96,19 @@ class TooStiff:
                    if saturating else "diverges at once")  # fmt: skip
         fix = "" if saturating else ", or give it a 'max'"
         return (
-            f"actuator '{self.actuator}' is too {what} for the integration step: "
-            f"{self.setting} = {self.value:.4g} {unit} with dt = "
-            f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use {self.setting} below "
-            f"{below(self.limit)} {unit}, or {smaller_step(self.dt_limit, self.scale, flags)}{fix}"
+            f"actuator '{self.actuator}' is too {what} for the integration step"
+            f"{self.with_whom()}: {self.setting} = {self.value:.4g} {unit} with dt = "
+            f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use {self.lower(unit)}"
+            f"{smaller_step(self.dt_limit, self.scale, flags)}{fix}"
+            f"{f'; {self.why}' if self.why else ''}"
         )
+
+    def lower(self, unit: str) -> str:
+        """'kv below 0.43 N*m*s/rad, or ' (the others' by as much, where it has others); ''
+        where no value of it alone is stable."""
+        if not self.limit > 0:
+            return ""
+        return f"{self.setting} below {below(self.limit)} {unit}{self.lowered()}, or "
 
 
 def in_unit(f: TooStiff, unit: str, scale: float = 1.0) -> TooStiff:
@@ -153,32 +182,84 @@ def too_stiff(
     ``inverse_inertia[i]`` is the diagonal of M(q)^-1 for velocity coordinate ``i``;
     ``controlled`` the (actuator, setting) pairs the controller writes. With ``saturating``,
     the actuators with a ``max`` instead: past the bound they do not diverge, but chatter
-    between -max and max from step to step."""
+    between -max and max from step to step. Given the whole of M^-1 (an ``InverseInertia``),
+    those that pass alone are checked together too (``legdsl.sim.coupled``), and a ball joint
+    near gimbal lock is named where the pose is the reason."""
+    checked = [a for a in actuators
+               if a.kind != "force" and (a.limit is not None) == saturating]  # fmt: skip
+    unlocked = getattr(inverse_inertia, "unlocked", {})
     found = []
-    for a in actuators:
-        if a.kind == "force" or (a.limit is not None) != saturating:
-            continue
-        inv = inverse_inertia[a.v_index]
-        if not inv > 0:
-            continue
-        w2, c = a.gain * inv, a.damping * inv
-        stiff, damp = ("k", "b") if a.kind == "spring" else ("kp", "kv")
-        if integrator == "rk4":
-            damping_ok, damping_bound = c * dt < RK4_DAMPING, RK4_DAMPING
-            stiff_ok = math.sqrt(max(w2, 0.0)) * dt < RK4_OSCILLATION
-            gain_limit = (RK4_OSCILLATION / dt) ** 2 / inv
-            dt_for_gain = RK4_OSCILLATION / math.sqrt(w2) if w2 > 0 else math.inf
-        else:
-            damping_ok, damping_bound = c * dt < 2.0, 2.0
-            stiff_ok = w2 * dt * dt + 2.0 * c * dt < 4.0
-            gain_limit = max(4.0 - 2.0 * c * dt, 0.0) / (dt * dt) / inv
-            # the largest h with w^2 h^2 + 2 c h < 4
-            dt_for_gain = (-c + math.sqrt(c * c + 4.0 * w2)) / w2 if w2 > 0 else math.inf
-        if not damping_ok and (a.name, damp) not in controlled:
-            found.append(TooStiff(a.name, damp, a.damping, damping_bound / dt / inv,
-                                  damping_bound / c))  # fmt: skip
-        elif not stiff_ok and (a.name, stiff) not in controlled:
-            found.append(TooStiff(a.name, stiff, a.gain, gain_limit, dt_for_gain))
+    for a in checked:
+        f = _alone(a, inverse_inertia[a.v_index], dt, integrator, controlled)
+        if f is not None and a.v_index in unlocked:
+            turned, why = unlocked[a.v_index]
+            if _alone(a, float(turned[a.v_index, a.v_index]), dt, integrator, controlled) is None:
+                f = dataclasses.replace(f, why=why)
+        if f is not None:
+            found.append(f)
+    if found or saturating or not isinstance(inverse_inertia, InverseInertia):
+        return found
+    return _together(checked, inverse_inertia, dt, integrator, controlled)
+
+
+def _settings(a: ActuatorState) -> tuple[str, str]:
+    """The names of its stiffness and its damping."""
+    return ("k", "b") if a.kind == "spring" else ("kp", "kv")
+
+
+def _alone(
+    a: ActuatorState, inv: float, dt: float, integrator: str, controlled: set[tuple[str, str]]
+) -> TooStiff | None:
+    """Actuator ``a`` on its coordinate's inverse inertia ``inv``, every other one free."""
+    if not inv > 0:
+        return None
+    w2, c = a.gain * inv, a.damping * inv
+    stiff, damp = _settings(a)
+    if integrator == "rk4":
+        damping_ok, damping_bound = c * dt < RK4_DAMPING, RK4_DAMPING
+        stiff_ok = math.sqrt(max(w2, 0.0)) * dt < RK4_OSCILLATION
+        gain_limit = (RK4_OSCILLATION / dt) ** 2 / inv
+        dt_for_gain = RK4_OSCILLATION / math.sqrt(w2) if w2 > 0 else math.inf
+    else:
+        damping_ok, damping_bound = c * dt < 2.0, 2.0
+        stiff_ok = w2 * dt * dt + 2.0 * c * dt < 4.0
+        gain_limit = max(4.0 - 2.0 * c * dt, 0.0) / (dt * dt) / inv
+        # the largest h with w^2 h^2 + 2 c h < 4
+        dt_for_gain = (-c + math.sqrt(c * c + 4.0 * w2)) / w2 if w2 > 0 else math.inf
+    if not damping_ok and (a.name, damp) not in controlled:
+        return TooStiff(a.name, damp, a.damping, damping_bound / dt / inv, damping_bound / c)
+    if not stiff_ok and (a.name, stiff) not in controlled:
+        return TooStiff(a.name, stiff, a.gain, gain_limit, dt_for_gain)
+    return None
+
+
+def _together(
+    checked: list[ActuatorState],
+    inverse: InverseInertia,
+    dt: float,
+    integrator: str,
+    controlled: set[tuple[str, str]],
+) -> list[TooStiff]:
+    """The actuators that pass alone but diverge together, each with the bound its setting
+    (the same share of each) and the step must stay under."""
+    pulls = []
+    for a in checked:
+        stiff, damp = _settings(a)
+        pulls.append(Pull(a.v_index, 0.0 if (a.name, stiff) in controlled else a.gain,
+                          0.0 if (a.name, damp) in controlled else a.damping))  # fmt: skip
+    group = coupled_too_stiff(pulls, inverse, dt, integrator)
+    if group is None:
+        return []
+    names = [checked[i].name for i in group.members]
+    found = []
+    for i in group.members:
+        a = checked[i]
+        stiff, damp = _settings(a)
+        setting, value = (damp, a.damping) if group.setting == "damping" else (stiff, a.gain)
+        limit = value * group.factor if group.factor is not None else 0.0
+        others = tuple(n for n in names if n != a.name)
+        found.append(TooStiff(a.name, setting, value, limit, group.dt_limit, together=others,
+                              why=group.why))  # fmt: skip
     return found
 
 
@@ -211,8 +292,9 @@ def stiff_now(
         f = in_unit(found, unit, scale)
         causes.append(
             f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} {unit} now, too "
-            f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step: use "
-            f"{f.setting} below {below(f.limit)} {unit}, or {smaller_step(f.dt_limit, scale, flags)}"
+            f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step{f.with_whom()}: "
+            f"use {f.lower(unit)}{smaller_step(f.dt_limit, scale, flags)}"
+            f"{f'; {f.why}' if f.why else ''}"
         )
     stops = model.stops
     return causes + [
