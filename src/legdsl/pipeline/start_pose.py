@@ -20,15 +20,17 @@ from legdsl.sim.sizes import start_depth
 
 
 def check_fall_height(sim: Any) -> None:
-    """A ``--fall-height`` at or above where the root starts (over the ground under it) would
-    end the run as fallen before its first step: refused, as a negative one is. Told in the
+    """A ``--fall-height`` above where the root starts (over the ground under it) would end
+    the run as fallen before its first step: refused, as a negative one is. Told in the
     numbers of a ``--scale L`` run's creature."""
     limit = sim.options.fall_height
     if limit is None or welded_root(sim.model) is not None:
         return
     root = sim.dyn.body_poses(list(sim.q))[0][0]
     above = root[2] - (sim.ground.height(root[0], root[1]) if sim.ground is not None else 0.0)
-    if above < limit:  # as the fall rule reads it (simulate.py)
+    # as the fall rule reads it (simulate.py); a root that starts at or under the ground has
+    # no --fall-height to give instead (negative ones are refused): it falls at once, as said
+    if 0 < above < limit:
         size = sim.size_scale
         raise UsageError(
             f"--fall-height {limit * size:.4g}m: the root starts {above * size:.4g} m above the "
