@@ -95,7 +95,9 @@ class CreatureChecker(ValueChecker):
         order = tree.tree_order(d.name, bodies_decl)
         bodies, joints, q0, v0 = tree.build_tree(order)
         by_body = {b.name: b for b in bodies}
-        dofs = {dof.name: dof for j in joints for dof in j.dofs}
+        # The free root's coordinates (a planar creature's x, z, pitch) are no joint's:
+        # the legs push the body, so no actuator may drive them.
+        dofs = {dof.name: dof for j in joints if j.parent is not None for dof in j.dofs}
 
         actuators = [
             a
