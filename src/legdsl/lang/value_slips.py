@@ -105,6 +105,10 @@ def _trailing_list_comma(
         masked[line_start:pos],
     ):
         comma = line_start + m.start(2)
+        if "=" in masked[comma:pos]:
+            # A trailing ',' fails the parse by the next '=' at the latest: one read well
+            # before it ('joints hip, slide  ...  alias a = x b = y') ended its list fine.
+            continue
         listed = re.search(
             r"([A-Za-z_]\w*)[ \t]+([^,{}=\n]+(?:,[^,{}=\n]+)*)$", masked[line_start:comma]
         )
