@@ -167,7 +167,8 @@ def _structure(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
     if (
         kind == "LBRACE"
         and first
-        and first[0] in _TOP
+        # a body holds no block: a '{' in one ('ground {', 'body b ... {') means it was left open
+        and (first[0] in _TOP or innermost(masked, pos) == "body")
         and line_start + masked[line_start:].find(first[0]) < pos
     ):
         at = line_start + masked[line_start:].find(first[0])
