@@ -101,6 +101,9 @@ class Scope:
     )
     # name -> the members read of it (``route.lateral``), to tell what an unknown name is
     dotted: dict[str, set[str]] = field(default_factory=dict)
+    # record -> the actions the table never calls that record it: an action reading it
+    # (``trim_step_side``'s ``lifted``) needs one of them called with it
+    recorders: dict[str, tuple[str, ...]] = field(default_factory=dict)
     lets: dict[str, Span] = field(default_factory=dict)  # every 'let NAME', where first given
     # input or parameter declared as a plain number -> its kind and value (plain_declared)
     unitless: dict[str, tuple[str, ast.Expr]] = field(default_factory=dict)
@@ -225,6 +228,14 @@ class NameResolver:
                 f"unknown name '{name}': the 'let {name}' at {let} holds "
                 "only in its own row or action, after it; give it again here, or make it a "
                 f"'signal {name} = ...' of the controller (computed every tick)"
+            )
+        recorders = self.scope.recorders.get(name)
+        if recorders:  # a param of that name would pass and never change
+            by = " or ".join(f"'{a}'" for a in recorders)
+            return (
+                f"unknown name '{name}': it is recorded by action {by}, which the table never "
+                "calls: call one of them too, in the same state (a 'param' of this name would "
+                "never change)"
             )
         members = self.scope.dotted.get(name, set())
         if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):

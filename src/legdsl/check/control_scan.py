@@ -1,11 +1,12 @@
 """What a controller's text reads, found in one walk before it is checked: each name read
 with a member (``route.lateral``: a path's, ``trunk.yaw``: a body's) and the names its lets
 give, so that an unknown name is told with the declaration its use asks for
-(``NameResolver.unknown_name``)."""
+(``NameResolver.unknown_name``); and the names a table's actions record."""
 
 from __future__ import annotations
 
 import functools
+from collections.abc import Iterable
 from dataclasses import fields, is_dataclass
 from typing import Any
 
@@ -41,3 +42,36 @@ def _walked_fields(cls: type) -> tuple[str, ...]:
     if not is_dataclass(cls) or issubclass(cls, Span):
         return ()
     return tuple(f.name for f in fields(cls))
+
+
+def unreached_recorders(
+    actions: dict[str, ast.ActionDef], reachable: set[str]
+) -> dict[str, tuple[str, ...]]:
+    """Record -> the actions not in ``reachable`` that record it, in the order defined."""
+    found: dict[str, tuple[str, ...]] = {}
+    for name, action in actions.items():
+        if name not in reachable:
+            for record in collect_records([], [action]):
+                found[record] = (*found.get(record, ()), name)
+    return found
+
+
+def collect_records(
+    tables: list[ast.TableDecl], actions: Iterable[ast.ActionDef]
+) -> dict[str, Span]:
+    """The names recorded in the table's rows and in these actions' bodies, in that order."""
+    found: dict[str, Span] = {}
+
+    def walk(stmts: tuple[ast.Stmt, ...]) -> None:
+        for s in stmts:
+            if isinstance(s, ast.RecordStmt):
+                found.setdefault(s.name.name, s.name.span)
+            elif isinstance(s, ast.EachStmt):
+                walk(s.body)
+
+    for t in tables:
+        for row in t.rows:
+            walk(row.actions)
+    for action in actions:
+        walk(action.body)
+    return found

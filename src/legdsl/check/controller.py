@@ -15,13 +15,14 @@ from dataclasses import replace
 
 from legdsl.check.control_names import Opaque, Scope, Value
 from legdsl.check.control_roles import check_aliases, reachable_bindings
-from legdsl.check.control_scan import dotted_members
+from legdsl.check.control_scan import collect_records, dotted_members, unreached_recorders
 from legdsl.check.control_shared import Extension, expand_includes, extend_bases, shared_parts
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.control_words import describe_type
 from legdsl.check.derived import check_derived
 from legdsl.check.paths import check_path
-from legdsl.check.record_readers import collect_records, settle_by_readers, tell_unknown_unit
+from legdsl.check.record_clash import tell_record_clashes
+from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import (
@@ -195,21 +196,9 @@ class ControllerChecker:
         # Only the records of what the table can reach are the controller's: a library
         # action nobody calls adds no state and cannot clash with the user's names.
         reachable = self.reachable_actions(tables)
-        records = collect_records(tables, [a for n, a in self.actions.items() if n in reachable])
-        for name, span in records.items():
-            if name in declared:  # two values under one name: the record's was never read
-                self.err(
-                    span,
-                    f"'record {name}' would hide the {declared[name]} '{name}'; choose another name for the record",
-                )
-            elif name in names:
-                what = names[name]
-                kind = _kind_word(what)
-                self.err(
-                    span, f"'record {name}' would hide the {kind} '{name}'; choose another name"
-                )
-            else:
-                names[name] = ir.Named("record", name, None)
+        called = [a for n, a in self.actions.items() if n in reachable]
+        records = collect_records(tables, called)
+        tell_record_clashes(records, names, declared, own, called, d.name.span, self.err)
         for ident in owned:
             if ident.name not in records:
                 advice = did_you_mean(ident.name, records) or (
@@ -245,7 +234,9 @@ class ControllerChecker:
             seen_states[row.state.name] = row
         scope = Scope(self.model, names, self.roles, self.actions, signals, {}, d.span.file)
         scope.unitless = unitless
-        scope.dotted = dotted_members((self.items, tuple(self.actions.values())), lets=scope.lets)
+        # what the table calls: a library action's 'route.ahead_heading' tells nothing here
+        scope.dotted = dotted_members((self.items, tuple(called)), lets=scope.lets)
+        scope.recorders = unreached_recorders(self.actions, reachable)
         elaborated = self.elaborate(scope, rows, records)
         self.check_unreached(scope, reachable, shadowed)
         if not rows:
@@ -436,16 +427,6 @@ class ControllerChecker:
             for row in t.rows:
                 walk(row.actions)
         return reached
-
-
-def _kind_word(value: Value) -> str:
-    if isinstance(value, ir.Legs):
-        return "role" if value.role is not None else "leg"
-    if isinstance(value, ir.Part):
-        return value.kind
-    if isinstance(value, ir.Named):
-        return "value"
-    return "name"
 
 
 def _source_text(sources: dict[str, str], span: Span) -> str:

@@ -19,7 +19,7 @@ to check, and needs none).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 
 from legdsl.check.control_args import candidates
 from legdsl.check.control_names import Scope
@@ -115,24 +115,3 @@ def tell_unknown_unit(el: Elaborator, name: str) -> None:
         )
     finally:
         el.calls = saved
-
-
-def collect_records(
-    tables: list[ast.TableDecl], actions: Iterable[ast.ActionDef]
-) -> dict[str, Span]:
-    """The names recorded in the table's rows and in these actions' bodies, in that order."""
-    found: dict[str, Span] = {}
-
-    def walk(stmts: tuple[ast.Stmt, ...]) -> None:
-        for s in stmts:
-            if isinstance(s, ast.RecordStmt):
-                found.setdefault(s.name.name, s.name.span)
-            elif isinstance(s, ast.EachStmt):
-                walk(s.body)
-
-    for t in tables:
-        for row in t.rows:
-            walk(row.actions)
-    for action in actions:
-        walk(action.body)
-    return found
