@@ -11,6 +11,8 @@ from legdsl.check.scope import CreaturePart
 from legdsl.check.values import did_you_mean, takes_one_value
 from legdsl.ir.model import Body, Mat3, Shape, Vec3
 from legdsl.lang import ast
+from legdsl.lang.errors import Span
+from legdsl.lang.value_slips import hex_color_comment
 
 BODY_PROPS = (
     "mass", "inertia", "com", "length", "direction", "shape", "color",
@@ -30,9 +32,17 @@ class BodyChecker(CreaturePart):
 
     def body_props(self, decl: ast.BodyDecl) -> dict[str, ast.Prop]:
         props: dict[str, ast.Prop] = {}
+        misread_line = None  # the line whose first word a 'color #b07040' took as its value
         for p in decl.props:
             key = p.key.name
-            if key not in BODY_PROPS:
+            if p.key.span.line == misread_line:
+                continue  # the rest of that line, read as a property: told at the colour
+            misread_line = None
+            commented = self._commented_color(p)
+            if commented is not None:
+                self.err(*commented)
+                misread_line = p.value.span.line
+            elif key not in BODY_PROPS:
                 self.err(
                     p.key.span,
                     f"unknown body property '{key}'"
@@ -43,6 +53,24 @@ class BodyChecker(CreaturePart):
             else:
                 props[key] = p
         return props
+
+    def _commented_color(self, p: ast.Prop) -> tuple[Span, str] | None:
+        """'color #b07040' without quotes: the '#' began a comment, and the key took the next
+        line's first word. (where the '#' is, the sentence)"""
+        key = p.key.span
+        if (
+            p.value.span.line == key.line
+            or isinstance(p.value, ast.One)
+            and isinstance(p.value.value, ast.String)
+        ):
+            return None
+        source = self.diag.sources.get(key.file, "")
+        line = source.split("\n")[key.line - 1] if key.line <= source.count("\n") + 1 else ""
+        found = hex_color_comment(line[key.col - 1 :])
+        if found is None:
+            return None
+        col = key.col + found[0]
+        return Span(key.file, key.line, col, key.line, col + found[1]), found[2]
 
     def body(
         self, decl: ast.BodyDecl, props: dict[str, ast.Prop], parents: dict[str, Body]

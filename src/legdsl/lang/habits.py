@@ -22,7 +22,7 @@ from legdsl.lang.expression_slips import NUMBER as _NUMBER
 from legdsl.lang.expression_slips import expression_slip
 from legdsl.lang.spellings import mask
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
-from legdsl.lang.value_slips import value_slip
+from legdsl.lang.value_slips import hex_color_comment, value_slip
 
 Found = tuple[int, int, str]
 
@@ -209,17 +209,9 @@ def _structure(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
     ):
         return pos, 1, "a ')' is missing before this: every '(' needs its ')'"
     for line in reversed(text[:pos].split("\n")[-4:]):
-        hex_color = re.search(r"^[ \t]*(\w+)[ \t]+(#[0-9A-Fa-f]{3,8})[ \t]*$", line)
-        if hex_color is not None:
-            at = text.rfind(line, 0, pos) + hex_color.start(2)
-            return (
-                at,
-                len(hex_color.group(2)),
-                (
-                    f"'#' starts a comment, so the {hex_color.group(1)} was read as one: write it "
-                    f"in quotes, '{hex_color.group(1)} \"{hex_color.group(2)}\"'"
-                ),
-            )
+        found = hex_color_comment(line)
+        if found is not None:
+            return text.rfind(line, 0, pos) + found[0], found[1], found[2]
     return None
 
 

@@ -30,6 +30,7 @@ from legdsl.lang.units import (
     unit_pattern,
     unknown_unit,
 )
+from legdsl.lang.value_slips import hex_color_line_before
 
 
 def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
@@ -440,6 +441,9 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         message = (f"'mirror' needs its plane on its line: 'mirror sagittal' (y to -y, left to "
                    f"right) or 'mirror frontal' (x to -x, front to back); the next line's "
                    f"'{mirror[1]}' was read as the plane")  # fmt: skip
+    elif pos is not None and (color := hex_color_line_before(text, pos)) is not None:
+        span = offset_span(file, text, color[0], color[1])  # it misread the line after it
+        message = color[2]
     elif slip is not None and unit is None:  # 'µm' is a unit before it is a name's letter
         message = slip
     elif other is not None and unit is None and spelt is None:

@@ -1,6 +1,7 @@
 """More habits from other tools in a creature's values, for ``habits``: an exponent with no
 digits ('9.81e m/s^2'), a range written with ':' ('-60 deg : 60 deg'), a unit in quotes
-('10 "kg"'), a list ended with a ',' ('joints hip, knee,  foot toe'). Each answer is
+('10 "kg"'), a list ended with a ',' ('joints hip, knee,  foot toe'), a colour without
+quotes ('color #b07040'). Each answer is
 (offset, length, sentence); None when the slip is not there.
 """
 
@@ -121,4 +122,35 @@ def _trailing_list_comma(
                 "more value of the list; remove it"
             ),
         )
+    return None
+
+
+_HEX_COLOR = re.compile(r"^[ \t]*(\w+)[ \t]+(#[0-9A-Fa-f]{3,8})[ \t]*$")
+
+
+def hex_color_comment(line: str) -> Found | None:
+    """'color #b07040' (``line`` from the key on): '#' starts a comment, so the key takes the
+    next line's first word as its value. (offset in ``line``, length, sentence)"""
+    found = _HEX_COLOR.search(line)
+    if found is None:
+        return None
+    key, color = found.group(1), found.group(2)
+    return (
+        found.start(2),
+        len(color),
+        f"'#' starts a comment, so the {key} was read as one: write it in quotes, "
+        f"'{key} \"{color}\"'",
+    )
+
+
+def hex_color_line_before(text: str, pos: int) -> Found | None:
+    """A 'color #b07040' line right before ``pos``'s line (blank lines aside), whose key took
+    the first word of ``pos``'s line: the parse failed because of it."""
+    end = text.rfind("\n", 0, pos)
+    while end > 0:
+        start = text.rfind("\n", 0, end) + 1
+        if text[start:end].strip():
+            found = hex_color_comment(text[start:end])
+            return None if found is None else (start + found[0], found[1], found[2])
+        end = start - 1
     return None
