@@ -33,13 +33,19 @@ class ZeroTest:
     ) -> str:
         """What to tell of a division by ``e`` (of value ``constant``, if it has one) that is
         always 0, after 'division by zero: '; '' for one that is not."""
+        self.signal_ir = signal_ir
         if constant == 0:
             gravity = any(
                 isinstance(x, ir.Named) and (x.kind, x.name) == ("builtin", "g")
                 for x in ir.leaves(e)
             )
-            return "this is 0" + (" (the creature's gravity, g, is 0)" if gravity else "")
-        self.signal_ir = signal_ir
+            if not gravity:
+                return "this is 0"
+            # 'g - g' is 0 whatever g is: blaming the creature's gravity would be false
+            cancels = self.poly(e) == {}
+            return "this is 0 " + (
+                "(its terms cancel)" if cancels else "(the creature's gravity, g, is 0)"
+            )
         if constant is not None or self.poly(e) != {}:
             return ""
         signals = [x.name for x in ir.leaves(e) if isinstance(x, ir.Named) and x.kind == "signal"]
