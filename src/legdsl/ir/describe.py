@@ -6,6 +6,7 @@ import math
 
 from legdsl.figures import figure, figures
 from legdsl.ir.model import Model, Pad, Terrain, Vec3, setting_kind
+from legdsl.ir.scene import Scene
 from legdsl.lang.units import KINDS
 
 
@@ -151,8 +152,20 @@ def describe_model(model: Model) -> str:
         for scene in model.scenes:
             changes = "".join(f", {w.controller} at {w.t:g} s" for w in scene.switches)
             time = f" for {scene.duration:g} s" if scene.duration is not None else ""
-            lines.append(f"  {scene.name}: {scene.controller}{changes}{time}")
+            start = scene.controller if not scene.bands else _gait_table(model, scene)
+            lines.append(f"  {scene.name}: {start}{changes}{time}")
     return "\n".join(lines) + "\n"
+
+
+def _gait_table(model: Model, scene: Scene) -> str:
+    """A scene's ``gait by speed { ... }`` as written, in the unit of its input's kind (its
+    first band's controller alone would read as the only one run)."""
+    dim = next((c.dim for ctl in model.controllers for c in ctl.inputs
+                if c.name == scene.band_input), None)  # fmt: skip
+    unit = next((u for d, u in KINDS.values() if d == dim), "")
+    bands = "; ".join(b.text(unit) for b in scene.bands)
+    table = f"gait by {scene.band_input} {{ {bands} }}"
+    return table if scene.starts_by_band else f"{scene.controller}, then {table}"
 
 
 _TERRAIN_ORDER = ("x", "x0", "x1", "y0", "y1", "height", "angle")  # as the docs write them
