@@ -13,9 +13,17 @@ import math
 from dataclasses import dataclass, field
 
 from legdsl.check.values import ValueChecker
+from legdsl.ir.controller import BUILTIN_VALUES
 from legdsl.ir.model import Body, Vec3
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
+
+# The names every controller has, which no part of a creature may take.
+CONTROLLER_BUILTINS = {
+    "com": "the creature's centre of mass",
+    "terrain": "the terrain ahead",
+    **{name: "a built-in value" for name in BUILTIN_VALUES},
+}
 
 
 @dataclass(frozen=True)
@@ -64,6 +72,15 @@ class CreaturePart(ValueChecker):
 
     def declare(self, ident: ast.Ident, kind: str) -> bool:
         prior = self.names.get(ident.name)
+        builtin = CONTROLLER_BUILTINS.get(ident.name)
+        if builtin is not None:
+            # a part so named and the controllers' own name would hide one another
+            self.err(
+                ident.span,
+                f"the name '{ident.name}' is taken: every controller reads it as {builtin}; "
+                f"give the {kind} another name, as in '{ident.name}_{kind.split()[-1]}'",
+            )
+            return False
         if prior is not None:
             self.err(
                 ident.span,
