@@ -62,10 +62,15 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     models = check_controllers(tree, models, library, shared, diag, broken, used)
     models = check_scenes(tree, models, diag)
     diag.items = _once_per_place(_unmade_names(_without_echoes(diag.items, tree.pending)))
-    if unread:  # what a used file would have defined is unknown: its absence is no news
-        blind = _blind_spans(tree, shared)
+    # what a used file would have defined is unknown: its absence is no news; and the names
+    # of a part no file defines (a missing file's, or a misspelt 'include') are not told
+    # unknown one by one, as a misspelt 'extends' leaves its controller unchecked
+    blind = _blind_spans(tree, shared)
+    if unread or blind:
         diag.items = [
-            d for d in diag.items if d in unread or not (_undefined(d.message) or _unseen(d, blind))
+            d
+            for d in diag.items
+            if d in unread or not ((unread and _undefined(d.message)) or _unseen(d, blind))
         ]
     diag.raise_if_any()
     return models
