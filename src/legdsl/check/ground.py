@@ -141,8 +141,10 @@ class GroundChecker(CreaturePart):
             if v is None:
                 ok = False
                 continue
-            if v < 0 or (v == 0 and arg.keyword.name in ("thickness", "height")):
-                self.err(arg.value.span, f"'{arg.keyword.name}' must be positive")
+            sized = arg.keyword.name == "thickness"  # a pad's size; k and b may be 0
+            if v < 0 or (v == 0 and sized):
+                rule = "must be positive" if sized else "must not be negative"
+                self.err(arg.value.span, f"'{arg.keyword.name}' {rule}")
                 ok = False
                 continue
             out[arg.keyword.name] = v
