@@ -335,6 +335,9 @@ class _ToAst(Transformer):
 # Every later stage walks expressions recursively; past this a 600-term sum or 600 nested
 # minus signs would meet Python's recursion limit, so it is refused here, with its position.
 MAX_NESTING = 120
+# The same limit in what the user writes: a statement around an expression takes about 10
+# levels, an operator one and a call two (itself and its arguments).
+OPERATORS_DEEP = MAX_NESTING - 10
 
 
 # How many misspelt units the parser reads past in one file before it stops.
@@ -406,11 +409,12 @@ def _check_nesting(tree: Tree, file: str, text: str) -> None:
                         getattr(meta, "end_line", line), getattr(meta, "end_column", 0))  # fmt: skip
             raise LegError.at(
                 span,
-                f"this is nested too deeply (more than {MAX_NESTING} levels of operators or "
+                f"this is nested too deeply (more than about {OPERATORS_DEEP} operators, or "
+                f"{OPERATORS_DEEP // 2} calls, one inside another); "
                 + (
-                    "calls); split it into steps with 'let' or a signal"
+                    "split it into steps with 'let' or a signal"
                     if kind in ("controller", "action_def", "shared")
-                    else "calls); write it with fewer parentheses and operators"
+                    else "write it with fewer parentheses and operators"
                 ),
                 {file: text},
             )
