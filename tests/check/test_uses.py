@@ -220,3 +220,25 @@ def test_a_used_path_through_dot_dot_is_told_as_the_file_it_names(tmp_path: Path
     (d,) = e.value.diagnostics
     assert Path(d.span.file) == tmp_path / "lib" / ".." / "parts.leg"
     assert d.span.line == 1
+
+
+def test_a_used_path_not_found_says_where_it_was_looked_for(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Run from the project's folder, 'use "lib/actions.leg"' in sub/hop.leg was told that
+    other files are named by a path in quotes, as it was: not where it was looked for."""
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "actions.leg").write_text(
+        "action lengthen(leg, by) { leg.spring.rest = by }\n"
+    )
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "hop.leg").write_text('use "lib/actions.leg"\n' + CREATURE)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(LegError) as e:
+        check_model(Path("sub/hop.leg"))
+    (d,) = e.value.diagnostics
+    assert d.message == (
+        "cannot find 'lib/actions.leg' to use: looked for sub/lib/actions.leg: a path in 'use' "
+        "is relative to the file that says it (sub/hop.leg), not to the working directory; for "
+        "the lib/actions.leg of the working directory write 'use \"../lib/actions.leg\"'"
+    )

@@ -12,7 +12,7 @@ from legdsl.check.creature import CreatureChecker
 from legdsl.check.scene import check_scenes
 from legdsl.check.templates import GIVEN_A_VALUE
 from legdsl.check.used_controllers import UsedControllers
-from legdsl.check.values import STDLIB, stdlib_name
+from legdsl.check.values import STDLIB, shown_path, stdlib_name
 from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, Diagnostics, LegError, Span
@@ -220,10 +220,13 @@ def load_uses(
                 where = (
                     "" if first is None else f" (asked for in {name(Path(current.path).resolve())})"
                 )
-                diag.error(
-                    at.span,
-                    f"cannot find '{use.target}' to use{where}: the standard library has {', '.join(known) or 'nothing'}; other files are named by a path in quotes",
+                advice = (
+                    _not_there(use.target, path, Path(current.path))
+                    if _is_a_path(use)
+                    else f"the standard library has {', '.join(known) or 'nothing'}; other "
+                    "files are named by a path in quotes"
                 )
+                diag.error(at.span, f"cannot find '{use.target}' to use{where}: {advice}")
                 continue
             try:
                 lib, text = parse_file(path, recover=True)
@@ -288,9 +291,27 @@ def _mark_ties(
     return out
 
 
+def _is_a_path(use: ast.UseDecl) -> bool:
+    return use.target.endswith(".leg") or "/" in use.target
+
+
+def _not_there(target: str, path: Path, user: Path) -> str:
+    """Where a used file was looked for: users run from the folder of their project and take
+    a path from there (``use "lib/x.leg"`` in ``sub/hop.leg``)."""
+    elsewhere = user.resolve().parent != Path.cwd()
+    told = (
+        f"looked for {shown_path(path)}: a path in 'use' is relative to the file that says "
+        f"it ({shown_path(user)})" + (", not to the working directory" if elsewhere else "")
+    )
+    if Path(target).is_file():  # the path the user meant, from the working directory
+        fixed = Path(os.path.relpath(Path(target).resolve(), user.resolve().parent))
+        told += f"; for the {target} of the working directory write 'use \"{fixed.as_posix()}\"'"
+    return told
+
+
 def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:
     """A quoted path is relative to the file that says ``use``; a bare name is the stdlib's."""
-    if use.target.endswith(".leg") or "/" in use.target:
+    if _is_a_path(use):
         path = Path(tree.path).parent / use.target
         # "lib/../parts.leg" is told as "parts.leg", unless a symlinked folder gives '..'
         # another meaning than the text's

@@ -65,9 +65,14 @@ def stdlib_name(path: str | Path) -> str | None:
 
 
 def place_of(span: Span) -> str:
-    """``file:line:col`` for a note: the standard library by its own name, another file
-    relative to the working directory where it can be (never a machine's absolute path)."""
-    path = Path(span.file)
+    """``file:line:col`` for a note (the file as ``shown_path`` tells it)."""
+    return f"{shown_path(span.file)}:{span.line}:{span.col}"
+
+
+def shown_path(file: str | Path) -> str:
+    """A file for a message: the standard library by its own name, another file relative to
+    the working directory where it can be (never a machine's absolute path)."""
+    path = Path(file)
     if path.is_absolute():
         library = stdlib_name(path)
         if library is not None:
@@ -75,7 +80,7 @@ def place_of(span: Span) -> str:
         else:
             with contextlib.suppress(ValueError):
                 path = path.relative_to(Path.cwd())
-    return f"{path.as_posix()}:{span.line}:{span.col}"
+    return path.as_posix()
 
 
 def did_you_mean(word: str, choices: Iterable[str]) -> str:
