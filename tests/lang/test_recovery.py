@@ -76,7 +76,7 @@ def test_a_file_that_is_not_utf8_shows_the_line_and_a_caret(tmp_path: Path) -> N
         # a prefix legdsl lacks: it suggested 'm*N*s/m', a metre-newton; now the value
         (
             "mN*s/m",
-            ": it has no prefix 'm' (milli); it writes forces in N, kN: write '0.001 N*s/m'",
+            ": it has no prefix 'm' (milli); it writes forces (its 'mN') in N, kN: write '0.001 N*s/m'",
         ),
         ("kJ", ": it has no prefix 'k' (kilo): write '1000 J'"),  # was "unexpected ..."
     ],

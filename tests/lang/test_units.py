@@ -248,9 +248,9 @@ def test_an_unknown_unit_reads_as_a_files_does(text: str, told: str) -> None:
          "write '2.7777777778 m/s' or '0.1666666667 km/min'"),
         ("60", "rev/h", "write '0.1047197551 rad/s' or '1 rev/min'"),
         ("2", "ft/s^2", "it writes lengths in m, cm, mm, km: write '0.6096 m/s^2'"),
-        ("100", "mN*m/rad", "it has no prefix 'm' (milli); it writes forces in N, kN: "
+        ("100", "mN*m/rad", "it has no prefix 'm' (milli); it writes forces (its 'mN') in N, kN: "
          "write '0.1 N*m/rad'"),
-        ("3", "m/us", "it has no prefix 'u' (micro); it writes times in s, ms, min: "
+        ("3", "m/us", "it has no prefix 'u' (micro); it writes times (its 'us') in s, ms, min: "
          "write '3e6 m/s'"),
         ("0.5", "in", "write '0.0127 m' or '1.27 cm'"),  # as before: the one nearest 1 beside SI
     ],

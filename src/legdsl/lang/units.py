@@ -334,7 +334,9 @@ def other_system(word: str, number: str | None) -> str | None:
     if len(parts) > 1 and not why:  # 'km/h': the part it lacks (a speed is not a time)
         said += ": it has no " + ", ".join(f"'{c[-1]}'" for c in converted)
     told = family is not None and len(converted) == 1
-    message = said + (f"; it writes {family[0]} in {family[1]}" if family and told else "")
+    # 'mN*m' is a torque: its force is named, or 'writes forces' would be read of the whole
+    whose = f" (its '{symbol}{power}')" if len(parts) > 1 and why else ""
+    message = said + (f"; it writes {family[0]}{whose} in {family[1]}" if family and told else "")
     if number is None:
         return message + f"; write the value in {unit}"
     value = float(number) * factor
