@@ -267,7 +267,7 @@ def _character(text: str, masked: str, pos: int) -> Found | None:
 def _operator(text: str, masked: str, pos: int) -> Found | None:
     two = masked[pos : pos + 2]
     if two in ("&&", "||"):
-        return pos, 2, f"'{two}' is written '{_LOGIC[two]}', as in 'a > 0 and b < 1 s'"
+        return pos, 2, f"'{two}' is written '{_LOGIC[two]}', as in 'a > 0 {_LOGIC[two]} b < 1 s'"
     if masked[pos : pos + 1] in ("&", "|"):
         word = _LOGIC[masked[pos]]
         return pos, 1, f"'{masked[pos]}' is written '{word}', as in 'a > 0 {word} b < 1 s'"
