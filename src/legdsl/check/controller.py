@@ -91,7 +91,7 @@ class ControllerChecker:
         for name, dim in ir.BUILTIN_VALUES.items():
             names[name] = ir.Named("builtin", name, dim)
         names["com"] = ir.Part("com", "com")
-        names.setdefault("terrain", ir.Part("terrain", "terrain"))  # a part may be named so
+        names["terrain"] = ir.Part("terrain", "terrain")  # no part may take these names
         return names
 
     def check(self) -> ir.Controller | None:
