@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import functools
 import re
+import unicodedata
 from dataclasses import dataclass
 
 from lark import Token
@@ -487,6 +488,9 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif isinstance(err, UnexpectedCharacters):
         char = err.char if err.char.isprintable() else f"U+{ord(err.char):04X}"
         message = f"unexpected character '{char}'"
+        if err.char.isdigit():  # Python's float() would read it: never as a number here
+            message += (f", a digit of another script ({unicodedata.digit(err.char, '?')}): "
+                        "numbers are written with the digits 0-9")  # fmt: skip
     else:
         expected = _describe_expected(set(getattr(err, "expected", ()) or ()))
         message = "unexpected end of the file" + (f"; {expected}" if expected else "")
