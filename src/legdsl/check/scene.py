@@ -19,6 +19,7 @@ import re
 
 from legdsl.check.values import (
     did_you_mean,
+    doubled_minus,
     measures,
     owning_creature,
     unit_to_write,
@@ -65,6 +66,8 @@ def _number(
     declared in the unit ``declared``, if any: the advice keeps it), or None after reporting
     why not."""
     declared = declared if measures(declared, want) else ""
+    if doubled_minus(value, diag.error):
+        return None
     sign = 1.0
     while isinstance(value, ast.Neg):
         sign, value = -sign, value.value

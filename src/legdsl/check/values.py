@@ -8,7 +8,7 @@ import difflib
 import functools
 import math
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -145,6 +145,8 @@ class ValueChecker:
 
     def scalar(self, value: ast.Value, kind: str, what: str) -> float | None:
         """A number of dimension ``kind``; a bare number is accepted only if dimensionless or 0."""
+        if doubled_minus(value, self.err):
+            return None
         sign = 1.0
         node = value
         while isinstance(node, ast.Neg):
@@ -354,6 +356,17 @@ def per_second(unit: str, want: Dim) -> str | None:
         if dim == want:
             return usual if usual is not None and factor == parse_unit(usual)[0] else f"{unit}/s"
     return None
+
+
+def doubled_minus(value: ast.Value, err: Callable[[Span, str], None]) -> bool:
+    """A value written with two minus signs (``--5 deg``, a key pressed twice, or a '-' typed
+    before a pasted negative number): told, since it would read as +5 (a creature's value is
+    one number with its unit, not arithmetic). True if told."""
+    if isinstance(value, ast.Neg) and isinstance(value.value, ast.Neg):
+        err(value.span, "two minus signs: '--' would read as '+'; write one '-' for a negative "
+                        "value, or none")  # fmt: skip
+        return True
+    return False
 
 
 def unit_to_write(written: str, want: Dim, declared: str) -> str | None:
