@@ -170,10 +170,12 @@ def rises(traj: Trajectory, held: Sequence[HeldSpring] = ()) -> list[EnergyRise]
     scale = np.maximum.accumulate(np.where(finite, live, 0.0)) + energy_floor(traj)
     found = []
     for lag in range(1, min(WINDOW, n - 1) + 1):
-        worked = work[lag:] - work[:-lag]
-        past = total[lag:] - total[:-lag] - worked - stored[lag:]
-        room = scale[:-lag] + SLACK * worked  # > 0 but for a weightless creature at rest
-        ratio = np.divide(past, room, out=np.zeros(n - lag), where=room > 0)
+        # a state past doubles (a start 1e308 m up) makes inf - inf here: masked just below
+        with np.errstate(invalid="ignore", over="ignore"):
+            worked = work[lag:] - work[:-lag]
+            past = total[lag:] - total[:-lag] - worked - stored[lag:]
+            room = scale[:-lag] + SLACK * worked  # > 0 but for a weightless creature at rest
+            ratio = np.divide(past, room, out=np.zeros(n - lag), where=room > 0)
         ratio[~(finite[lag:] & finite[:-lag])] = -np.inf
         a = int(np.argmax(ratio))
         b = a + lag
