@@ -14,7 +14,8 @@ def check_one_role_per_leg(
 ) -> None:
     """Told at the second mention of a leg. Two roles bound to exactly the same legs are one
     virtual leg under two names (a one-leg hopper's `active = main, spare = (main)`, whose
-    swap changes nothing), not a conflict between virtual legs."""
+    swap changes nothing), not a conflict between virtual legs, unless a leg is in no role:
+    `a = f, b = f` beside a leg `r` is a slip for `b = r`."""
     in_roles = {leg.name for role in decl.roles for leg in role.legs}
     unbound = [leg for leg in legs_declared if leg not in in_roles]
     verb = "is" if len(unbound) == 1 else "are"
@@ -32,7 +33,7 @@ def check_one_role_per_leg(
                 continue
             seen.add(leg.name)
             other = first_role.setdefault(leg.name, name)
-            if other != name and not _same_legs(decl, other, name):
+            if other != name and (unbound or not _same_legs(decl, other, name)):
                 err(
                     leg.span,
                     f"leg '{leg.name}' is in role '{other}' and in role '{name}', so it would "
