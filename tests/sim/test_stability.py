@@ -10,9 +10,10 @@ from pathlib import Path
 
 import pytest
 
+from legdsl.check.source import check_model
 from legdsl.cli import main
 from legdsl.sim.actuators import ActuatorState
-from legdsl.sim.stability import inverse_inertia_diagonal, too_stiff
+from legdsl.sim.stability import ground_too_stiff, inverse_inertia_diagonal, too_stiff
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -103,6 +104,32 @@ def test_a_run_too_stiff_for_its_step_is_refused(
         in err
     )
     assert not out.exists()
+
+
+@pytest.mark.parametrize("k", ["1e100N/m", "1e308N/m"])
+def test_a_stiffness_no_step_can_hold_is_told_to_be_lowered(
+    k: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], generated: Path, creatures_dir: Path
+) -> None:
+    """k = 1e100 N/m was advised 'a step below 1.08e-47 ms', which legdsl refuses to count, and
+    1e308 N/m 'a step below nan ms': no step is advised where none from 1 ns up would do."""
+    argv = ["run", str(creatures_dir / "hopper.leg"), "--controller", "hop", "--time", "1s",
+            "--set", f"leg_spring.k={k}", "--out", str(tmp_path / "run"),
+            "--generated", str(generated)]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "use k below 7.27e+06 N/m, or give it a 'max'" in err
+    assert "step below" not in err and "nan" not in err
+
+
+def test_a_ground_no_step_can_hold_is_told_to_be_lowered() -> None:
+    """The ground's advice had the same flaw: 'try a step of 1e-47 ms'."""
+    model = check_model(ROOT / "creatures" / "hopper.leg")
+    assert model.ground is not None
+    normal = dataclasses.replace(model.ground.normal, k=1e100)  # a file's 'k = 1e100 N/m'
+    model = dataclasses.replace(model, ground=dataclasses.replace(model.ground, normal=normal))
+    said = ground_too_stiff(model, 4e-4, "semi_implicit_euler")
+    assert said is not None and "try a step" not in said
+    assert said.endswith("no step legdsl takes is that small: lower the ground's k and b")
 
 
 def test_a_saturating_actuator_past_the_bound_is_a_warning(

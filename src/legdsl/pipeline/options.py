@@ -26,7 +26,7 @@ from legdsl.pipeline.settings import a_kind, parse_given, written
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
-from legdsl.sim.stability import where_step
+from legdsl.sim.stability import SMALLEST_STEP, where_step
 
 
 @dataclass(frozen=True)
@@ -153,7 +153,9 @@ def _check_step_counts(options: RunOptions, flags: bool) -> None:
     dt = options.dt
     step = "--dt" if flags else "dt"
     if not dt * dt > 0:
-        raise UsageError(f"--dt {dt:g}s is too small to compute with; give --dt 1e-9s or more")
+        raise UsageError(
+            f"--dt {dt:g}s is too small to compute with; give --dt {SMALLEST_STEP:g}s or more"
+        )
     for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
         if seconds / dt > MOST_STEPS:
             raise UsageError(

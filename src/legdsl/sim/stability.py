@@ -94,21 +94,26 @@ class TooStiff:
         what = "stiff" if self.setting in ("k", "kp") else "damped"
         outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
                    if saturating else "diverges at once")  # fmt: skip
-        fix = "" if saturating else ", or give it a 'max'"
+        fix = "" if saturating else "give it a 'max'"
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step"
             f"{self.with_whom()}: {self.setting} = {self.value:.4g} {unit} with dt = "
-            f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use {self.lower(unit)}"
-            f"{smaller_step(self.dt_limit, self.scale, flags)}{fix}"
-            f"{f'; {self.why}' if self.why else ''}"
+            f"{dt * math.sqrt(self.scale) * 1e3:.4g} ms {outcome}; use "
+            f"{self.remedies(unit, flags, fix)}{f'; {self.why}' if self.why else ''}"
         )
 
     def lower(self, unit: str) -> str:
-        """'kv below 0.43 N*m*s/rad, or ' (the others' by as much, where it has others); ''
+        """'kv below 0.43 N*m*s/rad' (the others' by as much, where it has others); ''
         where no value of it alone is stable."""
         if not self.limit > 0:
             return ""
-        return f"{self.setting} below {below(self.limit)} {unit}{self.lowered()}, or "
+        return f"{self.setting} below {below(self.limit)} {unit}{self.lowered()}"
+
+    def remedies(self, unit: str, flags: bool, *more: str) -> str:
+        """'k below 7.27e+06 N/m, or a step below 0.0341 ms (--dt, ...)' and ``more``: the
+        ways out that exist (a stiffness of 1e308 N/m has no step; it was told 'below nan ms')."""
+        ways = [self.lower(unit), smaller_step(self.dt_limit, self.scale, flags), *more]
+        return ", or ".join(w for w in ways if w) or f"a smaller {self.setting}"
 
 
 def in_unit(f: TooStiff, unit: str, scale: float = 1.0) -> TooStiff:
@@ -138,13 +143,20 @@ def setting_unit(setting: str, rotary: bool) -> str:
     return KINDS[setting_kind(setting, rotary)][1]
 
 
+# The smallest step advised (s): a second of motion is then a billion steps. A stiffness that
+# needs less (k = 1e100 N/m asked for 1e-50 s, whose run legdsl refuses to count) is lowered.
+SMALLEST_STEP = 1e-9
+
+
 def smaller_step(dt_limit: float, scale: float = 1.0, flags: bool = True) -> str:
     """The advice of a step under ``dt_limit`` seconds of the model's, as the command can take
-    it: ``flags``, it takes --dt (``legdsl run``, the API); else, as a sweep or a tune, only the
+    it ('' where no step from ``SMALLEST_STEP`` up would do, or the limit is nan): ``flags``, it takes --dt (``legdsl run``, the API); else, as a sweep or a tune, only the
     file's step (told '--dt', the user of a sweep met 'unrecognized arguments'). In a ``--scale L`` run
     ``--dt`` is the scaled creature's, sqrt(L) times the model's, and the file's block is the
     model's: each is told its own (the model's alone told L = 0.01 to step 0.5 ms, and --dt
     0.5ms at that scale diverged again with the same advice)."""
+    if not dt_limit * math.sqrt(scale) >= SMALLEST_STEP:
+        return ""
     told = below(dt_limit * math.sqrt(scale) * 1e3)
     where = where_step(f"below {below(dt_limit * 1e3)} ms", scale, flags)
     return f"a step below {told} ms {where}"
@@ -293,8 +305,7 @@ def stiff_now(
         causes.append(
             f"actuator '{f.actuator}' has {f.setting} = {f.value:.4g} {unit} now, too "
             f"{'stiff' if f.setting in ('k', 'kp') else 'damped'} for the step{f.with_whom()}: "
-            f"use {f.lower(unit)}{smaller_step(f.dt_limit, scale, flags)}"
-            f"{f'; {f.why}' if f.why else ''}"
+            f"use {f.remedies(unit, flags)}{f'; {f.why}' if f.why else ''}"
         )
     stops = model.stops
     return causes + [
@@ -325,8 +336,7 @@ def stop_message(
     return (
         f"the stop of joint coordinate {f.actuator} is too "
         f"{'stiff' if f.setting == 'k' else 'damped'} for the step ({f.setting} = "
-        f"{f.value:.4g} {unit}): use {f.setting} below {below(f.limit)} {unit}, or "
-        f"{smaller_step(f.dt_limit, scale, flags)}"
+        f"{f.value:.4g} {unit}): use {f.remedies(unit, flags)}"
     )
 
 
@@ -457,14 +467,19 @@ def ground_too_stiff(
         return factor(KINDS[kind][0], scale)
 
     tick = by("time")
+    step = (
+        f"try a step of {limit * tick / 4 * 1e3:.1g} ms "
+        f"{where_step(f'of {limit / 4 * 1e3:.1g} ms', scale, flags)}"
+        f"{' or --integrator rk4' if rk4 else ''}"
+        if limit * tick / 4 >= SMALLEST_STEP
+        else "no step legdsl takes is that small: lower the ground's k and b"
+    )
     return (
         f"the step {dt * tick * 1e3:.3g} ms is too large for the contact stiffness: the ground's "
         f"{worst.actuator} (k = {spring.gain * by('linear stiffness'):.4g} N/m, b = "
         f"{spring.damping * by('linear damping'):.4g} N*s/m) acts on an effective mass of "
         f"{mass * by('mass'):.3g} kg there, and explicit stability needs dt < "
-        f"{below(limit * tick * 1e3)} ms; try a step of {limit * tick / 4 * 1e3:.1g} ms "
-        f"{where_step(f'of {limit / 4 * 1e3:.1g} ms', scale, flags)}"
-        f"{' or --integrator rk4' if rk4 else ''}"
+        f"{below(limit * tick * 1e3)} ms; {step}"
     )
 
 
