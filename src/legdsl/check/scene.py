@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import re
 
+from legdsl.check.simulation import counted
 from legdsl.check.values import (
     did_you_mean,
     doubled_minus,
@@ -29,6 +30,7 @@ from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
+from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe, out_of_range
 
 _TIME: Dim = KINDS["time"][0]
@@ -264,6 +266,9 @@ class _SceneChecker:
         duration = _number(times[0].value, _TIME, "the scene's time", diag)
         if duration is not None and duration <= 0:
             diag.error(times[0].value.span, "the scene's time must be more than zero")
+        step = self.model.simulation.dt or DEFAULT_DT
+        if duration is not None and duration / step > MOST_STEPS:
+            diag.error(times[0].value.span, counted("the scene's time", duration, step))
         return duration
 
     def _band_input(self, table: ast.SceneGaits, names: list[str]) -> Dim | None:

@@ -12,7 +12,7 @@ from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.model import SimulationDefaults
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.scaling import DEFAULT_DT
+from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS, SMALLEST_STEP
 
 # property -> (kind, what it is called in messages)
 SIMULATION_PROPS: dict[str, tuple[str, str]] = {
@@ -49,6 +49,10 @@ class SimulationChecker(ValueChecker):
                 every = " (or 0 Hz: a sample every step)" if key == "record_rate" else ""
                 self.err(p.value.span, f"{what} must be positive{every}")
                 continue
+            if key == "dt" and not value * value > 0:  # as --dt is refused (run refused it so)
+                self.err(p.value.span, f"the integration step {value:g} s is too small to "
+                         f"compute with; give {SMALLEST_STEP:g} s or more")  # fmt: skip
+                continue
             values[key], spans[key] = value, p.value.span
         step = values.get("dt", DEFAULT_DT)
         if values.get("control_dt", step) < step * (1.0 - 1e-9):  # as legdsl run refuses it
@@ -60,4 +64,18 @@ class SimulationChecker(ValueChecker):
                 "make control_dt at least dt",
             )
             del values["control_dt"]
+        if values.get("control_dt", 0.0) / step > MOST_STEPS:
+            self.err(
+                spans["control_dt"], counted("the control interval", values["control_dt"], step)
+            )
+            del values["control_dt"]
         return SimulationDefaults(**values)
+
+
+def counted(what: str, seconds: float, step: float) -> str:
+    """The message of ``seconds`` too many steps of ``step`` to count (as `legdsl run`'s
+    --time and --control-dt are refused: a file's value was told as those options)."""
+    return (
+        f"{what} {seconds:g} s is {seconds / step:.3g} steps of dt {step * 1e3:g} ms, more than "
+        f"a run can count ({MOST_STEPS:.3g}); give {MOST_STEPS * step:.3g} s or less"
+    )

@@ -33,6 +33,13 @@ _NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 DEFAULT_DT = 0.0004
 DEFAULT_CONTROL_DT = 0.002
 DEFAULT_RECORD_RATE = 200.0
+# The most steps a run or a control interval may count: the C loop counts them in an int64 (a
+# larger count wrapped, and --time 1e300 ended at its start, 'ok'), and past 2**53 a double no
+# longer tells one step from the next.
+MOST_STEPS = 2**53
+# The smallest step advised (s): a second of motion is then a billion steps. A stiffness that
+# needs less (k = 1e100 N/m asked for 1e-50 s, whose run legdsl refuses to count) is lowered.
+SMALLEST_STEP = 1e-9
 DEFAULT_LOOKAHEAD = 1.0  # m: a path's, legdsl.ir.paths.DEFAULT_LOOKAHEAD (a test keeps them equal)
 NAME_MOST = (
     64  # a creature name's characters: legdsl.check.values.MAX_NAME (a test keeps them equal)

@@ -21,12 +21,13 @@ from pathlib import Path
 from legdsl.files import closed_stream, free_bytes, written_as
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.lang.scaling import MOST_STEPS, SMALLEST_STEP
 from legdsl.lang.units import KINDS, UNITS
 from legdsl.pipeline.settings import a_kind, parse_given, written
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples
-from legdsl.sim.stability import SMALLEST_STEP, where_step
+from legdsl.sim.stability import where_step
 
 
 @dataclass(frozen=True)
@@ -139,12 +140,6 @@ def check_run_options(options: RunOptions, flags: bool = True) -> None:
             f"(--dt {options.dt:g}s), and the controller runs at most once a step; give "
             f"--control-dt {options.dt:g}s or more, or a --dt of {options.control_dt:g}s or less"
         )
-
-
-# The most steps a run or a control interval may count: the C loop counts them in an int64 (a
-# larger count wrapped, and --time 1e300 ended at its start, 'ok'), and past 2**53 a double no
-# longer tells one step from the next.
-MOST_STEPS = 2**53
 
 
 def _check_step_counts(options: RunOptions, flags: bool) -> None:

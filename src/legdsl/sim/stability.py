@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from legdsl.ir.model import Model, Pad, Stop, axes_spread, setting_kind
-from legdsl.lang.scaling import factor
+from legdsl.lang.scaling import SMALLEST_STEP, factor
 from legdsl.lang.units import KINDS, parse_unit
 from legdsl.sim.actuators import ActuatorState
 from legdsl.sim.coupled import InverseInertia, Pull, coupled_too_stiff
@@ -143,15 +143,11 @@ def setting_unit(setting: str, rotary: bool) -> str:
     return KINDS[setting_kind(setting, rotary)][1]
 
 
-# The smallest step advised (s): a second of motion is then a billion steps. A stiffness that
-# needs less (k = 1e100 N/m asked for 1e-50 s, whose run legdsl refuses to count) is lowered.
-SMALLEST_STEP = 1e-9
-
-
 def smaller_step(dt_limit: float, scale: float = 1.0, flags: bool = True) -> str:
     """The advice of a step under ``dt_limit`` seconds of the model's, as the command can take
-    it ('' where no step from ``SMALLEST_STEP`` up would do, or the limit is nan): ``flags``, it takes --dt (``legdsl run``, the API); else, as a sweep or a tune, only the
-    file's step (told '--dt', the user of a sweep met 'unrecognized arguments'). In a ``--scale L`` run
+    it ('' where no step from ``SMALLEST_STEP`` up would do, or the limit is nan): ``flags``,
+    it takes --dt (``legdsl run``, the API); else, as a sweep or a tune, only the file's step
+    (told '--dt', the user of a sweep met 'unrecognized arguments'). In a ``--scale L`` run
     ``--dt`` is the scaled creature's, sqrt(L) times the model's, and the file's block is the
     model's: each is told its own (the model's alone told L = 0.01 to step 0.5 ms, and --dt
     0.5ms at that scale diverged again with the same advice)."""
