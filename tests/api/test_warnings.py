@@ -97,6 +97,26 @@ def test_run_many_warns_for_each_run(generated: Path) -> None:
     assert len(caught) == 2 and "comes after the run's end" in str(caught[0].message)
 
 
+@pytest.mark.parametrize("many", [False, True])
+def test_a_batch_refused_is_told_its_mistake_alone(generated: Path, many: bool) -> None:
+    """run_copies() and run_many() warned of a change after the run's end, then refused the
+    batch's unknown name: run() tells a refused run its mistake alone."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    late, wrong = {"speed@3s": "1 m/s"}, {"bogus": "1 m"}
+    if many:
+        runs = [{"controller": "hop", "time": 0.3, "set": late},
+                {"controller": "hop", "time": 0.3, "set": {**late, **wrong}}]  # fmt: skip
+        call = lambda: list(hopper.run_many(runs, threads=1))  # noqa: E731
+    else:
+        call = lambda: hopper.run_copies(2, controller="hop", time=0.3, set=late,  # noqa: E731
+                                         vary={"bogus": ([1.0, 2.0], "m")})  # fmt: skip
+    with warnings.catch_warnings(record=True) as caught, pytest.raises(UsageError, match="bogus"):
+        warnings.simplefilter("always")
+        call()
+    told = [str(w.message) for w in caught if issubclass(w.category, LegdslWarning)]
+    assert len(told) == many  # run_many: the first run's, which ran
+
+
 def test_a_session_with_a_log_prints_the_notes_there_and_does_not_warn(generated: Path) -> None:
     log = io.StringIO()
     creature = Creature(RunSession.from_file(HOPPER, None, generated, log))

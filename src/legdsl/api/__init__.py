@@ -161,10 +161,11 @@ class Creature:
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
         plans = [session_args(self.model, **r) for r in runs]
-        for r, plan in zip(runs, plans, strict=True):
-            self._before(plan, "controller" in r)
+        # a run's notes before it are told as it comes back: a run refused is told alone
+        before = [plan.pop("unreached") for plan in plans]
         with notes.from_threads(self.session) as flush:
             for i, done in iter_batch(self.session, plans, thread_count(threads)):
+                self._before({**plans[i], "unreached": before[i]}, "controller" in runs[i])
                 flush()
                 self._after(done)
                 yield i, self._wrap(done)
@@ -205,9 +206,9 @@ class Creature:
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
         check_vary(set, vary or {})
-        self._before(plan, asked)
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
+        self._before(plan, asked)  # once nothing is refused: a refusal is told alone, as run()'s
         return Copies(self, batch.run(thread_count(threads), progress))
 
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
