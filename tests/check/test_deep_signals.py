@@ -8,10 +8,14 @@ line (tests/bad/control_signal_chain_too_long, control_lets_written_out_too_deep
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
+import pytest
 from conftest import CREATURES
 
+from legdsl.check.control_depth import MAX_WRITTEN_SIZE
+from legdsl.lang.errors import LegError
 from legdsl.pipeline.compile import compile_model
 from legdsl.pipeline.generated import write_generated
 from legdsl.pipeline.session import RunSession
@@ -40,3 +44,22 @@ def test_a_chain_of_80_signals_compiles_and_runs(tmp_path: Path) -> None:
     plain = RunSession.from_file(CREATURES / "hopper.leg", generated=tmp_path / "plain")
     same = plain.run("hop", ["speed=1m/s"], options=RunOptions(duration=1.0), backend="python")
     assert (run.result.trajectory.q == same.result.trajectory.q).all()  # s79 is speed * 1.0 ... + 0
+
+
+def test_signals_each_used_twice_are_refused_where_written_out_they_pass_the_size(
+    tmp_path: Path,
+) -> None:
+    """Each signal squares the one before as ``s * s``: written out, the 13th has some 33,000
+    operators and values, and 30 would take days to check (tripling every two). ``compile``
+    refuses the file at that signal's line, as ``check`` does (the bad corpus), in seconds."""
+    chain = ["  signal s0 = speed"]
+    chain += [f"  signal s{k} = s{k - 1} * s{k - 1} / (1 m/s)" for k in range(1, 30)]
+    path = _hopper_with(tmp_path, chain, "s29")
+    start = time.perf_counter()
+    with pytest.raises(LegError) as refused:
+        compile_model(path)
+    assert time.perf_counter() - start < 30
+    (found,) = refused.value.diagnostics
+    text = path.read_text(encoding="utf-8").split("\n")
+    assert text[found.span.line - 1] == "  signal s12 = s11 * s11 / (1 m/s)"
+    assert f"(more than {MAX_WRITTEN_SIZE:,})" in found.message

@@ -3,14 +3,15 @@ resolved in.
 
 Lets, signals and an action's arguments are written out where they are used, so the
 generated code computes a statement as one expression, and sympy, the printers and pickling
-walk it recursively: ``MAX_WRITTEN_DEPTH`` bounds it (``written_depth``), and the checker
+walk it recursively: ``MAX_WRITTEN_DEPTH`` bounds it (``written_depth``), and
+``MAX_WRITTEN_SIZE`` its size, each use of a let or signal a copy (``written_size``); the checker
 resolves the signals an expression names before the expression (``signals_used``), so that
 a chain of signals is not checked by recursing through all their expressions.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 from legdsl.ir import controller as ir
 from legdsl.lang import ast
@@ -21,13 +22,65 @@ from legdsl.lang import ast
 # written). 249 compile, run on both backends and go through sweeps' processes and Dask.
 MAX_WRITTEN_DEPTH = 250
 
+# How many operators and values a statement may have once written out: a let or signal used
+# twice is written out twice, so a chain of lets each using the one before twice doubles at
+# every let, and sympy, the printers and the fingerprints walk every copy (16 lets squaring
+# the last, some 260,000, took 3 s to check, and each two more lets tripled it). The shipped
+# creatures' largest is some 1,200.
+MAX_WRITTEN_SIZE = 20_000
+
+
+def written_too_large(
+    e: ir.Expr,
+    depths: dict[int, tuple[ir.Expr, int]],
+    sizes: dict[int, tuple[ir.Expr, int]],
+    signal_ir: Mapping[str, ir.Expr | None],
+) -> str | None:
+    """Why ``e``, written out, is too deep or too large for the later stages (None if not);
+    ``depths`` and ``sizes`` remember the measures of the nodes seen."""
+    depth = written_depth(e, depths, signal_ir)
+    if depth > MAX_WRITTEN_DEPTH:
+        return (
+            f"written out with the lets, signals and action arguments it uses, this is "
+            f"{depth} levels of operators deep (more than {MAX_WRITTEN_DEPTH}): the "
+            "generated code would compute it as one expression that deep; compute it in "
+            "fewer steps"
+        )
+    size = written_size(e, sizes, signal_ir)
+    if size > MAX_WRITTEN_SIZE:
+        return (
+            f"written out with the lets, signals and action arguments it uses, this is "
+            f"{size:,} operators and values (more than {MAX_WRITTEN_SIZE:,}): each use of a "
+            "let or signal is a copy of it in the generated code; use each fewer times "
+            "(x ^ 2 for x * x) or compute it in fewer steps"
+        )
+    return None
+
 
 def written_depth(
     e: ir.Expr, memo: dict[int, tuple[ir.Expr, int]], signal_ir: Mapping[str, ir.Expr | None]
 ) -> int:
     """Levels of operators of ``e`` with its signals written out, as lowering writes them
-    (lets and action arguments are written out in the IR already); remembered per node,
-    each built from nodes already measured, so that this costs a step a node."""
+    (lets and action arguments are written out in the IR already)."""
+    return _written(e, memo, signal_ir, lambda parts: 1 + max(parts, default=0))
+
+
+def written_size(
+    e: ir.Expr, memo: dict[int, tuple[ir.Expr, int]], signal_ir: Mapping[str, ir.Expr | None]
+) -> int:
+    """Operators and values of ``e`` with its lets and signals written out: a let used twice
+    counts twice, as sympy, the printers and the fingerprints walk it."""
+    return _written(e, memo, signal_ir, lambda parts: 1 + sum(parts))
+
+
+def _written(
+    e: ir.Expr,
+    memo: dict[int, tuple[ir.Expr, int]],
+    signal_ir: Mapping[str, ir.Expr | None],
+    combine: Callable[[list[int]], int],
+) -> int:
+    """``combine`` of the measures of ``e``'s parts, remembered per node, each built from
+    nodes already measured, so that this costs a step a node however often one is used."""
     stack = [e]
     while stack:
         node = stack[-1]
@@ -48,7 +101,7 @@ def written_depth(
             stack += waiting
             continue
         stack.pop()  # the node itself kept too, so that its id is not reused meanwhile
-        memo[id(node)] = (node, 1 + max((memo[id(part)][1] for part in parts), default=0))
+        memo[id(node)] = (node, combine([memo[id(part)][1] for part in parts]))
     return memo[id(e)][1]
 
 

@@ -22,7 +22,7 @@ import math
 import re
 from collections.abc import Callable
 
-from legdsl.check.control_depth import MAX_WRITTEN_DEPTH, signals_used, written_depth
+from legdsl.check.control_depth import signals_used, written_too_large
 from legdsl.check.control_names import (
     KIND_WORDS,
     MEMBER_EXAMPLES,
@@ -143,15 +143,9 @@ class ExprChecker(NameResolver):
         NaN, an infinity or a complex number there."""
         if node is None:
             return None
-        depth = written_depth(node, self._depths, self.signal_ir)
-        if depth > MAX_WRITTEN_DEPTH:
-            self.err(
-                e.span,
-                f"written out with the lets, signals and action arguments it uses, this is "
-                f"{depth} levels of operators deep (more than {MAX_WRITTEN_DEPTH}): the "
-                "generated code would compute it as one expression that deep; compute it in "
-                "fewer steps",
-            )
+        too_large = written_too_large(node, self._depths, self._sizes, self.signal_ir)
+        if too_large is not None:
+            self.err(e.span, too_large)
             return None
         try:
             self.constant_value(node)

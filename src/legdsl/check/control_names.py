@@ -142,6 +142,7 @@ class NameResolver:
         self.signal_ir: dict[str, ir.Expr | None] = {}
         self._signals_open: list[str] = []
         self._depths: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_depth's memo
+        self._sizes: dict[int, tuple[ir.Expr, int]] = {}  # control_depth.written_size's memo
         self._constants: dict[int, tuple[ir.Expr, float | None]] = {}  # constant_value's memo
         self.zeros = ZeroTest()  # divisors that are 0 in every state
         self.within_expression = False  # checking a statement's expression (ExprChecker)

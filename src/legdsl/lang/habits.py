@@ -20,6 +20,7 @@ from lark import Token
 from legdsl.lang.context import in_expression, in_parentheses, innermost, opening
 from legdsl.lang.expression_slips import NUMBER as _NUMBER
 from legdsl.lang.expression_slips import expression_slip
+from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import hex_color_comment, value_slip
@@ -261,7 +262,8 @@ def _character(text: str, masked: str, pos: int) -> Found | None:
     if unicodedata.category(ch) == "No" and unicodedata.numeric(ch, None) is not None:
         value = f"{unicodedata.numeric(ch):.6g}"
         return pos, 1, f"'{ch}' is not a number legdsl reads: write it as a decimal, '{value}'"
-    return None
+    found = lookalike(ch)
+    return None if found is None else (pos, 1, found)
 
 
 def _operator(text: str, masked: str, pos: int) -> Found | None:

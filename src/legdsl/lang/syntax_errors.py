@@ -21,6 +21,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.habits import habit, missing_semicolon, punctuation
 from legdsl.lang.lalr import friendly_entries, lark_parser
+from legdsl.lang.lookalikes import letter_of_name
 from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
@@ -317,10 +318,7 @@ def _slip(text: str, pos: int) -> str | None:
     if text.startswith("%", pos) and text[:pos][-1:].isdigit():  # not '5 % 2', a remainder
         return percentage(re.findall(r"[\d.]+$", text[:pos])[0])
     if pos < len(text) and not text[pos].isascii() and text[pos].isalpha():
-        return (
-            f"'{text[pos]}' is not a letter of a name: names are made of the letters a-z and "
-            "A-Z, digits and '_' (comments and strings may hold any text)"
-        )
+        return letter_of_name(text[pos])
     return None
 
 
