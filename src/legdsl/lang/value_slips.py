@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 
 from legdsl.lang.context import in_expression
+from legdsl.lang.lookalikes import ascii_for, minus_sign
 from legdsl.lang.units import UnitError, parse_unit, suggest_unit, unit_pattern
 
 Found = tuple[int, int, str]
@@ -27,7 +28,8 @@ def value_slip(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
 
 
 def _bare_exponent(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
-    """'9.81e m/s^2': an 'e' with no power of ten after it, read as a name."""
+    """'9.81e m/s^2': an 'e' with no power of ten after it, read as a name; '3e−4', a
+    typographic minus in it."""
     line_start = masked.rfind("\n", 0, pos) + 1
     found = None
     for m in re.finditer(
@@ -37,7 +39,12 @@ def _bare_exponent(text: str, masked: str, pos: int, kind: str, expected: set[st
     if found is None:
         return None
     start = line_start + found.start()
-    unit = re.match(rf"[ \t]*({unit_pattern()})", masked[line_start + found.end() :])
+    after = line_start + found.end()
+    power = re.match(r"([^\x00-\x7f])([0-9]+)", masked[after:])
+    if power is not None and ascii_for(power.group(1)) == "-":  # '3e−4', as typeset
+        number = f"{found.group()}-{power.group(2)}"
+        return after, 1, minus_sign(power.group(1), number)
+    unit = re.match(rf"[ \t]*({unit_pattern()})", masked[after:])
     value = found.group(1) + (f" {unit.group(1)}" if unit else "")
     return (
         start,
