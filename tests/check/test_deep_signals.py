@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from conftest import CREATURES
 
-from legdsl.check.control_depth import MAX_WRITTEN_SIZE
+from legdsl.check.control_depth import MAX_ACTION_DEPTH, MAX_WRITTEN_DEPTH, MAX_WRITTEN_SIZE
 from legdsl.lang.errors import LegError
 from legdsl.pipeline.compile import compile_model
 from legdsl.pipeline.generated import write_generated
@@ -63,3 +63,27 @@ def test_signals_each_used_twice_are_refused_where_written_out_they_pass_the_siz
     text = path.read_text(encoding="utf-8").split("\n")
     assert text[found.span.line - 1] == "  signal s12 = s11 * s11 / (1 m/s)"
     assert f"(more than {MAX_WRITTEN_SIZE:,})" in found.message
+
+
+def test_actions_as_deep_as_checked_with_an_expression_as_deep_compile_and_run(
+    tmp_path: Path,
+) -> None:
+    """``MAX_ACTION_DEPTH`` actions, each calling the next, the last with a statement
+    ``MAX_WRITTEN_DEPTH`` levels deep: the fingerprints, lowering and pickling walk both
+    recursively, and the file ``check`` accepts compiles and runs (at 250 actions compile
+    met Python's recursion limit; such chains are refused now, tests/bad)."""
+    last = MAX_ACTION_DEPTH - 1
+    n = (MAX_WRITTEN_DEPTH - 3) // 2  # each let 2 levels; the statement 2 more, and the read
+    lets = ["let x0 = l.spring.rest"]
+    lets += [f"let x{k} = x{k - 1} * 1.0 + 0 m" for k in range(1, n + 1)]
+    actions = [f"  action a{k}(l) {{ a{k + 1}(l) }}" for k in range(last)]
+    actions.append(f"  action a{last}(l) {{ {'; '.join(lets)}; l.spring.rest = x{n} * 1.0 + 0 m }}")
+    text = (CREATURES / "hopper.leg").read_text(encoding="utf-8")
+    text = text.replace("  table {", "\n".join(actions) + "\n  table {", 1)
+    text = text.replace("free_hip(active)", "free_hip(active); a0(active)", 1)
+    path = tmp_path / "hopper.leg"
+    path.write_text(text, encoding="utf-8")
+    write_generated(compile_model(path), tmp_path / "generated")
+    session = RunSession.from_file(path, generated=tmp_path / "generated")
+    run = session.run("hop", ["speed=1m/s"], options=RunOptions(duration=0.3), backend="python")
+    assert run.result.status == "ok"

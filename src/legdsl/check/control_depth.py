@@ -29,6 +29,12 @@ MAX_WRITTEN_DEPTH = 250
 # creatures' largest is some 1,200.
 MAX_WRITTEN_SIZE = 20_000
 
+# How many actions may be called one within another: the IR nests each call's statements in
+# the caller's, and the fingerprints, lowering and pickling walk them recursively, each call
+# several levels (250 met Python's recursion limit, 200 passed; an expression 250 deep at
+# the bottom of 50 compiles and runs). The standard library nests 3.
+MAX_ACTION_DEPTH = 50
+
 
 def written_too_large(
     e: ir.Expr,

@@ -7,6 +7,7 @@ The top layer of the controller checker (on ``control_exprs`` and ``control_name
 
 from __future__ import annotations
 
+from legdsl.check.control_depth import MAX_ACTION_DEPTH
 from legdsl.check.control_exprs import ExprChecker, fits, gram_for_gravity, unit_advice
 from legdsl.check.control_names import Opaque, Value, what_it_is
 from legdsl.check.control_words import describe_type, expression_text
@@ -187,6 +188,16 @@ class Elaborator(ExprChecker, LegMotionProbe):
             return None
         if any(a is action for _, a in self.calls):
             self.err(s.action.span, f"action '{s.action.name}' calls itself")
+            return None
+        if len(self.calls) >= MAX_ACTION_DEPTH:
+            first = self.calls[0][0]  # the row's call, where the chain can be cut
+            self.err(
+                first.span,
+                f"'{first.action.name}' calls actions more than {MAX_ACTION_DEPTH} deep, each "
+                f"from within the one before ('{s.action.name}' is {len(self.calls) + 1} "
+                "deep); write some of their statements out in the action that calls them, or "
+                "call them one after another",
+            )
             return None
         given = [
             v if v is not None else Opaque(expression_text(a))
