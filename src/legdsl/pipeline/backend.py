@@ -47,6 +47,15 @@ def python_backend_note() -> str | None:
     return None if missing is None else f"{missing}: the runs go on the Python backend"
 
 
+class CUnavailable(UsageError):
+    """``--backend c`` where C cannot run: ``why``, and what to do first (``fix``), for a
+    caller that asked for C in its own words (the API's ``run_copies()``)."""
+
+    def __init__(self, why: str, fix: str = ""):
+        super().__init__(f"--backend c: {why}; {fix}or use --backend python")
+        self.why, self.fix = why, fix
+
+
 def make_simulation(
     model: Model,
     dynamics: ModuleType,
@@ -80,7 +89,7 @@ def make_simulation(
         """Where C cannot run: an error with ``--backend c`` (``fix`` then says what to do
         first), else the Python backend with a one-line notice."""
         if backend == "c":
-            raise UsageError(f"--backend c: {why}; {fix}or use --backend python") from None
+            raise CUnavailable(why, fix) from None
         tell(f"{why}: running on the Python backend")
         return Simulation(model, dynamics, options, controller)
 

@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.backend import CUnavailable
 from legdsl.pipeline.batch_memory import check_copies_memory, check_recordings, lined_up
 from legdsl.pipeline.session import Plan, Run, RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
@@ -109,12 +110,9 @@ class Batch:
         self.options = options or RunOptions()
         try:
             self.plan = session.prepare(controller, settings, paths, self.options, backend="c")
-        except UsageError as refused:  # no C here: said as the API's run_copies() can act on it
-            said, c = str(refused), "--backend c: "
-            if not said.startswith(c):
-                raise
-            fix = said.removeprefix(c).removesuffix("or use --backend python")
-            raise UsageError(f"run_copies() runs in C: {fix}or run them with run_many()") from None
+        except CUnavailable as no_c:  # said as the API's run_copies() can act on it
+            raise UsageError(f"run_copies() runs in C: {no_c.why}; {no_c.fix}or run them with "
+                             "run_many()") from None  # fmt: skip
         if not isinstance(self.plan.sim, CSimulation):
             raise UsageError(
                 "a batch runs on the C backend, and this run would go on the Python backend: "
