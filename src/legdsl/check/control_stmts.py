@@ -190,10 +190,10 @@ class Elaborator(ExprChecker, LegMotionProbe):
             self.err(s.action.span, f"action '{s.action.name}' calls itself")
             return None
         if len(self.calls) >= MAX_ACTION_DEPTH:
-            first = self.calls[0][0]  # the row's call, where the chain can be cut
+            outermost = self.calls[0][0]  # the row's call, where the chain can be cut
             self.err(
-                first.span,
-                f"'{first.action.name}' calls actions more than {MAX_ACTION_DEPTH} deep, each "
+                outermost.span,
+                f"'{outermost.action.name}' calls actions more than {MAX_ACTION_DEPTH} deep, each "
                 f"from within the one before ('{s.action.name}' is {len(self.calls) + 1} "
                 "deep); write some of their statements out in the action that calls them, or "
                 "call them one after another",
