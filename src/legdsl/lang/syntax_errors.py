@@ -252,6 +252,8 @@ def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     if found is None:
         return None
     word, start, end = found.group(1), found.start(1), found.end(1)
+    if re.match(r"[eE](?![A-Za-z_])", word) and text[start - 1] not in " \t":
+        return None  # '3e cm', '3e−4': an exponent, told by value_slips
     if end < pos and not re.fullmatch(r"\s*(?:[A-Za-z_]\w*\s*)?", text[end:pos]):
         return None
     try:

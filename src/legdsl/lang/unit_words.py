@@ -11,11 +11,12 @@ misspelt unit at a syntax error.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic
-from legdsl.lang.spellings import offset_span, unit_spelling
+from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
     looks_like_unit,
@@ -24,6 +25,7 @@ from legdsl.lang.units import (
     suggest_unit,
     unknown_unit,
 )
+from legdsl.lang.value_slips import bare_exponent
 
 
 def _offset(text: str, line: int, col: int) -> int:
@@ -78,6 +80,8 @@ def unit_word(file: str, text: str, tree: ast.SourceFile) -> tuple[Diagnostic, s
 def _diagnose(
     file: str, text: str, number: ast.Number, word: str, start: int
 ) -> tuple[Diagnostic, str | None] | None:
+    if word in ("e", "E") and text[start - 1] not in " \t":  # 'mass 10e kg', '1e -3 kg'
+        return _bare_exponent(file, text, start)
     spelt = unit_spelling(text, start)
     if spelt is not None and spelt.start < start:  # '9.81 m s-2': the unit goes on past 'm'
         span = offset_span(file, text, spelt.start, len(spelt.written))
@@ -107,3 +111,19 @@ def _diagnose(
     if len(read) > written:
         return diagnostic, None
     return diagnostic, text[:first] + read.ljust(written) + text[start + len(word) :]
+
+
+def _bare_exponent(file: str, text: str, start: int) -> tuple[Diagnostic, str | None] | None:
+    """An 'e' after a number read as the next property's name: the parser reads on with the
+    number as it is ('10  kg'), or with its power joined to it ('1e-3 kg')."""
+    found = bare_exponent(mask(text), start)
+    if found is None:
+        return None
+    at, length, message = found
+    diagnostic = Diagnostic(offset_span(file, text, at, length), message)
+    written = text[at : at + length]
+    if written[-1:] in ("e", "E"):  # '10e kg' read as '10  kg'
+        read = text[:start] + " " + text[start + 1 :]
+    else:  # '1e -3 kg' read as '1e-3  kg'
+        read = text[:at] + re.sub(r"[ \t]+", "", written).ljust(length) + text[at + length :]
+    return diagnostic, read if read != text else None

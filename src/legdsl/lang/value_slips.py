@@ -28,8 +28,12 @@ def value_slip(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
 
 
 def _bare_exponent(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
-    """'9.81e m/s^2': an 'e' with no power of ten after it, read as a name; '3e−4', a
-    typographic minus in it."""
+    return bare_exponent(masked, pos)
+
+
+def bare_exponent(masked: str, pos: int) -> Found | None:
+    """'9.81e m/s^2': an 'e' with no power of ten after it (at or before ``pos``, on its
+    line), read as a name; '1e -3 kg', its power apart; '3e−4', a typographic minus in it."""
     line_start = masked.rfind("\n", 0, pos) + 1
     found = None
     for m in re.finditer(
@@ -45,6 +49,16 @@ def _bare_exponent(text: str, masked: str, pos: int, kind: str, expected: set[st
         number = f"{found.group()}-{power.group(2)}"
         return after, 1, minus_sign(power.group(1), number)
     unit = re.match(rf"[ \t]*({unit_pattern()})", masked[after:])
+    apart = re.match(rf"[ \t]+([-+]?[0-9]+)(?![\w.])(?:[ \t]*({unit_pattern()}))?", masked[after:])
+    if apart is not None:
+        number = f"{found.group()}{apart.group(1)}"
+        also = f" {apart.group(2)}" if apart.group(2) else ""
+        return (
+            start,
+            apart.end(1) + found.end() - found.start(),
+            f"a power of ten is written right after its 'e', without a space: write "
+            f"'{number}{also}'",
+        )
     value = found.group(1) + (f" {unit.group(1)}" if unit else "")
     return (
         start,
