@@ -113,6 +113,23 @@ def test_a_used_file_that_cannot_be_read_is_the_only_news(tmp_path: Path) -> Non
     assert d.message.startswith("cannot find 'lib.leg' to use")
 
 
+@pytest.mark.parametrize(("target", "told"), [("/dev/zero", "not a file"), ("./lib", "a folder")])
+def test_a_used_path_that_is_there_but_no_file_is_told_so(
+    tmp_path: Path, target: str, told: str
+) -> None:
+    """Not 'cannot find': the path is there, but a device or a folder is no .leg file."""
+    (tmp_path / "lib").mkdir()
+    main = tmp_path / "main.leg"
+    main.write_text(f'use "{target}"\n' + CREATURE)
+    with pytest.raises(LegError) as e:
+        check_model(main)
+    (d,) = e.value.diagnostics
+    assert (Path(d.span.file).name, d.span.line) == ("main.leg", 1)
+    assert d.message.startswith(f"cannot use '{target}': ")
+    assert f" is {told}" in d.message
+    assert d.message.endswith("'use' takes a .leg file")
+
+
 def test_two_files_the_same_distance_away_defining_one_action_is_an_error_at_the_call(
     tmp_path: Path,
 ) -> None:

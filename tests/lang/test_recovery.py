@@ -9,7 +9,7 @@ import pytest
 
 from legdsl.check.source import check_file
 from legdsl.lang.errors import LegError
-from legdsl.lang.parser import parse, parse_file
+from legdsl.lang.parser import MAX_SOURCE_BYTES, parse, parse_file
 
 TWO_TYPOS = """\
 creature a {
@@ -66,6 +66,24 @@ def test_a_file_that_is_not_utf8_shows_the_line_and_a_caret(tmp_path: Path) -> N
     assert shown[0].startswith(f"{leg}:2:12: error: the file is not UTF-8 text")
     assert "byte 0xff" in shown[0]
     assert shown[1:] == ["      planar é \ufffd", "               ^"]
+
+
+@pytest.mark.parametrize("name", ["/dev/zero", "big.csv"])
+def test_a_device_or_a_file_far_larger_than_a_leg_file_is_refused_unread(
+    tmp_path: Path, name: str
+) -> None:
+    """Read no further than ``MAX_SOURCE_BYTES``: ``legdsl check /dev/zero`` read until memory
+    ran out, then advised to raise the limit; a 90 MB file took 28 s and 730 MB."""
+    path = Path(name) if name.startswith("/") else tmp_path / name
+    if path.parent == tmp_path:
+        with path.open("wb") as f:
+            f.truncate(MAX_SOURCE_BYTES + 1)  # a sparse file: no time or disk to write it
+    with pytest.raises(LegError) as caught:
+        parse_file(path)
+    (d,) = caught.value.diagnostics
+    assert d.span.file == str(path)
+    assert d.message.startswith("this holds more than 8 MB, far more than a .leg file")
+    assert d.message.endswith("Name the .leg file")
 
 
 @pytest.mark.parametrize(

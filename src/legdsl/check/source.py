@@ -226,7 +226,14 @@ def load_uses(
                     else f"the standard library has {', '.join(known) or 'nothing'}; other "
                     "files are named by a path in quotes"
                 )
-                diag.error(at.span, f"cannot find '{use.target}' to use{where}: {advice}")
+                if path.exists():  # a folder or a device (/dev/zero): there, but not a file
+                    kind = "a folder" if path.is_dir() else "not a file (a device or a pipe)"
+                    advice = f"{shown_path(path)} is {kind}; 'use' takes a .leg file"
+                diag.error(
+                    at.span,
+                    f"cannot {'use' if path.exists() else 'find'} '{use.target}'"
+                    f"{'' if path.exists() else ' to use'}{where}: {advice}",
+                )
                 continue
             try:
                 lib, text = parse_file(path, recover=True)

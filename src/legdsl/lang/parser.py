@@ -343,6 +343,10 @@ OPERATORS_DEEP = MAX_NESTING - 10
 # How many misspelt units the parser reads past in one file before it stops.
 MAX_REPAIRS = 50
 
+# The most of a file read: some 300 times the largest shipped creature; an endless device
+# (/dev/zero) or a large file of another kind given by mistake was read until memory ran out.
+MAX_SOURCE_BYTES = 8 * 2**20
+
 
 def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.SourceFile:
     """Parse .leg text; ``file`` is the name used in spans (keep it as the user wrote it).
@@ -457,13 +461,21 @@ def parse_file(path: str | Path, recover: bool = False) -> tuple[ast.SourceFile,
     ``recover`` as for ``parse``."""
     p = Path(path)
     try:
-        data = p.read_bytes()
+        with p.open("rb") as f:  # no further than the cap: a device or a huge file given by mistake
+            data = f.read(MAX_SOURCE_BYTES + 1)
     except FileNotFoundError:
         raise LegError.at(Span(str(path), 0, 0, 0, 0), f"no such file: {path}") from None
     except OSError as e:
         raise LegError.at(
             Span(str(path), 0, 0, 0, 0), f"cannot read {path}: {e.strerror}"
         ) from None
+    if len(data) > MAX_SOURCE_BYTES:
+        raise LegError.at(
+            Span(str(path), 0, 0, 0, 0),
+            f"this holds more than {MAX_SOURCE_BYTES // 2**20} MB, far more than a .leg file "
+            "(the shipped creatures' are under 30 KB): is it another kind of file, or a device? "
+            "Name the .leg file",
+        )
     try:
         text = data.decode("utf-8-sig")  # a byte-order mark some editors write is no text
     except UnicodeDecodeError as e:
