@@ -42,6 +42,15 @@ class CreatureChecker(ValueChecker):
         self.planar = True
         self.names: dict[str, tuple[str, Span]] = {}
 
+    def unmade(self, model: Model) -> set[str]:
+        """The parts declared with a mistake told at them that ``model`` lacks (an actuator on
+        an unknown coordinate, what an instance that could not be made would declare): a
+        controller naming one is no news."""
+        made = {p.name for parts in (model.bodies, model.joints, model.actuators) for p in parts}
+        made |= {c.name for c in model.contacts} | {leg.name for leg in model.legs}
+        kinds = ("body", "joint", "actuator", "contact", "leg")
+        return {n for n, (kind, _) in self.names.items() if kind in kinds and n not in made}
+
     def check(self) -> Model | None:
         d = self.decl
         if len(d.name.name) > MAX_NAME:

@@ -44,7 +44,7 @@ class LegChecker(CreaturePart):
         aliases: list[tuple[str, str]] = []
         alias_at: dict[str, ast.Ident] = {}  # each alias's target, where it is written
         seen: set[str] = set()
-        joints_at: Span | None = None
+        joints_at: Span | None = None  # None too if a joint listed is unknown: told there
         for p in decl.props:
             key = p.key.name
             if key not in LEG_PROPS:
@@ -70,12 +70,14 @@ class LegChecker(CreaturePart):
                 for v in values:
                     ident = self.name_of(v, "a leg joint")
                     if ident is None:
+                        joints_at = None
                         continue
                     if ident.name not in joint_names:
                         self.err(
                             ident.span,
                             f"unknown joint '{ident.name}'{did_you_mean(ident.name, joint_names)}",
                         )
+                        joints_at = None
                     else:
                         leg_joints.append(ident.name)
             elif key == "foot":
@@ -92,6 +94,8 @@ class LegChecker(CreaturePart):
                     target = self.name_of(item.value, "an alias target")
                     if target is None:
                         continue
+                    if target.name not in referable and target.name in self.names:
+                        continue  # declared, with its mistake told there (an unknown joint)
                     if target.name not in referable:
                         self.err(
                             target.span,

@@ -37,7 +37,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     library, shared, used = load_uses(tree, diag, sources)
     unread = diag.items[before:]  # used files missing or not read whole
     models = []
-    # legs declared with a mistake reported there: a controller's role on one is not an error
+    # parts declared with a mistake reported there: a controller naming one is not an error
     broken: dict[str, set[str]] = {}
     seen: dict[str, Span] = {}
     for decl in tree.creatures:
@@ -53,10 +53,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
         model = checker.check()
         if model is not None:
             models.append(model)
-            built = {leg.name for leg in model.legs}
-            broken[model.name] = {
-                n for n, (kind, _) in checker.names.items() if kind == "leg" and n not in built
-            }
+            broken[model.name] = checker.unmade(model)
     if not tree.creatures:
         diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
     models = check_controllers(tree, models, library, shared, diag, broken, used)

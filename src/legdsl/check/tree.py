@@ -3,6 +3,8 @@ checked with the joint that hangs it from its parent, and the initial state they
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from legdsl.check.bodies import BodyChecker
 from legdsl.check.joints import JointChecker
 from legdsl.check.scope import CreaturePart, Scope
@@ -51,45 +53,57 @@ class TreeChecker(CreaturePart):
                 "'on PARENT via KIND JOINT'",
             )
         children: dict[str, list[ast.BodyDecl]] = {}
-        # Bodies whose parent is not declared (a typo): still checked, with the bodies below
-        # them, so that their own mistakes show and no name they declare looks unknown.
-        orphans: list[ast.BodyDecl] = []
+        # Bodies cut off the tree by a mistake told here (a misspelt parent, hung from itself,
+        # a second root, a cycle) are still checked, with the bodies below them, so that their
+        # own mistakes show and no name they declare looks unknown.
+        cut: list[ast.BodyDecl] = [_rooted(extra) for extra in roots[1:]]
         for b in by_name.values():
             if isinstance(b.attach, ast.AttachJoint):
                 parent = b.attach.parent
                 if parent.name not in by_name:
                     self.err(parent.span, _unknown_parent(parent.name, b.name.name, by_name))
-                    orphans.append(b)
-                    continue
-                if parent.name == b.name.name:
+                    cut.append(b)
+                elif parent.name == b.name.name:
                     self.err(parent.span, f"body '{b.name.name}' cannot hang from itself")
-                    continue
-                children.setdefault(parent.name, []).append(b)
+                    cut.append(_unhung(b))
+                else:
+                    children.setdefault(parent.name, []).append(b)
         order: list[ast.BodyDecl] = []
         seen: set[str] = set()
-        stack = list(reversed(roots[:1] + orphans))
-        while stack:
-            b = stack.pop()
-            if b.name.name in seen:
-                continue
-            seen.add(b.name.name)
-            order.append(b)
-            stack.extend(reversed(children.get(b.name.name, [])))
-        # Bodies not reached from the root: in a cycle, or below a missing parent.
+
+        def below(top: ast.BodyDecl) -> None:
+            """``top`` and the bodies below it, parents first, into ``order``."""
+            stack = [top]
+            while stack:
+                b = stack.pop()
+                if b.name.name in seen:
+                    continue
+                seen.add(b.name.name)
+                order.append(b)
+                stack.extend(reversed(children.get(b.name.name, [])))
+
+        for top in roots[:1] + cut:
+            below(top)
+        # Bodies still not reached hang from a cycle: told once, and cut at the body told.
         for b in by_name.values():
-            if b.name.name in seen or not isinstance(b.attach, ast.AttachJoint):
+            if b.name.name in seen:
                 continue
             chain = [b.name.name]
             node = b
-            while isinstance(node.attach, ast.AttachJoint) and node.attach.parent.name in by_name:
+            while isinstance(node.attach, ast.AttachJoint):
                 node = by_name[node.attach.parent.name]
                 if node.name.name in chain:
-                    loop = chain[chain.index(node.name.name) :] + [node.name.name]
-                    if b.name.name == min(loop):  # report each cycle once
-                        self.err(
-                            b.name.span,
-                            "bodies form a cycle: " + " -> ".join(loop) + "; a creature is a tree",
-                        )
+                    loop = chain[chain.index(node.name.name) :]
+                    at = loop.index(min(loop))  # told from its first name, whichever body led
+                    loop = loop[at:] + loop[:at]
+                    first = by_name[loop[0]]
+                    self.err(
+                        first.name.span,
+                        "bodies form a cycle: "
+                        + " -> ".join([*loop, loop[0]])
+                        + "; a creature is a tree",
+                    )
+                    below(_unhung(first))
                     break
                 chain.append(node.name.name)
         return order
@@ -113,6 +127,20 @@ class TreeChecker(CreaturePart):
             q0 += q_init
             v0 += v_init
         return bodies, joints, q0, v0
+
+
+def _unhung(body: ast.BodyDecl) -> ast.BodyDecl:
+    """``body`` hung from no body of the creature (its parent named ''), so that no walk up
+    from it goes round a cycle; its joint is checked as written."""
+    assert isinstance(body.attach, ast.AttachJoint)
+    nowhere = ast.Ident("", body.attach.parent.span)
+    return replace(body, attach=replace(body.attach, parent=nowhere))
+
+
+def _rooted(body: ast.BodyDecl) -> ast.BodyDecl:
+    """A second root checked as welded to the world: free, it would declare the root's
+    coordinates (x, z, pitch) a second time."""
+    return replace(body, attach=ast.AttachFixed(None, body.attach.span))
 
 
 def _unknown_parent(parent: str, child: str, bodies: dict[str, ast.BodyDecl]) -> str:
