@@ -96,8 +96,8 @@ class CreatureChecker(ValueChecker):
 
         expansion = expand(d, self.diag, self.planar)
         items = expansion.items
-        for leg in expansion.unmade_legs:  # declared, with its mistake told at the instance
-            self.names.setdefault(leg.name, ("leg", leg.span))
+        for what, ident in expansion.unmade:  # declared, with its mistake told at the instance
+            self.names.setdefault(ident.name, (what, ident.span))
         scope = Scope(self.diag, self.planar, self.names)
         tree, attached = TreeChecker(scope), ActuatorChecker(scope)
         bodies_decl = [i for i in items if isinstance(i, ast.BodyDecl)]

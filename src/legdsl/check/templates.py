@@ -20,6 +20,7 @@ instance by instance.
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Any
 
@@ -52,8 +53,9 @@ class MirrorPart:
 class Expansion:
     items: tuple[ast.CreatureItem, ...]  # the creature's items, every instance expanded
     mirrors: tuple[MirrorPart, ...]
-    # the legs refused instances would have declared: a controller's role on one is no news
-    unmade_legs: tuple[ast.Ident, ...] = ()
+    # what refused instances would have declared (what, name): a controller naming one is
+    # no news
+    unmade: tuple[tuple[str, ast.Ident], ...] = ()
 
 
 def expand(decl: ast.CreatureDecl, diag: Diagnostics, planar: bool) -> Expansion:
@@ -112,7 +114,7 @@ class _Expander:
         self.templates: dict[str, ast.TemplateDecl] = {}
         self.instances: dict[str, ast.InstanceDecl] = {}
         self.owner: dict[str, str] = {}  # a name declared by an instance -> that instance
-        self.unmade_legs: list[ast.Ident] = []
+        self.unmade: list[tuple[str, ast.Ident]] = []
 
     def expand(self, items: tuple[ast.CreatureItem, ...]) -> Expansion:
         for t in (i for i in items if isinstance(i, ast.TemplateDecl)):
@@ -138,7 +140,7 @@ class _Expander:
                 mirrors.append(self.mirror_part(item, copy))
         out += _by_kind(run)
         parts = tuple(_at_tips(m, out) for m in mirrors)
-        return Expansion(tuple(out), parts, tuple(self.unmade_legs))
+        return Expansion(tuple(out), parts, tuple(self.unmade))
 
     def template(self, t: ast.TemplateDecl) -> None:
         first = self.templates.get(t.name.name)
@@ -166,6 +168,9 @@ class _Expander:
                 f"unknown template '{tname}'{did_you_mean(tname, self.templates)}"
                 + ("" if self.templates else "; write 'template NAME(PARAMETERS) { ... }' first"),
             )
+            for meant in difflib.get_close_matches(tname, list(self.templates), n=1):
+                given = {a.target.name: a.value for a in inst.args}  # what it would declare
+                self.declare_unmade(self.templates[meant], given, inst.name.span)
             return None
         if name in self.instances:
             self.diag.error(
@@ -183,6 +188,9 @@ class _Expander:
         params = [p.name for p in template.params]
         args: dict[str, ast.Value] = {}
         ok = True
+        # An argument too many, or given twice, is told and left out: the instance is made
+        # of the others, so that the names it declares are known to the rest of the file.
+        misspelt: dict[str, ast.Value] = {}  # the parameter an unknown one likely means
         for a in inst.args:
             if a.target.name not in params:
                 listed = ", ".join(params) or "none"
@@ -191,12 +199,14 @@ class _Expander:
                     f"template '{tname}' has no parameter '{a.target.name}'; its parameters "
                     f"are {listed}{did_you_mean(a.target.name, params)}",
                 )
-                ok = False
+                for meant in difflib.get_close_matches(a.target.name, params, n=1):
+                    misspelt.setdefault(meant, a.value)
             elif a.target.name in args:
                 self.diag.error(here(a.target.span), f"parameter '{a.target.name}' is given twice")
-                ok = False
             else:
                 args[a.target.name] = respan(a.value, within)
+        for meant, value in misspelt.items():  # not told missing too
+            args.setdefault(meant, respan(value, within))
         missing = [p for p in params if p not in args]
         if missing:
             self.diag.error(
@@ -209,10 +219,8 @@ class _Expander:
         mirrored = inst.mirror is not None and self.mirror_ok(
             here(inst.mirror.span), inst, template
         )
-        if not ok:  # its legs' names, as far as the arguments given make them
-            probe = _Substitution(args, within, Diagnostics({}))
-            legs = (i for i in template.items if isinstance(i, ast.LegDecl))
-            self.unmade_legs += [ast.Ident(probe.name(i.name), inst.name.span) for i in legs]
+        if not ok:
+            self.declare_unmade(template, args, inst.name.span)
             return None
         sub = _Substitution(args, within, self.diag)
         copy: list[ast.TemplateItem] = [sub.node(i) for i in template.items]
@@ -227,7 +235,22 @@ class _Expander:
                     )
                     ok = False
                 self.owner.setdefault(ident.name, name)
+        if not ok:  # its names no other instance made
+            mine = [
+                (w, i) for item in copy for w, i in _declared(item) if self.owner[i.name] == name
+            ]
+            self.unmade += mine
         return (copy, mirrored) if ok else None
+
+    def declare_unmade(
+        self, template: ast.TemplateDecl, args: dict[str, ast.Value], at: Span
+    ) -> None:
+        """What an instance that cannot be made would declare, as far as the arguments given
+        make its names (``at``: the instance's name, where its mistake is told)."""
+        probe = _Substitution(args, "", Diagnostics({}))
+        for item in template.items:
+            for what, ident in _declared(item):
+                self.unmade.append((what, ast.Ident(probe.name(ident), at)))
 
     def mirror_ok(self, span: Span, inst: ast.InstanceDecl, template: ast.TemplateDecl) -> bool:
         assert inst.mirror is not None
