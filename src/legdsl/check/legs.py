@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from legdsl.check.scope import CreaturePart, Scope
 from legdsl.check.values import did_you_mean
+from legdsl.ir.controller import LEG_CONSTANTS, LEG_MEMBERS
 from legdsl.ir.model import Actuator, Body, Contact, Joint, Leg
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
@@ -100,6 +101,14 @@ class LegChecker(CreaturePart):
                         self.err(
                             target.span,
                             f"unknown name '{target.name}'; an alias names an actuator, joint, coordinate, contact or body{did_you_mean(target.name, referable)}",
+                        )
+                        continue
+                    alias = item.target.name
+                    if alias in LEG_MEMBERS or alias in LEG_CONSTANTS:
+                        self.err(  # a controller's 'main.length' reads the leg's own
+                            item.target.span,
+                            f"alias '{alias}' would hide the leg's own member '{alias}' (what "
+                            f"'{decl.name.name}.{alias}' reads); choose another name",
                         )
                         continue
                     if item.target.name in alias_at:
