@@ -211,3 +211,40 @@ def test_an_instance_refused_for_its_arguments_is_the_only_error(
     err = capsys.readouterr().err
     assert err.count("error:") == 1, err
     assert "instance 'rr' of template 'leg' does not give 'HIP'" in err
+
+
+def test_parameters_named_like_words_of_the_language_leave_the_words(tmp_path: Path) -> None:
+    """Parameters 'spring', 'mass', 'revolute' and 'k' are put in names and values only: the
+    actuator's kind, the joint's kind, the property keys and the spring's argument names
+    stay words (the kind 'spring' had become 'front_spring', and 'mass 0.5 kg' a mistake)."""
+    path = tmp_path / "words.leg"
+    path.write_text(
+        PLANAR
+        % (
+            "template leg(S, spring, mass, revolute, k) {\n"
+            "  body thigh_S on trunk via revolute hip_S at (0 m, 0 m) {"
+            " length 0.3 m  mass mass  inertia 0.01 kg*m^2"
+            "  limits -30 deg to 30 deg  stop k = 100 N*m/rad }\n"
+            "  body shank_S on thigh_S via prismatic slide_S at tip {"
+            " mass 0.5 kg  inertia 0.005 kg*m^2 }\n"
+            "  actuator spring on slide_S spring(k = k, b = 5 N*s/m)\n"
+            "}\n"
+            "instance a = leg(S = a, spring = spring_a, mass = 2 kg, revolute = prismatic,"
+            " k = 3000 N/m)\n"
+            "instance b = leg(S = b, spring = spring_b, mass = 3 kg, revolute = prismatic,"
+            " k = 4000 N/m)"
+        ),
+        encoding="utf-8",
+    )
+    model = check_model(path)
+    assert [(b.name, b.mass) for b in model.bodies if b.name.startswith("thigh")] == [
+        ("thigh_a", 2.0),
+        ("thigh_b", 3.0),
+    ]
+    assert model.body("shank_a").mass == 0.5
+    assert [(a.name, a.kind, dict(a.params)["k"]) for a in model.actuators] == [
+        ("spring_a", "spring", 3000.0),
+        ("spring_b", "spring", 4000.0),
+    ]
+    assert model.joint("hip_a").kind == "revolute"
+    assert model.stops[0].k == 100.0

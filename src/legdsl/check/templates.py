@@ -307,6 +307,15 @@ def respan(node: Any, within: str) -> Any:
 
 
 GIVEN_A_VALUE = "is given a value, not a name"
+# The fields that hold a word of the language, never a name: no parameter is put there (a
+# parameter 'spring' naming the leg's spring leaves 'spring(k = ...)' a spring).
+_WORDS: dict[type, tuple[str, ...]] = {
+    ast.AttachJoint: ("kind",),  # via revolute
+    ast.ActuatorDecl: ("kind",),  # servo(...)
+    ast.Prop: ("key",),  # mass 2 kg
+    ast.Arg: ("keyword",),  # k = 3000 N/m
+    ast.Call: ("func",),  # shape capsule(...)
+}
 
 
 class _Substitution:
@@ -326,8 +335,17 @@ class _Substitution:
             return ast.Ident(self.name(node), replace(node.span, within=self.within))
         if isinstance(node, tuple):
             return tuple(self.node(x) for x in node)
+        if isinstance(node, ast.Prop) and node.key.name == "stop":  # 'stop k = ..., b = ...'
+            return respan(node, self.within)  # words and numbers: no name in it
         if is_dataclass(node) and not isinstance(node, type | Quantity):
-            return replace(node, **{f.name: self.node(getattr(node, f.name)) for f in fields(node)})
+            words = _WORDS.get(type(node), ())
+            changed = {}
+            for f in fields(node):
+                value = getattr(node, f.name)
+                changed[f.name] = (
+                    respan(value, self.within) if f.name in words else self.node(value)
+                )
+            return replace(node, **changed)
         return node
 
     def name(self, ident: ast.Ident) -> str:
