@@ -9,7 +9,7 @@ import pytest
 
 from legdsl.check.source import check_file
 from legdsl.lang.errors import LegError
-from legdsl.lang.parser import MAX_SOURCE_BYTES, parse, parse_file
+from legdsl.lang.parser import MAX_REPAIRS, MAX_SOURCE_BYTES, parse, parse_file
 
 TWO_TYPOS = """\
 creature a {
@@ -155,3 +155,56 @@ def test_a_hexadecimal_number_too_long_to_spell_in_decimal_is_still_named() -> N
         parse(source, "a.leg")
     (d,) = caught.value.diagnostics
     assert d.message.startswith(f"'{text}' is not a number legdsl reads: numbers are plain")
+
+
+def _many_typos(count: int) -> str:
+    params = "".join(f"  param p{i} = {i} kgg\n" for i in range(count))
+    return (
+        "creature a {\n  planar\n  body trunk free { mass 5 kg  inertia 0.03 kg*m^2 }\n"
+        "  body extra on nowhere via fixed fx { mass 1 kg  inertia 0.01 kg*m^2 }\n"
+        "  body leg on trunk via prismatic slide at (0 m, 0 m) { mass 1 kg  inertia 1 kg*m^2 }\n"
+        "  actuator push on slide spring(k = 100 N/m, b = 1 N*s/m, rest = 0 m)\n}\n"
+        f"controller c {{\n{params}  table {{ state A on time > 0 s: push.rest = 0 m }}\n}}\n"
+    )
+
+
+def _line(text: str, part: str) -> int:
+    return text[: text.index(part)].count("\n") + 1
+
+
+@pytest.mark.parametrize("count", [MAX_REPAIRS, MAX_REPAIRS + 1, 3 * MAX_REPAIRS])
+def test_past_the_units_it_names_the_check_goes_on_and_says_how_many_were_not_shown(
+    tmp_path: Path, count: int
+) -> None:
+    """A file converted from another tool may carry one misspelling throughout: past the
+    first MAX_REPAIRS, the unknown parent body before them was dropped, and nothing said the
+    list was cut. The parser reads past the rest at once; the checker's findings stay."""
+    text = _many_typos(count)
+    leg = tmp_path / "a.leg"
+    leg.write_text(text)
+    with pytest.raises(LegError) as caught:
+        check_file(leg)
+    found = caught.value.diagnostics
+    assert found[0].message.startswith("unknown parent body 'nowhere'")
+    units = [d for d in found if d.message.startswith("'kgg' is not a unit legdsl knows")]
+    assert len(units) == min(count, MAX_REPAIRS)
+    unshown = count - len(units)
+    assert len(found) == 1 + len(units) + (1 if unshown else 0)
+    if unshown:
+        last = found[-1]
+        assert last.message.startswith(
+            f"{unshown} more misspelt unit{'s are' if unshown > 1 else ' is'} not shown, from "
+            f"line {_line(text, f'p{MAX_REPAIRS} =')} on (legdsl names the first {MAX_REPAIRS}"
+        )
+        assert (last.span.line, last.span.col) == (text.count("\n"), 2)  # after the last '}'
+
+
+def test_a_syntax_error_past_the_units_it_names_is_shown_before_the_count() -> None:
+    text = _many_typos(MAX_REPAIRS + 2).replace("  table", "  table table")
+    with pytest.raises(LegError) as caught:
+        parse(text, "a.leg")
+    found = [(d.span.line, d.message[:22]) for d in caught.value.diagnostics]
+    assert found[MAX_REPAIRS:] == [
+        (_line(text, "table table"), "unexpected 'table'; ex"),
+        (text.count("\n"), "2 more misspelt units "),
+    ]

@@ -17,9 +17,9 @@ from lark import Token, Transformer, Tree, v_args
 from lark.exceptions import UnexpectedInput
 
 from legdsl.lang import ast
-from legdsl.lang.errors import LegError, Span
+from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
-from legdsl.lang.spellings import other_numbers
+from legdsl.lang.spellings import other_numbers, read_past_units, unshown_units
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.unit_words import unit_word
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
@@ -340,7 +340,8 @@ MAX_NESTING = 120
 OPERATORS_DEEP = MAX_NESTING - 10
 
 
-# How many misspelt units the parser reads past in one file before it stops.
+# How many misspelt units the parser reports in one file; it reads past the rest at once,
+# unreported, and says how many there were.
 MAX_REPAIRS = 50
 
 # The most of a file read: some 300 times the largest shipped creature; an endless device
@@ -368,15 +369,21 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
     # what the parser reads: the text with numbers in other notations and misspelt units
     # repaired
     pending, read = other_numbers(file, text)
+    unshown: list[Diagnostic] = []  # a last word on the misspelt units read past unreported
     while True:
         try:
             tree = lark_parser().parse(read, start="start")
         except UnexpectedInput as err:
             error = syntax_error(file, read, err)
-            repaired = repaired_unit(read, err) if len(pending) < MAX_REPAIRS else None
+            repaired = repaired_unit(read, err) if not unshown else None
             if repaired is None:
-                raise LegError(pending + error.diagnostics, {file: text}) from None
-            pending.extend(error.diagnostics)
+                raise LegError(pending + error.diagnostics + unshown, {file: text}) from None
+            if len(pending) >= MAX_REPAIRS:  # this one and the rest, at once
+                line = error.diagnostics[0].span.line
+                more, repaired = read_past_units(repaired, line)
+                unshown.append(unshown_units(file, text, more + 1, line, MAX_REPAIRS))
+            else:
+                pending.extend(error.diagnostics)
             read = repaired
             continue
         _check_nesting(tree, file, text)
@@ -389,6 +396,7 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
         if word[1] is None:
             break
         read = word[1]
+    pending.extend(unshown)
     if pending and not recover:
         raise LegError(pending, {file: text})
     return replace(built, pending=tuple(pending))

@@ -10,7 +10,7 @@ import re
 from dataclasses import dataclass
 
 from legdsl.lang.errors import Diagnostic, Span
-from legdsl.lang.units import UNITS, UnitError, parse_unit
+from legdsl.lang.units import UNITS, UnitError, looks_like_unit, parse_unit, suggest_unit
 
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 
@@ -149,3 +149,44 @@ def other_numbers(file: str, text: str) -> tuple[list[Diagnostic], str]:
         # 1 stands in for it: its value is reported already, and 1 passes every check of sign
         read = read[: m.start()] + "1".ljust(len(written)) + read[m.end() :]
     return found, read
+
+
+# A number and the word after it, where its unit is written ('10 kgg', '2 m/sec').
+_NUMBER_AND_WORD = re.compile(
+    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
+)
+
+
+def read_past_units(text: str, line: int) -> tuple[int, str]:
+    """Each unknown unit after a number from ``line`` on with a likely meaning no longer than
+    itself ('kgg' for 'kg'), replaced by it: (how many, the text so read). The parser reads
+    past a file's misspelt units beyond the first it reports this way, unreported, at once
+    (one by one, each costs a parse of the whole file)."""
+    start = 0
+    for _ in range(line - 1):
+        start = text.index("\n", start) + 1
+    count, read = 0, text
+    for m in _NUMBER_AND_WORD.finditer(mask(text), start):
+        word = m.group(1)
+        try:
+            parse_unit(word)
+            continue
+        except UnitError:
+            suggestion = suggest_unit(word) if looks_like_unit(word) else None
+        if suggestion is not None and len(suggestion) <= len(word):
+            count += 1
+            read = read[: m.start(1)] + suggestion.ljust(len(word)) + read[m.end(1) :]
+    return count, read
+
+
+def unshown_units(file: str, text: str, count: int, line: int, shown: int) -> Diagnostic:
+    """The last word on a file whose misspelt units from ``line`` on, ``count`` of them, were
+    read past unreported (the first ``shown`` mistakes are), at the end of its last line."""
+    lines = text.rstrip().split("\n")
+    end = Span(file, len(lines), len(lines[-1]) + 1, len(lines), len(lines[-1]) + 2)
+    units, them = ("unit is", "it") if count == 1 else ("units are", "them")
+    return Diagnostic(
+        end,
+        f"{count} more misspelt {units} not shown, from line {line} on (legdsl names the "
+        f"first {shown} of a file): fix those shown and check again to see {them}",
+    )
