@@ -22,6 +22,7 @@ from legdsl.lang.expression_slips import NUMBER as _NUMBER
 from legdsl.lang.expression_slips import expression_slip
 from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
+from legdsl.lang.stray_words import stray_word
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import hex_color_comment, value_slip
 
@@ -75,7 +76,11 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
         found = find_token(text, masked, pos, kind)
         if found is not None:
             return found
-    return value_slip(text, masked, pos, kind, expected) or _keyword(text, masked, pos, kind)
+    return (
+        value_slip(text, masked, pos, kind, expected)
+        or stray_word(text, masked, pos, kind, expected)
+        or _keyword(text, masked, pos, kind)
+    )
 
 
 def punctuation(text: str, pos: int, token: Token | None, expected: set[str]) -> Found | None:

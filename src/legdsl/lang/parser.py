@@ -20,6 +20,7 @@ from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
 from legdsl.lang.spellings import other_numbers, read_past_units, unshown_units
+from legdsl.lang.stray_words import stray_key
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.unit_words import unit_word
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
@@ -388,6 +389,9 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
             continue
         _check_nesting(tree, file, text)
         built = _build(tree, file, text)
+        stray = stray_key(file, read, built)
+        if stray is not None:  # what follows it is misread: the checker's errors would mislead
+            raise LegError([*pending, stray], {file: text})
         # a unit the parser read as the next property ('length 0.5 meters')
         word = unit_word(file, read, built) if len(pending) < MAX_REPAIRS else None
         if word is None:

@@ -35,7 +35,7 @@ def _offset(text: str, line: int, col: int) -> int:
     return start + col - 1
 
 
-def _prop_runs(tree: ast.SourceFile) -> Iterator[list[ast.Prop]]:
+def prop_runs(tree: ast.SourceFile) -> Iterator[list[ast.Prop]]:
     """Each list of properties written one after another: a creature's own, a body's, a
     leg's, a block's, in templates too."""
     for creature in tree.creatures:
@@ -61,7 +61,7 @@ def unit_word(file: str, text: str, tree: ast.SourceFile) -> tuple[Diagnostic, s
     """The first unit read as a property's name in ``tree`` (parsed from ``text``): its
     diagnostic, and ``text`` with the unit it suggests in its place, every later position
     kept (None when the suggestion does not fit)."""
-    for props in _prop_runs(tree):
+    for props in prop_runs(tree):
         for before, prop in zip(props, props[1:], strict=False):
             number = _number(before)
             key = prop.key
