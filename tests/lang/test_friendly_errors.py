@@ -185,3 +185,12 @@ def test_examples_of_different_slips_that_fit_equally_give_the_plain_message() -
     # lacks ';'; with nothing after it to tell them apart, neither message is given.
     message, _ = only_diagnostic(controller("    state A on liftoff(active): x = 0.1 m y\n"))
     assert message.startswith("unexpected name 'y'; expected ")
+
+
+@pytest.mark.parametrize("line", ["kp2 = 1 N*m/rad", "pa", "param stroke = 3 cm per s"])
+def test_a_row_s_sentence_is_not_given_outside_the_table(line: str) -> None:
+    # A controller's declaration ends in an expression as a row's event does, and the parser
+    # is in the same last state after it; the rest of its stack is not a row's.
+    before = f"  param stroke = 3 cm\n  {line}\n"
+    message, _ = only_diagnostic(controller("    state A on liftoff(active): x = 1 m\n", before))
+    assert "table row" not in message and "separated by ';'" not in message

@@ -180,10 +180,11 @@ def _friendly(context: _ErrorContext, open_brace: bool) -> str | None:
     """The message for a syntax error, from grammar/friendly_errors.toml, if one fits.
 
     First the examples that failed the same way: in the same parser state on the same kind
-    of token (or one of the kinds their entry lists). Among those, the ones whose parse stack
-    is most like the error's, then the ones followed by the same kind of token; if they
-    disagree on the message, none is given. Then the entries that apply to a kind of token
-    wherever it comes, and to the end of the file inside an open '{'.
+    of token (or one of the kinds their entry lists). Among those whose parse stack has more
+    than half its states in the error's, the ones whose stack is most like the error's, then
+    the ones followed by the same kind of token; if they disagree on the message, none is
+    given. Then the entries that apply to a kind of token wherever it comes, and to the end
+    of the file inside an open '{'.
     """
     table = _friendly_table()
     best_score: tuple[int, bool] | None = None
@@ -195,6 +196,8 @@ def _friendly(context: _ErrorContext, open_brace: bool) -> str | None:
         # order, less those it lacks. A subsequence rather than a common top of stack, so
         # that an operator that differs ('<' for '>') does not hide the context around it.
         common = _common_subsequence(example.stack, context.stack)
+        if 2 * common <= len(example.stack):
+            continue  # the same last state in another construct (a row's event, a param's value)
         score = (2 * common - len(example.stack), example.next_token == context.next_token)
         if best_score is None or score > best_score:
             best, best_score = {message}, score
