@@ -23,6 +23,7 @@ from legdsl.lang.expression_slips import expression_slip
 from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
 from legdsl.lang.stray_words import stray_word
+from legdsl.lang.structure_slips import structure_slip
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import hex_color_comment, value_slip
 
@@ -80,6 +81,7 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
         value_slip(text, masked, pos, kind, expected)
         or stray_word(text, masked, pos, kind, expected)
         or _keyword(text, masked, pos, kind)
+        or structure_slip(text, masked, pos, kind, expected)
     )
 
 
