@@ -139,8 +139,11 @@ def _unhung(body: ast.BodyDecl) -> ast.BodyDecl:
 
 def _rooted(body: ast.BodyDecl) -> ast.BodyDecl:
     """A second root checked as welded to the world: free, it would declare the root's
-    coordinates (x, z, pitch) a second time."""
-    return replace(body, attach=ast.AttachFixed(None, body.attach.span))
+    coordinates (x, z, pitch) a second time. Its initial state went with its freedom."""
+    if not isinstance(body.attach, ast.AttachFree):
+        return body
+    props = tuple(p for p in body.props if p.key.name not in ("initial", "velocity"))
+    return replace(body, attach=ast.AttachFixed(None, body.attach.span), props=props)
 
 
 def _unknown_parent(parent: str, child: str, bodies: dict[str, ast.BodyDecl]) -> str:
