@@ -9,6 +9,7 @@ import pytest
 
 from legdsl.lang.errors import LegError
 from legdsl.lang.parser import parse
+from legdsl.lang.structure_slips import _passes
 
 HOPPER = """\
 creature hopper {
@@ -84,3 +85,14 @@ def test_a_colour_comment_taking_a_brace_inside_a_string_is_not_told() -> None:
     # a '#' inside a string starts no comment: the '}' after it is read
     told, _ = message(HOPPER.replace("mass 10 kg  inertia", 'label "c #a0a0a0 }" kg  inertia'))
     assert "'#' starts a comment" not in told
+
+
+def test_a_brace_is_one_too_many_only_if_the_file_reads_on_well_without_it() -> None:
+    # Taking away a '}' the file needs leaves a block open at its end; a mistake on the line
+    # after the one the parse failed on may be the same slip read another way.
+    body = "creature a {\n  planar\n  body b free {\n    mass 1 kg\n"
+    failed_at = len(body) - 3  # on 'mass 1 kg'
+    assert not _passes(body + "}\n", failed_at)  # still open at the end
+    assert not _passes(body + "mass }\n}\n", failed_at)  # fails on the next line
+    assert _passes(body + "  }\n  contact c on b\n  mass\n}\n}\n", failed_at)
+    assert _passes(body + "}\n}\n", failed_at)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import difflib
 import re
 
-from lark.exceptions import UnexpectedInput
+from lark.exceptions import UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from legdsl.lang.context import innermost
 from legdsl.lang.lalr import lark_parser
@@ -89,13 +89,16 @@ def _misplaced(masked: str, close: int, opener: int | None) -> bool:
 
 
 def _passes(text: str, pos: int) -> bool:
-    """Whether ``text`` parses, or parses past the line of ``pos``."""
+    """Whether ``text`` parses, or parses on from the line of ``pos`` to a mistake two lines
+    or more further (one just after may be the same slip read another way, and a block left
+    open at the end is what taking away a '}' it needs gives)."""
     try:
         lark_parser().parse(text, start="start")
     except UnexpectedInput as err:
-        line_end = text.find("\n", pos)
-        reached = err.pos_in_stream if err.pos_in_stream is not None else len(text)
-        return line_end >= 0 and reached > line_end
+        at_end = isinstance(err, UnexpectedToken) and err.token.type == "$END"
+        if at_end or isinstance(err, UnexpectedEOF) or err.pos_in_stream is None:
+            return False
+        return text.count("\n", pos, err.pos_in_stream) >= 2
     return True
 
 
