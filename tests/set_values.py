@@ -8,8 +8,7 @@ from pathlib import Path
 
 from legdsl.check.source import check_file
 from legdsl.ir.model import Model
-from legdsl.lang.units import Dim, parse_unit
-from legdsl.pipeline.settings import unit_for
+from legdsl.lang.units import Dim, parse_unit, unit_for
 
 
 @functools.cache

@@ -28,8 +28,7 @@ from seeded import told_with_seed
 
 from legdsl.cli.common import EXIT_DIVERGED, EXIT_FELL, EXIT_USER_ERROR
 from legdsl.ir.model import SETTABLE, Model, setting_kind
-from legdsl.lang.units import KINDS, Dim, parse_unit
-from legdsl.pipeline.settings import si_unit
+from legdsl.lang.units import KINDS, Dim, parse_unit, si_unit
 
 pytestmark = needs_c_compiler
 T = TypeVar("T")

@@ -17,8 +17,8 @@ from conftest import CREATURES, ROOT, shipped_model
 
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import KINDS, parse_unit
-from legdsl.pipeline.settings import a_kind, si_unit, sort_settings, unit_for
+from legdsl.lang.units import KINDS, a_kind, parse_unit, si_unit, unit_for
+from legdsl.pipeline.settings import sort_settings
 
 KANGAROO = str(CREATURES / "kangaroo.leg")
 
@@ -171,8 +171,7 @@ def test_the_named_si_unit_reads_back_as_its_dimension() -> None:
     """``N*m/rad`` rather than ``kg*m^2/s^2/rad`` in reports, the same dimension and factor 1."""
     import itertools
 
-    from legdsl.lang.units import parse_unit
-    from legdsl.pipeline.settings import named_si_unit
+    from legdsl.lang.units import named_si_unit, parse_unit
 
     assert named_si_unit((1, 2, -2, -1)) == "N*m/rad"
     assert named_si_unit((1, 0, -1, 0)) == "N*s/m"

@@ -47,10 +47,9 @@ from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import Dim
+from legdsl.lang.units import Dim, named_si_unit
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
-from legdsl.pipeline.settings import named_si_unit
 from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory

@@ -39,16 +39,10 @@ from legdsl.api.workers import Workers
 from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import KINDS, Dim
+from legdsl.lang.units import KINDS, Dim, a_kind, named_si_unit, unit_for
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
-from legdsl.pipeline.settings import (
-    NUMBER_AND_UNIT,
-    a_kind,
-    named_si_unit,
-    parse_given,
-    unit_for,
-)
+from legdsl.pipeline.settings import NUMBER_AND_UNIT, parse_given
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (

@@ -31,22 +31,9 @@ from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gai
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS
-from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, describe, out_of_range
+from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, a_kind, out_of_range
 
 _TIME: Dim = KINDS["time"][0]
-
-
-def _kind(dim: Dim, unit: str = "") -> str:
-    """'an angle (deg)', 'a quantity in N*m*s'; with ``unit`` (the file's, of ``dim``) 'an
-    angle (rad)', 'a quantity in deg/m'."""
-    if dim == DIMENSIONLESS:
-        return "dimensionless"
-    name = describe(dim)
-    if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
-        return f"a quantity in {unit or name}"
-    if unit:
-        name = f"{name.partition(' (')[0]} ({unit})"
-    return ("an " if name[0] in "aeiou" else "a ") + name
 
 
 def _example(dim: Dim) -> str:
@@ -84,14 +71,14 @@ def _number(
         return None
     if want == DIMENSIONLESS:
         if not q.unitless and q.dim != DIMENSIONLESS:
-            diag.error(value.span, f"{what} is dimensionless, but {value.text} is {_kind(q.dim)}")
+            diag.error(value.span, f"{what} is dimensionless, but {value.text} is {a_kind(q.dim)}")
             return None
         return number
     if q.unitless:
         if number != 0:
             diag.error(
                 value.span,
-                f"{what} is {_kind(want, declared)}: give its unit, e.g. {value.text} "
+                f"{what} is {a_kind(want, declared)}: give its unit, e.g. {value.text} "
                 f"{declared or _example(want)}",
             )
             return None
@@ -100,7 +87,7 @@ def _number(
         unit = unit_to_write(written_unit(value.text), want, declared) or _example(want)
         diag.error(
             value.span,
-            f"{what} is {_kind(want, declared)}, but {value.text} is {_kind(q.dim)}; write e.g. "
+            f"{what} is {a_kind(want, declared)}, but {value.text} is {a_kind(q.dim)}; write e.g. "
             f"{_digits(value.text)} {unit}".rstrip(),
         )
         return None

@@ -158,6 +158,44 @@ def newton_unit(dim: Dim) -> str | None:
     return f"N{up}{down}"
 
 
+def si_unit(dim: Dim) -> str:
+    """The SI unit of a dimension as ``--set`` reads it (``kg*m^2/s^2/rad``; empty if none)."""
+    symbols = ("kg", "m", "s", "rad")
+    up = [s if e == 1 else f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e > 0]
+    down = [s if e == -1 else f"{s}^{-e}" for s, e in zip(symbols, dim, strict=True) if e < 0]
+    if not up:
+        return "*".join(f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e)
+    return "*".join(up) + "".join(f"/{d}" for d in down)
+
+
+def named_si_unit(dim: Dim) -> str:
+    """The SI unit of a dimension with a newton in it where it has one, as people write it:
+    ``N*m/rad`` for kg*m^2/s^2/rad, ``N*s/m`` for kg/s; ``si_unit`` for the rest (a mass, an
+    inertia: no time in them)."""
+    return newton_unit(dim) or si_unit(dim)
+
+
+def unit_for(dim: Dim) -> str:
+    """A unit to write for a dimension: the example unit of its kind, else its SI unit."""
+    for kind_dim, example in KINDS.values():
+        if kind_dim == dim:
+            return "" if dim == DIMENSIONLESS else example
+    return si_unit(dim)
+
+
+def a_kind(dim: Dim, unit: str = "") -> str:
+    """'a velocity (m/s)', 'an angle (deg)', 'dimensionless', 'a quantity in m^-1*rad'; with
+    ``unit`` (of ``dim``: the file's), that unit in place of the kind's ('an angle (rad)')."""
+    if dim == DIMENSIONLESS:
+        return "dimensionless"
+    name = describe(dim)
+    if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
+        return f"a quantity in {unit or named_si_unit(dim)}"
+    if unit:
+        name = f"{name.partition(' (')[0]} ({unit})"
+    return ("an " if name[0] in "aeiou" else "a ") + name
+
+
 @dataclass(frozen=True)
 class Quantity:
     """A number converted to SI, with its dimension; ``unitless`` when written without a unit."""

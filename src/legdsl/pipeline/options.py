@@ -22,8 +22,8 @@ from legdsl.files import closed_stream, free_bytes, written_as
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import MOST_STEPS, SMALLEST_STEP
-from legdsl.lang.units import KINDS, UNITS
-from legdsl.pipeline.settings import a_kind, parse_given, written
+from legdsl.lang.units import KINDS, UNITS, a_kind
+from legdsl.pipeline.settings import parse_given, written
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples

@@ -13,9 +13,9 @@ from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
 from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import KINDS, Dim
+from legdsl.lang.units import KINDS, Dim, si_unit
 from legdsl.pipeline.scaled import scale_path
-from legdsl.pipeline.settings import check_dimension, parse_given, si_unit, sort_settings
+from legdsl.pipeline.settings import check_dimension, parse_given, sort_settings
 from legdsl.sim.run_loop import RunOptions, last_tick
 from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 

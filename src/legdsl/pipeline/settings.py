@@ -31,8 +31,10 @@ from legdsl.lang.units import (
     KINDS,
     Dim,
     UnitError,
-    describe,
+    a_kind,
     parse_unit,
+    si_unit,
+    unit_for,
     unknown_unit,
 )
 from legdsl.sim.machine import InputChange, overwritten
@@ -138,50 +140,6 @@ def _split(text: str, where: str) -> tuple[str, Given]:
     if not sep or not name.strip():
         raise UsageError(f"--set {text!r}: write NAME=VALUE, e.g. --set hip_servo.setpoint=10deg")
     return name.strip(), parse_given(value, f"--set {where!r}")
-
-
-def si_unit(dim: Dim) -> str:
-    """The SI unit of a dimension as ``--set`` reads it (``kg*m^2/s^2/rad``; empty if none)."""
-    symbols = ("kg", "m", "s", "rad")
-    up = [s if e == 1 else f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e > 0]
-    down = [s if e == -1 else f"{s}^{-e}" for s, e in zip(symbols, dim, strict=True) if e < 0]
-    if not up:
-        return "*".join(f"{s}^{e}" for s, e in zip(symbols, dim, strict=True) if e)
-    return "*".join(up) + "".join(f"/{d}" for d in down)
-
-
-def named_si_unit(dim: Dim) -> str:
-    """The SI unit of a dimension with a newton in it where it has one, as people write it:
-    ``N*m/rad`` for kg*m^2/s^2/rad, ``N*s/m`` for kg/s; ``si_unit`` for the rest (a mass, an
-    inertia: no time in them)."""
-    kg, m, s, rad = dim
-    if kg != 1 or s > -1:
-        return si_unit(dim)
-    rest = tuple(zip(("m", "s", "rad"), (m - 1, s + 2, rad), strict=True))
-    up = "".join(f"*{n}" if e == 1 else f"*{n}^{e}" for n, e in rest if e > 0)
-    down = "".join(f"/{n}" if e == -1 else f"/{n}^{-e}" for n, e in rest if e < 0)
-    return f"N{up}{down}"
-
-
-def unit_for(dim: Dim) -> str:
-    """A unit to write for a dimension: the example unit of its kind, else its SI unit."""
-    for kind_dim, example in KINDS.values():
-        if kind_dim == dim:
-            return "" if dim == DIMENSIONLESS else example
-    return si_unit(dim)
-
-
-def a_kind(dim: Dim, unit: str = "") -> str:
-    """'a velocity (m/s)', 'an angle (deg)', 'dimensionless', 'a quantity in m^-1*rad'; with
-    ``unit`` (of ``dim``: the file's), that unit in place of the kind's ('an angle (rad)')."""
-    if dim == DIMENSIONLESS:
-        return "dimensionless"
-    name = describe(dim)
-    if all(kind_dim != dim for kind_dim, _ in KINDS.values()):
-        return f"a quantity in {unit or unit_for(dim)}"
-    if unit:
-        name = f"{name.partition(' (')[0]} ({unit})"
-    return ("an " if name[0] in "aeiou" else "a ") + name
 
 
 def check_dimension(
