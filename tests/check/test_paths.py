@@ -144,7 +144,7 @@ def test_path_option_parses_like_the_file(tmp_path: Path) -> None:
     _, line, caret = rendered.splitlines()
     assert caret.index("^") == line.index("-5 m")  # the caret under the radius, in the option
     # the friendly syntax errors hold in an option as in a file (one parser, one state table)
-    with pytest.raises(LegError, match="put commas between the numbers of a vector"):
+    with pytest.raises(LegError, match="a ',' is missing before 'radius'"):
         parse_path_option("circle(center = (0, 5) m radius = 5 m)")
     csv = tmp_path / "waypoints.csv"
     csv.write_text("x,y\n0,0\n5, 0\n5,5  # the corner\n")
