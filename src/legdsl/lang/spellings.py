@@ -151,8 +151,9 @@ def other_numbers(file: str, text: str) -> tuple[list[Diagnostic], str]:
     return found, read
 
 
-# A number and the word after it, where its unit is written ('10 kgg', '2 m/sec').
-_NUMBER_AND_WORD = re.compile(
+# A number and the word written after it on the same line, where its unit is ('10 kgg',
+# '2 m/sec').
+NUMBER_AND_WORD = re.compile(
     r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
 )
 
@@ -166,7 +167,7 @@ def read_past_units(text: str, line: int) -> tuple[int, str]:
     for _ in range(line - 1):
         start = text.index("\n", start) + 1
     count, read = 0, text
-    for m in _NUMBER_AND_WORD.finditer(mask(text), start):
+    for m in NUMBER_AND_WORD.finditer(mask(text), start):
         word = m.group(1)
         try:
             parse_unit(word)

@@ -22,7 +22,7 @@ from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.habits import habit, missing_semicolon, punctuation
 from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.lookalikes import letter_of_name
-from legdsl.lang.spellings import mask, offset_span, unit_spelling
+from legdsl.lang.spellings import NUMBER_AND_WORD, mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
     looks_like_unit,
@@ -237,18 +237,14 @@ def _open_brace(text: str) -> bool:
     return depth > 0
 
 
-# A number and the word written after it on the same line, as '5 kgs' or '2 m/sec'.
 # the start of a controller's input or parameter, whose number a unit must follow
 _CONSTANT_DECL = re.compile(r"\s*(?:param|input)\s+[A-Za-z_]\w*\s*=\s*-?\s*")
-_NUMBER_AND_WORD = re.compile(
-    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
-)
 
 
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
     """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
     found = None
-    for m in _NUMBER_AND_WORD.finditer(mask(text)):
+    for m in NUMBER_AND_WORD.finditer(mask(text)):
         if m.start(1) > pos:
             break
         found = m
