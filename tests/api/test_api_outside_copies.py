@@ -27,6 +27,13 @@ def test_a_name_in_both_set_and_vary_is_refused(pogo) -> None:
                         time=0.02)  # fmt: skip
 
 
+def test_a_parameter_set_as_controller_dot_name_and_varied_is_refused(pogo) -> None:
+    """hop.kp is hop's kp: accepted, the copies ran vary's values and recorded set='s."""
+    with pytest.raises(UsageError, match=r"kp is in both set= \(as hop.kp\) and vary="):
+        pogo.run_copies(2, "hop", set={"hop.kp": "0.003 N*m/rad"},
+                        vary={"kp": ([0.002, 0.004], "N*m/rad")}, time=0.02)  # fmt: skip
+
+
 def test_a_change_during_the_run_goes_with_vary(pogo) -> None:
     copies = pogo.run_copies(2, "hop", set={"speed@10ms": "0.1 m/s"},
                              vary={"speed": ([0.2, 0.3], "m/s")}, time=0.02)  # fmt: skip

@@ -204,7 +204,7 @@ class Creature:
         if vary is not None and not isinstance(vary, Mapping):
             raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                              f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
-        check_vary(set, vary or {})
+        check_vary(set, vary or {}, plan["controller"])
         batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                       plan["paths"], plan["options"])  # fmt: skip
         self._before(plan, asked)  # once nothing is refused: a refusal is told alone, as run()'s

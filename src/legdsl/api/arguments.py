@@ -193,15 +193,22 @@ def metrics_groups(groups: object) -> tuple[str, ...]:
     raise UsageError(f"metrics(): groups= is {GROUP_FORMS}, not {groups!r}")
 
 
-def check_vary(set_: Mapping[str, Any] | None, vary: Mapping[str, Any]) -> None:
-    """``run_copies``' ``vary=`` against ``set=``: a name in both would have its ``set=`` value
-    overridden unseen (a change during the run, ``NAME@T``, is ``set=``'s alone); True/False or
-    complex values are not numbers of a unit (numpy would read them as 1/0, or drop a part)."""
-    fixed = {str(name).partition("@")[0].strip() for name in (set_ or {}) if "@" not in str(name)}
+def check_vary(
+    set_: Mapping[str, Any] | None, vary: Mapping[str, Any], controller: str | None
+) -> None:
+    """``run_copies``' ``vary=`` against ``set=``: a name in both (in ``set=`` also as
+    ``CONTROLLER.NAME``, the same parameter) would have one value overridden unseen (a change
+    during the run, ``NAME@T``, is ``set=``'s alone); True/False or complex values are not
+    numbers of a unit (numpy would read them as 1/0, or drop a part)."""
+    own = f"{controller}."  # the running controller's own NAME, as legdsl sweep reads it
+    fixed = {str(name).strip().removeprefix(own): str(name).strip()
+             for name in (set_ or {}) if "@" not in str(name)}  # fmt: skip
     for name, given in vary.items():
         if name in fixed:
-            raise UsageError(f"run_copies(): {name} is in both set= and vary=, and each copy's "
-                             f"vary= value would override set='s: give it in one of them")  # fmt: skip
+            spelt = "" if fixed[name] == name else f" (as {fixed[name]})"
+            raise UsageError(f"run_copies(): {name} is in both set={spelt} and vary=, and each "
+                             "copy's vary= value would override set='s: give it in one of "
+                             "them")  # fmt: skip
         if isinstance(given, tuple) and len(given) == 2:
             kind = np.asarray(given[0]).dtype.kind
             if kind in "bc":
