@@ -31,3 +31,12 @@ def test_another_controller_is_refused_naming_the_one_it_starts_with(
 ) -> None:
     with pytest.raises(UsageError, match="scene by_speed starts with gallop"):
         biped.run(scene="by_speed", controller="run", time=0.05)
+
+
+def test_a_scene_run_through_run_many_is_recorded_as_that_scene(
+    biped: legdsl.api.Creature,
+) -> None:
+    """run_many's scene run dropped the scene's name from its info (and run.json)."""
+    with pytest.warns(LegdslWarning):
+        [(_, run)] = biped.run_many([{"scene": "by_speed", "time": 0.05}])
+    assert run.info["scene"] == "by_speed"

@@ -166,6 +166,7 @@ class Creature:
             for i, done in iter_batch(self.session, plans, thread_count(threads)):
                 self._before({**plans[i], "unreached": before[i]}, "controller" in runs[i])
                 flush()
+                done.scene = runs[i].get("scene")  # run.json names it, as run()'s
                 self._after(done)
                 yield i, self._wrap(done)
 
