@@ -16,7 +16,6 @@ run session (``legdsl.pipeline.session``).
 from __future__ import annotations
 
 import html
-import math
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -387,6 +386,7 @@ class Run:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
         from legdsl.pipeline.options import check_output_dir
 
+        self._recorded("save()")  # every reader refuses a run directory without a sample
         out = check_output_dir(a_path("save()", directory), "save()")
         if self._session_run is not None:
             self._session_run.write(out)
@@ -452,8 +452,8 @@ class Run:
 
     def __repr__(self) -> str:
         t = self.trajectory.t
-        end = float(t[-1]) if len(t) else math.nan
-        return f"<legdsl run of '{self.model.name}': {self.status}, {len(self)} samples to {end:.3f} s>"
+        end = f" to {float(t[-1]):.3f} s" if len(t) else ""  # a copy stopped before it started
+        return f"<legdsl run of '{self.model.name}': {self.status}, {len(self)} samples{end}>"
 
     def __getstate__(self) -> dict[str, Any]:  # pickle: the module goes as its file
         return pickling.picklable(self.__dict__)
