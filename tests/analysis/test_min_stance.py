@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from legdsl.analysis.metrics import compute_metrics
-from legdsl.analysis.results import MetricsError
+from legdsl.analysis.results import MetricsError, Summary
+from legdsl.analysis.rows import stat
 from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory, empty
 
@@ -118,9 +119,14 @@ def test_the_foot_speed_at_touchdown_leaves_the_scuffs_out_too(
 
     seen: list[np.ndarray] = []
 
-    def touchdowns(run: Path, tr: Trajectory, *rest: object) -> None:
+    def touchdowns(kinematics: object, tr: Trajectory, *rest: object) -> Summary:
         seen.append(tr.contact[SCUFF, 0].copy())
+        return stat("touchdown_foot_speed", "foot speed over the ground at touchdown (m/s)", [])
 
+    # a run with its kinematics at hand (none of the other rows' business here)
+    monkeypatch.setattr(measure, "kinematics_or_why", lambda *args: object())
+    monkeypatch.setattr(measure, "clearance_row", lambda *args: None)
+    monkeypatch.setattr(measure, "terrain_rows", lambda *args: [])
     monkeypatch.setattr(measure, "touchdown_speed_row", touchdowns)
     scuffed_run().save(tmp_path)
     assert main(["metrics", str(tmp_path), "--min-stance", "20ms"]) == 0

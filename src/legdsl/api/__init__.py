@@ -24,8 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.analysis.metrics import compute_metrics, parse_groups
-from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.analysis.results import GaitMetrics
 from legdsl.analysis.series_units import series_unit
 from legdsl.api import notes, pickling
 from legdsl.api.arguments import (
@@ -33,12 +32,10 @@ from legdsl.api.arguments import (
     a_path,
     an_output,
     check_vary,
-    friction_edge_time,
-    metrics_groups,
-    min_stance_time,
     thread_count,
     window_time,
 )
+from legdsl.api.measured import run_metrics
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
@@ -49,7 +46,6 @@ from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim, named_si_unit
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
-from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory
 
@@ -369,18 +365,8 @@ class Run:
         ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise);
         ``friction_edge`` as ``--friction-edge``."""
         self._recorded("metrics()")
-        t_from = window_time("start", start)
-        t_to = None if end is None else window_time("end", end)
-        groups, shortest = metrics_groups(groups), min_stance_time(min_stance)
-        edge = friction_edge_time(friction_edge)
-        if leg is not None and not isinstance(leg, str):
-            raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
-        try:
-            return compute_metrics(self.trajectory, t_from=t_from, t_to=t_to, leg=leg,
-                                   groups=parse_groups(groups), min_stance=shortest, edge=edge,
-                                   ground_normal=model_ground_normal(self.model))  # fmt: skip
-        except MetricsError as e:
-            raise UsageError(str(e)) from None
+        return run_metrics(self.model, self.trajectory, self.info, self._dynamics_module, start,
+                           end, leg, groups, min_stance, friction_edge)  # fmt: skip
 
     def save(self, directory: str | Path) -> Path:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""
@@ -464,13 +450,16 @@ class Run:
             raise UsageError(f"{call} this run of '{self.model.name}' recorded no samples "
                              f"(it ended {self.status} before its first); run it again")  # fmt: skip
 
-    def _motion(self, fps: float = DEFAULT_FPS) -> Any:
+    def _dynamics_module(self) -> Any:
         if self._dynamics is None:  # came through pickle
             self._dynamics = pickling.dynamics_again(self.model, self.__dict__["_dynamics_file"])
+        return self._dynamics
+
+    def _motion(self, fps: float = DEFAULT_FPS) -> Any:
         return motion_from(
             self.model,
             self.trajectory,
-            self._dynamics,
+            self._dynamics_module(),
             events=self.info.get("events"),
             status=self.status,
             message=str(self.info.get("message") or ""),

@@ -43,13 +43,6 @@ class Kinematics(NamedTuple):
     scale: float
 
 
-def load_kinematics(run: Path, tr: Trajectory, generated: Path) -> Kinematics | None:
-    """The kinematics of a run's creature, or None when its generated dynamics are not at
-    hand (missing, stale, or another creature's)."""
-    found = kinematics_or_why(run, tr, generated)
-    return found if isinstance(found, Kinematics) else None
-
-
 ROWS = (
     "the rows measured on the creature's geometry (foot clearance at the apex, touchdown "
     "speed, margins to the terrain) are left out"
@@ -108,13 +101,8 @@ def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics 
     return Kinematics(model, dyn, q_factors(model, scale), scale)
 
 
-def clearance_row(
-    run: Path, tr: Trajectory, flights: Sequence[Flight], generated: Path
-) -> Summary | None:
-    """The mean clearance over the flights, or None when the kinematics are not at hand."""
-    found = load_kinematics(run, tr, generated)
-    if found is None:
-        return None
+def clearance_row(found: Kinematics, tr: Trajectory, flights: Sequence[Flight]) -> Summary:
+    """The mean clearance over the flights, measured with the run's creature ``found``."""
     model, dyn, q_f, scale = found
     names = tuple(c.name for c in model.contacts)
     ground = GroundContact(model.ground, names, model.planar) if model.ground else None

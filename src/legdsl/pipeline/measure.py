@@ -19,7 +19,7 @@ from legdsl.analysis.table2 import MEASURE, virtual_legs
 from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.apex import clearance_row, kinematics_or_why, with_clearance
+from legdsl.pipeline.apex import Kinematics, clearance_row, kinematics_or_why, with_clearance
 from legdsl.pipeline.terrain_rows import ground_normal, terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -66,32 +66,22 @@ def measure_run(
             else:
                 given, first = virtual_legs(table2, run_model(run, table2))
             leg = leg if leg is not None else first
-        metrics = compute_metrics(
-            trajectory,
-            t_from=t_from,
-            t_to=t_to,
-            leg=leg,
-            groups=given,
-            joint=joint,
-            against=against,
-            joint_slides=joint is not None and _slides(run, joint),
-            min_stance=min_stance,
-            edge=friction_edge,
-            ground_normal=ground_normal(run),
-        )
     except MetricsError as e:
         raise UsageError(str(e)) from None
-    row = clearance_row(run, trajectory, metrics.flights, Path(generated))
-    metrics.summaries = with_clearance(metrics.summaries, row)
-    touched = debounced(trajectory, min_stance)  # a scuff is no touchdown here either
-    speed = touchdown_speed_row(run, touched, t_from, t_to, Path(generated))
-    if speed is not None:  # before the friction rows
-        keys = [s.key for s in metrics.summaries]
-        at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
-        metrics.summaries.insert(at, speed)
-    metrics.summaries += terrain_rows(run, trajectory, t_from, t_to, Path(generated))
-    found = kinematics_or_why(run, trajectory, Path(generated))
-    metrics.unmeasured = found if isinstance(found, str) else ""
+    metrics = measure(
+        trajectory,
+        kinematics_or_why(run, trajectory, Path(generated)),
+        t_from=t_from,
+        t_to=t_to,
+        leg=leg,
+        groups=given,
+        joint=joint,
+        against=against,
+        joint_slides=joint is not None and _slides(run, joint),
+        min_stance=min_stance,
+        edge=friction_edge,
+        ground_normal=ground_normal(run),
+    )
     try:
         write_json(metrics, run / "metrics.json")
     except OSError as e:  # the measurement stands: it was refused, with nothing printed
@@ -100,6 +90,30 @@ def measure_run(
     followed = run_followed(run)
     reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to)]
     return metrics, reports
+
+
+def measure(trajectory: Trajectory, kinematics: Kinematics | str, **options: Any) -> GaitMetrics:
+    """The metrics of a trajectory, ``compute_metrics(trajectory, **options)`` (a request the
+    run cannot answer raises ``UsageError``), with the rows measured on the creature's geometry
+    when its ``kinematics`` are at hand, else a note (``unmeasured``) saying why they are left
+    out and how to have them. ``legdsl metrics`` and ``Run.metrics()`` both measure here."""
+    try:
+        metrics = compute_metrics(trajectory, **options)
+    except MetricsError as e:
+        raise UsageError(str(e)) from None
+    if isinstance(kinematics, str):
+        metrics.unmeasured = kinematics
+        return metrics
+    t_from, t_to = metrics.t_from, metrics.t_to
+    row = clearance_row(kinematics, trajectory, metrics.flights)
+    metrics.summaries = with_clearance(metrics.summaries, row)
+    touched = debounced(trajectory, options.get("min_stance"))  # a scuff is no touchdown here
+    speed = touchdown_speed_row(kinematics, touched, t_from, t_to)
+    keys = [s.key for s in metrics.summaries]  # the speed before the friction rows
+    at = next((i for i, k in enumerate(keys) if k.startswith("friction_")), len(keys))
+    metrics.summaries.insert(at, speed)
+    metrics.summaries += terrain_rows(kinematics, trajectory, t_from, t_to)
+    return metrics
 
 
 def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:

@@ -19,7 +19,7 @@ from legdsl.analysis.friction import LEVEL
 from legdsl.analysis.recorded import model_if_readable
 from legdsl.analysis.results import Summary
 from legdsl.ir.model import Model
-from legdsl.pipeline.apex import load_kinematics
+from legdsl.pipeline.apex import Kinematics
 from legdsl.sim.contact import GroundContact
 from legdsl.sim.trajectory import Trajectory
 
@@ -39,12 +39,10 @@ def model_ground_normal(model: Model) -> tuple[float, float, float]:
 
 
 def terrain_rows(
-    run: Path, tr: Trajectory, t_from: float, t_to: float | None, generated: Path
+    found: Kinematics, tr: Trajectory, t_from: float, t_to: float | None
 ) -> list[Summary]:
-    """One row per step or box of the run's ground (none without them or the kinematics)."""
-    found = load_kinematics(run, tr, generated)
-    if found is None:
-        return []
+    """One row per step or box of the run's ground (none without them), measured with the
+    run's creature ``found``."""
     model, dyn, q_f, scale = found
     terrain = model.ground.terrain if model.ground else ()
     if not any(t.kind in ("step", "box") for t in terrain):

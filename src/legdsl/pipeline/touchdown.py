@@ -15,14 +15,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 
 from legdsl.analysis.results import Summary
 from legdsl.analysis.rows import stat
 from legdsl.analysis.strides import runs
-from legdsl.pipeline.apex import load_kinematics
+from legdsl.pipeline.apex import Kinematics
 from legdsl.pipeline.scaled import v_factors
 from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.sim.trajectory import Trajectory
@@ -32,12 +31,9 @@ LABEL = "foot speed over the ground at touchdown (m/s)"
 
 
 def touchdown_speed_row(
-    run: Path, tr: Trajectory, t_from: float, t_to: float | None, generated: Path
-) -> Summary | None:
-    """The mean over the legs' touchdowns in the window, or None without the kinematics."""
-    found = load_kinematics(run, tr, generated)
-    if found is None:
-        return None
+    found: Kinematics, tr: Trajectory, t_from: float, t_to: float | None
+) -> Summary:
+    """The mean over the legs' touchdowns in the window, measured with the run's creature."""
     model, dyn, q_f, scale = found
     v_f = v_factors(model, scale)
     normal = model_ground_normal(model)  # level everywhere but on a slope, the same all over

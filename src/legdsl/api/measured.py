@@ -1,0 +1,61 @@
+"""``Run.metrics()``: its arguments read as ``legdsl metrics`` reads its options, and the run
+measured on the command's path (``legdsl.pipeline.measure.measure``), the rows measured on
+the creature's geometry included: the run's kinematics are at hand, loaded with it."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+from legdsl.analysis.metrics import parse_groups
+from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.api.arguments import friction_edge_time, metrics_groups, min_stance_time, window_time
+from legdsl.ir.model import Model
+from legdsl.lang.errors import UsageError
+from legdsl.pipeline.apex import ROWS, Kinematics
+from legdsl.pipeline.measure import measure
+from legdsl.pipeline.scaled import q_factors
+from legdsl.pipeline.terrain_rows import model_ground_normal
+from legdsl.sim.trajectory import Trajectory
+
+
+def run_metrics(
+    model: Model,
+    trajectory: Trajectory,
+    info: Mapping[str, Any],
+    dynamics: Callable[[], Any],
+    start: object,
+    end: object,
+    leg: object,
+    groups: Mapping[str, Sequence[str]] | Sequence[str],
+    min_stance: float | str | None,
+    friction_edge: float | str,
+) -> GaitMetrics:
+    """The metrics of a run of ``model`` (``info`` its run.json; ``dynamics()`` its generated
+    dynamics module) over ``[start, end]``, as ``legdsl metrics`` measures them."""
+    t_from = window_time("start", start)
+    t_to = None if end is None else window_time("end", end)
+    texts, shortest = metrics_groups(groups), min_stance_time(min_stance)
+    edge = friction_edge_time(friction_edge)
+    if leg is not None and not isinstance(leg, str):
+        raise UsageError(f"metrics(): leg= is the name of a leg, group or contact, not {leg!r}")
+    try:
+        given = parse_groups(texts)
+    except MetricsError as e:
+        raise UsageError(str(e)) from None
+    return measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
+                   leg=leg, groups=given, min_stance=shortest, edge=edge,
+                   ground_normal=model_ground_normal(model))  # fmt: skip
+
+
+def _kinematics(
+    model: Model, info: Mapping[str, Any], dynamics: Callable[[], Any]
+) -> Kinematics | str:
+    """The run's kinematics as ``legdsl metrics`` has them (a ``--scale L`` run measured as
+    the scaled creature), or why not (a run that came through pickle, its module gone since)."""
+    try:
+        module = dynamics()
+    except UsageError as gone:
+        return f"{ROWS}: {gone}"
+    scale = float(info.get("scale") or 1.0)
+    return Kinematics(model, module, q_factors(model, scale), scale)
