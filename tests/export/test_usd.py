@@ -148,3 +148,23 @@ def test_usd_into_a_pipe(tmp_path: Path, fmt: str, head: bytes) -> None:
     copy.write_bytes(got)
     stage = Usd.Stage.Open(str(copy))
     assert stage.GetEndTimeCode() > 0 and stage.GetPrimAtPath("/kangaroo").IsValid()
+
+
+@pytest.mark.parametrize("fmt", ["usd", "usda"])
+def test_the_size_said_is_what_went_into_a_pipe_or_dev_null(
+    tmp_path: Path, fmt: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``-o /dev/stdout`` (or a pipe, or /dev/null) said "wrote /dev/stdout (0 B: ...)" for
+    USD, the size read back from the path after the save, though the whole file was written."""
+    from legdsl.export.animate import human_size
+
+    run = creature_run("kangaroo", tmp_path / "run")
+    capsys.readouterr()
+    code, got = exported_into_a_pipe(run, fmt, tmp_path / "pipe")
+    assert code == 0 and len(got) > 1024
+    said = capsys.readouterr()
+    assert f"wrote {tmp_path / 'pipe'} ({human_size(len(got))}: " in said.out + said.err
+    args = ["export-motion", str(run), "--format", fmt, "-o", "/dev/null"]
+    assert main([*args, "--generated", str(generated_dir())]) == 0
+    said = capsys.readouterr()
+    assert f"wrote /dev/null ({human_size(len(got))}: " in said.out + said.err

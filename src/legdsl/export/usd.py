@@ -156,7 +156,8 @@ def link_paths(motion: Motion) -> list[str]:
 
 
 def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
-    """Write ``path`` as .usd (binary crate) or .usda (text); returns its size."""
+    """Write ``path`` as .usd (binary crate) or .usda (text); returns its size (the bytes
+    written, as saved: a pipe's or /dev/null's own size says nothing)."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt}: use one of {', '.join(FORMATS)}")
     # The layer's format follows its extension: write under the right one, then rename.
@@ -170,7 +171,8 @@ def write_usd(motion: Motion, path: Path, fmt: str = "usd") -> int:
         except Tf.ErrorException as e:  # the file system refused it (USD gives no errno)
             raise _unwritten(tmp, path, str(e)) from None
         del stage
-    return path.stat().st_size
+        size = tmp.stat().st_size
+    return size
 
 
 # free space below which a refused save is taken for a full disk (USD gives no errno)
