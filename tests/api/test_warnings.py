@@ -16,6 +16,7 @@ from legdsl.api import Creature, LegdslWarning
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import RunOptions
 
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
@@ -139,3 +140,22 @@ def test_run_many_in_threads_warns_at_the_callers_line(generated: Path) -> None:
     caught = _warned(lambda: list(hopper.run_many(runs, threads=2)))
     restarts = [w for w in caught if "restarts hop's state machine" in str(w.message)]
     assert len(restarts) == 2 and all(Path(w.filename) == Path(__file__) for w in caught)
+
+
+def test_a_run_session_given_a_log_prints_the_cli_notes_there(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """RunSession.run (docs/runtime.md) told none of the notes legdsl run prints: the CLI and
+    the API told them each on their own, around the session."""
+    log = io.StringIO()
+    session = RunSession.from_file(HOPPER, None, generated, log)
+    log.truncate(0)  # its compile notes, if any
+    run = session.run("hop", ["speed=1m/s@3s", "hip_servo.kv=5N*m*s/rad"], [],
+                      RunOptions(duration=0.3, drop=2.0), switches=["0.1s=hop"])  # fmt: skip
+    said = _cli_notes(capsys, [str(HOPPER), "--controller", "hop", "--time", "0.3", "--drop",
+                               "2m", "--set", "speed=1m/s@3s", "--set", "hip_servo.kv=5N*m*s/rad",
+                               "--switch", "0.1s=hop", "--generated", str(generated),
+                               "--out", str(tmp_path / "run")])  # fmt: skip
+    printed = [line.partition(": ")[2].partition(": ")[2] for line in log.getvalue().splitlines()
+               if line.startswith("legdsl: note: ")]  # fmt: skip
+    assert run.status == "ok" and len(said) == 4 and printed == said

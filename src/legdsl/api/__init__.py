@@ -208,12 +208,10 @@ class Creature:
 
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
         unreached = plan.pop("unreached")  # told here, and no argument of the run
-        if self.session.note is not None:
-            notes.before_run(self.model, plan, passive_asked, unreached, self.session)
+        notes.before_run(self.session, plan, passive_asked, unreached)
 
     def _after(self, done: Any) -> None:
-        if self.session.note is not None:
-            notes.after_run(done)
+        self.session.tell_after(done)
 
     def _wrap(self, done: Any) -> Run:
         return Run(self.model, done.result.trajectory, done.info(), self.session.dynamics, done)

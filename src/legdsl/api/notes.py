@@ -17,8 +17,6 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from legdsl.ir.model import Model
-
 # legdsl's folder as its modules' code names it (as imported, and with its links resolved)
 _PACKAGE = tuple({str(Path(__file__).parent.parent), str(Path(__file__).resolve().parent.parent)})
 
@@ -42,6 +40,7 @@ def from_threads(session: Any) -> Iterator[Callable[[], None]]:
     """While a batch runs in threads, their notes wait for the caller's thread (``flush``):
     warned of in a thread, they would point at the thread pool, not the caller's line."""
     hook, caller, pending = session.note, threading.get_ident(), []
+    session.tells_runs = False  # the caller tells each run's notes as it comes back
 
     def note(text: str) -> None:
         warn(text) if threading.get_ident() == caller else pending.append(text)
@@ -54,7 +53,7 @@ def from_threads(session: Any) -> Iterator[Callable[[], None]]:
     try:
         yield flush
     finally:
-        session.note = hook
+        session.note, session.tells_runs = hook, True
 
 
 class _NotGiven:
@@ -67,32 +66,15 @@ NOT_GIVEN: Any = _NotGiven()
 
 
 def before_run(
-    model: Model,
-    plan: dict[str, Any],
-    passive_asked: bool = False,
-    unreached: Sequence[str] = (),
-    session: Any = None,
+    session: Any, plan: dict[str, Any], passive_asked: bool = False, unreached: Sequence[str] = ()
 ) -> None:
-    """What ``legdsl run`` notes before a run (the session notes the rest as it prepares);
-    ``passive_asked``: the caller wrote controller=None, so a passive run is not news;
-    ``unreached``: the notes of settings for gait bands the run never reaches; ``session``
-    (a ``RunSession``) gives the controller's module, for the actuator settings it writes."""
-    from legdsl.pipeline.options import notes_before_run
-    from legdsl.pipeline.settings import overwritten_notes
-
-    for note in [*unreached, *notes_before_run(plan["settings"], plan["options"], model)]:
-        warn(note)
-    names = [c.name for c in model.controllers]
+    """What ``legdsl run`` notes before a run, told by ``session`` (a ``RunSession``: to its
+    log, else as warnings) as the command line's are (``RunSession.tell_before``; it notes the
+    rest as it prepares); ``passive_asked``: the caller wrote controller=None, so a passive run
+    is not news; ``unreached``: the notes of settings for gait bands the run never reaches."""
+    session.tell_before(plan["controller"], plan["settings"], plan["options"], unreached)
+    names = [c.name for c in session.model.controllers]
     if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it
-        warn(f"controller: none, a passive run: choose one with controller={names[0]!r} "
-             f"(the file has {', '.join(names)}), or controller=None for a passive run")  # fmt: skip
-    for note in overwritten_notes(plan["settings"], plan["controller"], session):
-        warn(f"set {note}")
-
-
-def after_run(done: Any) -> None:
-    """What ``legdsl run`` notes after a run: the switches that never took over."""
-    from legdsl.pipeline.scenes import switches_not_made
-
-    for notice in switches_not_made(done):
-        warn(notice)
+        session.tell("note", f"controller: none, a passive run: choose one with controller="
+                     f"{names[0]!r} (the file has {', '.join(names)}), or controller=None for "
+                     "a passive run")  # fmt: skip

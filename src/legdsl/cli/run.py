@@ -78,15 +78,13 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_fall_tilt,
         check_output_dir,
         check_run_options,
-        notes_before_run,
         os_error,
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
     from legdsl.pipeline.scaled import check_scale, check_scaled_defaults, run_options
-    from legdsl.pipeline.scenes import switches_not_made
     from legdsl.pipeline.session import RunSession, check_file
-    from legdsl.pipeline.settings import overwritten_notes, refuse_repeated
+    from legdsl.pipeline.settings import refuse_repeated
 
     values = {
         field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
@@ -152,10 +150,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         # notes on a run it will make: a refused one is told its mistake alone (the notes
         # advised a longer --time for a run refused for another reason)
-        for note in [*unreached, *notes_before_run(settings, options, model, sources)]:
-            print(f"legdsl: note: {note}", file=sys.stderr)
-        for note in overwritten_notes(settings, controller, session):
-            print(f"legdsl: note: --set {note}", file=sys.stderr)
+        session.tell_before(controller, settings, options, unreached, sources)
         if (cramped := space_note(out, "--out", options, model)) is not None:
             print(f"legdsl: note: {cramped}", file=sys.stderr)
         try:
@@ -173,8 +168,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise os_error("the run directory", out, e) from None
     print(run.summary())
     print(f"  written to {os.path.join(out, '')} (trajectory.npz, trajectory.csv, run.json)")
-    for notice in switches_not_made(run):
-        print(f"legdsl: {notice}", file=sys.stderr)
+    session.tell_after(run)
     if args.animate:
         from legdsl.export.animate import animate_result
 

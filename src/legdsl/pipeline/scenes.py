@@ -15,7 +15,7 @@ from legdsl.ir.scene import Scene, choose_gaits
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, si_unit
 from legdsl.pipeline.scaled import scale_path
-from legdsl.pipeline.settings import check_dimension, parse_given, sort_settings
+from legdsl.pipeline.settings import Settings, check_dimension, parse_given, sort_settings
 from legdsl.sim.run_loop import RunOptions, last_tick
 from legdsl.sim.switching import HANDOVER_WAIT, Switch, SwitchingMachine
 
@@ -148,6 +148,21 @@ def same_time(a: float, b: float) -> bool:
     return abs(a - b) < 1e-9
 
 
+def refuse_two_commands(texts: Sequence[str], settings: Settings) -> None:
+    """Two commands for one input at one time: the run would keep the later one silently."""
+    timed = [text for text in texts if "@" in text]  # in order, one per scheduled change
+    seen: dict[tuple[str, float], str] = {}
+    for text, change in zip(timed, settings.schedule, strict=True):
+        other = next((o for (n, t), o in seen.items()
+                      if n == change.name and same_time(t, change.t)), None)  # fmt: skip
+        if other is not None:
+            raise UsageError(
+                f"--set {other} and --set {text} command {change.name} at the same time "
+                f"({change.t:g} s): an input takes one command at a time; keep one"
+            )
+        seen[(change.name, change.t)] = text
+
+
 def scene_plan(
     scene: Scene,
     model: Model,
@@ -213,6 +228,22 @@ def scene_plan(
                 + "): it changes nothing in this run"
             )
     return first, [t for t in texts if runs(t)], [f"{t!r}s={name}" for t, name in planned]
+
+
+def switches_to_the_running(first: str, switches: Sequence[Switch]) -> list[str]:
+    """Notes for a switch to the controller the switch before it (or the start) asked for:
+    not nothing, a restart of its state machine (docs/runtime.md#changing-controllers)."""
+    notes, running, since = [], first, "the start"
+    for w in sorted(switches, key=lambda w: w.t):
+        if w.controller == running:
+            notes.append(
+                f"the switch to {w.controller} at {w.t:g} s is to the controller already asked "
+                f"for (since {since}): it restarts {w.controller}'s state machine at the next "
+                "liftoff (the state that matches the feet down, its 'own' records from 0); "
+                "leave it out to keep the run as it is"
+            )
+        running, since = w.controller, f"{w.t:g} s"
+    return notes
 
 
 def switches_not_made(run: Any) -> list[str]:

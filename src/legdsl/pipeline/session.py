@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import itertools
 import json
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from types import ModuleType
@@ -35,10 +35,17 @@ from legdsl.lang.parser import parse_file
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
-from legdsl.pipeline.options import check_drop, check_run_options
+from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
 from legdsl.pipeline.report import path_summary, summary
-from legdsl.pipeline.scenes import followed_paths, parse_switch, same_time
-from legdsl.pipeline.settings import Settings, parse_path_option, sort_settings
+from legdsl.pipeline.scenes import (
+    followed_paths,
+    parse_switch,
+    refuse_two_commands,
+    same_time,
+    switches_not_made,
+    switches_to_the_running,
+)
+from legdsl.pipeline.settings import Settings, overwritten_notes, parse_path_option, sort_settings
 from legdsl.pipeline.start_pose import check_fall_height, check_start, welded_root
 from legdsl.sim import switching
 from legdsl.sim.coupled import inverse_inertia
@@ -102,6 +109,7 @@ class RunSession:
         self.syntax = syntax
         self.log = log  # where "compiling ..." notes go (a file such as sys.stderr), or None
         self.note: Callable[[str], None] | None = None  # without a log: the API's warnings
+        self.tells_runs = True  # run() tells its notes; off for a batch its caller tells
         # its messages advise --dt and --integrator; a sweep's or a tune's runs take the file's
         self.step_flags = True
         # the file as checked (hashed after the run, it was one saved while the run went on)
@@ -157,9 +165,15 @@ class RunSession:
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
     ) -> Run:
-        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes)."""
+        """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes), its
+        notes told before and after it (``tell_before``, ``tell_after``)."""
         plan = self.prepare(controller, settings, paths, options, scale, switches, backend)
-        return plan.finish(plan.sim.run(progress))
+        if self.tells_runs:
+            self.tell_before(controller, settings, plan.options)
+        done = plan.finish(plan.sim.run(progress))
+        if self.tells_runs:
+            self.tell_after(done)
+        return done
 
     def prepare(
         self,
@@ -188,7 +202,7 @@ class RunSession:
             check_drop(asked.drop, self.model, scale)
         welded = welded_root(self.model)
         if welded is not None and asked.fall_height is not None:  # it never falls (runtime.md)
-            self._tell("note", f"--fall-height is left out: creature '{self.model.name}' is "
+            self.tell("note", f"--fall-height is left out: creature '{self.model.name}' is "
                        f"welded to the world (its root body '{welded}' is 'fixed'): it never falls")  # fmt: skip
             asked = replace(asked, fall_height=None)
         options = asked
@@ -215,10 +229,10 @@ class RunSession:
             )
         later = [w.controller for w in changes]
         sorted_settings = sort_settings(settings, self.model, controller, later)
-        _refuse_two_commands(settings, sorted_settings)
+        refuse_two_commands(settings, sorted_settings)
         if controller is not None:
-            for note in _switches_to_the_running(controller, changes):
-                self._tell("note", note)
+            for note in switches_to_the_running(controller, changes):
+                self.tell("note", note)
         if controller is not None and not changes:  # one controller: its own values are the run's
             s = sorted_settings
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
@@ -227,7 +241,7 @@ class RunSession:
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             told = [*sorted_settings.inputs, *(c.name for c in sorted_settings.schedule)]
             for note in switching.path_notes(self.model, modules, controller, changes, specs, told):
-                self._tell("note", note)
+                self.tell("note", note)
         if scale is not None:
             options = scaled.scale_options(asked, scale)
             sorted_settings = scaled.scale_settings(sorted_settings, self.model, controller, scale)
@@ -312,53 +326,45 @@ class RunSession:
             return
         held = too_stiff(sim.actuators.states, inverse, opts.dt, opts.integrator, written, True)
         for f in held:  # saturating actuators past the bound: they chatter, a warning
-            self._tell("warning", said(f, True))
+            self.tell("warning", said(f, True))
         # a stop acts only once its limit is reached, which a run may never do: a warning
         stops = {st.dof: st for st in self.model.stops}
         for f in stops_too_stiff(stops.values(), inverse, opts.dt, opts.integrator):
             stop = stops[f.actuator]
             line = on_the_line(f, stop.units[0 if f.setting == "k" else 1], scale)
-            self._tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale, flags)}{line}; "
+            self.tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale, flags)}{line}; "
                        "a run that reaches it diverges there")  # fmt: skip
 
-    def _tell(self, kind: str, text: str) -> None:
+    def tell_before(
+        self,
+        controller: str | None,
+        settings: Sequence[str],
+        options: RunOptions,
+        unreached: Sequence[str] = (),
+        sources: Mapping[str, str] | None = None,
+    ) -> None:
+        """Tell what a run ``prepare`` refused nothing of will do unasked: settings only for
+        gait bands it never reaches (``unreached``, from ``scene_plan``), changes after its end
+        (a scene's named by its line: ``sources``), a drop whose fall outlasts it, an actuator
+        setting its controller writes itself. ``legdsl run``, the API and ``run`` alike."""
+        texts = [settings] if isinstance(settings, str) else list(settings)
+        late = notes_before_run(texts, options, self.model, dict(sources or {}))
+        written = [f"--set {note}" for note in overwritten_notes(texts, controller, self)]
+        for note in [*unreached, *late, *written]:
+            self.tell("note", note)
+
+    def tell_after(self, run: Run) -> None:
+        """Tell the switches of ``run`` that never took over (``legdsl run``: after its table)."""
+        for notice in switches_not_made(run):
+            self.tell("", notice)
+
+    def tell(self, kind: str, text: str) -> None:
         """A note or warning about a run: printed to the log (``legdsl run``'s stderr), or
         else given to ``note`` (the API's ``LegdslWarning``), never both."""
         if self.log is not None:
-            print(f"legdsl: {kind}: {text}", file=self.log)
+            print(f"legdsl: {kind}: {text}" if kind else f"legdsl: {text}", file=self.log)
         elif self.note is not None:
             self.note(text)
-
-
-def _refuse_two_commands(texts: Sequence[str], settings: Settings) -> None:
-    """Two commands for one input at one time: the run would keep the later one silently."""
-    timed = [text for text in texts if "@" in text]  # in order, one per scheduled change
-    seen: dict[tuple[str, float], str] = {}
-    for text, change in zip(timed, settings.schedule, strict=True):
-        other = next((o for (n, t), o in seen.items()
-                      if n == change.name and same_time(t, change.t)), None)  # fmt: skip
-        if other is not None:
-            raise UsageError(
-                f"--set {other} and --set {text} command {change.name} at the same time "
-                f"({change.t:g} s): an input takes one command at a time; keep one"
-            )
-        seen[(change.name, change.t)] = text
-
-
-def _switches_to_the_running(first: str, switches: Sequence[Switch]) -> list[str]:
-    """Notes for a switch to the controller the switch before it (or the start) asked for:
-    not nothing, a restart of its state machine (docs/runtime.md#changing-controllers)."""
-    notes, running, since = [], first, "the start"
-    for w in sorted(switches, key=lambda w: w.t):
-        if w.controller == running:
-            notes.append(
-                f"the switch to {w.controller} at {w.t:g} s is to the controller already asked "
-                f"for (since {since}): it restarts {w.controller}'s state machine at the next "
-                "liftoff (the state that matches the feet down, its 'own' records from 0); "
-                "leave it out to keep the run as it is"
-            )
-        running, since = w.controller, f"{w.t:g} s"
-    return notes
 
 
 def _controller_fingerprints(machine: StateMachine | SwitchingMachine | None) -> dict[str, Any]:
