@@ -79,3 +79,22 @@ def test_an_unknown_controller_is_told_not_looked_into(
     hopper = legdsl.load(HOPPER, generated=tmp_path / "generated")
     with pytest.raises(UsageError, match="has no such controller"):
         hopper.run(controller="hopx", time=0.1)
+
+
+def test_run_copies_notes_a_varied_setting_the_controller_writes(tmp_path: Path) -> None:
+    """vary= of hip_servo.kp (hop sets it from its first tick) gave identical copies, unsaid,
+    where set= of it was noted; the note comes at the caller's line, as set='s does."""
+    hopper = legdsl.load(HOPPER, generated=tmp_path / "generated")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        hopper.run_copies(2, "hop", vary={"hip_servo.kp": ([60, 300], "N*m/rad")}, time=0.05)
+    said = [str(w.message) for w in caught if "hip_servo.kp" in str(w.message)]
+    assert said == [
+        "vary hip_servo.kp: controller 'hop' sets hip_servo.kp itself in every state, from its "
+        "first tick, so a value given has no effect; give one to the parameter it sets it from"
+    ]
+    assert all(w.filename == __file__ for w in caught if "hip_servo.kp" in str(w.message))
+    with warnings.catch_warnings(record=True) as caught:  # a setting hop leaves alone: unsaid
+        warnings.simplefilter("always")
+        hopper.run_copies(2, "hop", vary={"leg_spring.k": ([3000, 3500], "N/m")}, time=0.05)
+    assert not [w for w in caught if "leg_spring.k" in str(w.message)]

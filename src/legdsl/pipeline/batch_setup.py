@@ -16,6 +16,7 @@ from legdsl.pipeline.batch_memory import check_recordings
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
 from legdsl.sim.c_backend import CSimulation
+from legdsl.sim.machine import overwritten
 from legdsl.sim.run_loop import RunOptions
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
@@ -76,6 +77,7 @@ class BatchSetup:
         self.v0 = self._start(v0, "v0", model.nv)
         self.start_heights = self._start_heights()
         self._check_stiffness()
+        self._note_overwritten()  # once nothing is refused: a refusal is told alone
 
     # ------------------------------------------------------------ the copies' values
     def _values(self, name: str, numbers: Sequence[float] | np.ndarray, unit: str) -> np.ndarray:
@@ -147,6 +149,16 @@ class BatchSetup:
         finally:
             for a, old in zip(sim.actuators.states, saved, strict=True):
                 a.__dict__.update(old.__dict__)
+
+    def _note_overwritten(self) -> None:
+        """A varied actuator setting the controller writes itself is noted, as ``set=``'s is
+        (``legdsl.sim.machine.overwritten``): from its first tick, the copies vary nothing."""
+        if self.controller is None:
+            return
+        module = self.session.control(self.controller)
+        for name in self.vary:
+            if said := overwritten(name, self.controller, module):
+                self.session._tell("note", f"vary {name}: {said}")
 
     def texts(self, k: int) -> list[str]:
         """Copy ``k``'s ``--set`` texts: the batch's, then its own values as given."""
