@@ -295,13 +295,15 @@ NAMES_MUJOCO_KEEPS = """creature names {
 def test_a_body_named_world_and_a_coordinate_named_root_replay(tmp_path: Path) -> None:
     """MuJoCo names its world body 'world' and legdsl's MJCF the free root's joint 'root':
     ``legdsl export`` refuses such a creature at the clashing line (a file a person reads keeps
-    the .leg's names), and replay refused it the same way; it draws it under fresh names."""
+    the .leg's names), both lines at once (it told the second only once the first was
+    renamed), and replay refused it the same way; it draws it under fresh names."""
     source = tmp_path / "names.leg"
     source.write_text(NAMES_MUJOCO_KEEPS)
     status, said = legdsl_in_process(
         ["export", str(source), "--format", "mjcf", "-o", str(tmp_path / "n.xml")]
     )
     assert status == 2 and f"{source}:3:3:" in said and "rename this body" in said, said
+    assert f"{source}:9:34: error: in MJCF the free root's joint is called 'root'" in said, said
     argv = ["run", str(source), "--time", "0.2", "--backend", "python", "--fall-height", "0"]
     argv += ["--fall-tilt", "180", "--record-rate", "100", "--out", str(tmp_path / "run")]
     status, said = legdsl_in_process([*argv, "--generated", str(tmp_path / "generated")])

@@ -79,7 +79,7 @@ from legdsl.export.mjsizes import (
 )
 from legdsl.export.xml import fresh, num, nums, rgba, to_text
 from legdsl.ir.model import Body, Joint, Model
-from legdsl.lang.errors import LegError
+from legdsl.lang.errors import Diagnostics, LegError
 
 TIMESTEP = 0.0004  # s, the paper's integration step, for a creature without its own dt
 # legdsl's default ground does not slip; MuJoCo needs a finite coefficient.
@@ -244,17 +244,20 @@ def mjcf_names(model: Model) -> tuple[dict[str, str], str]:
 
 
 def _check_names(model: Model) -> None:
-    """Names MuJoCo reserves or that legdsl's namespaces do not already keep apart."""
+    """Names MuJoCo reserves or that legdsl's namespaces do not already keep apart, every one
+    at once (told one at a time, each rename was one more round trip)."""
+    diag = Diagnostics({})
     for b in model.bodies:
         if b.name == "world":
-            raise LegError.at(b.span, "MuJoCo reserves the body name 'world'; rename this body")
+            diag.error(b.span, "MuJoCo reserves the body name 'world'; rename this body")
     if any(j.is_free_3d for j in model.joints):
         for j in model.joints:
             if not j.is_free_3d and any(d.name == "root" for d in j.dofs):
-                raise LegError.at(
+                diag.error(
                     j.span,
                     "in MJCF the free root's joint is called 'root'; rename this coordinate",
                 )
+    diag.raise_if_any()
 
 
 def _defaults(root: ET.Element, model: Model, radius: float) -> None:
