@@ -158,7 +158,7 @@ class BatchSetup:
         module = self.session.control(self.controller)
         for name in self.vary:
             if said := overwritten(name, self.controller, module):
-                self.session._tell("note", f"vary {name}: {said}")
+                self.session.tell("note", f"vary {name}: {said}")
 
     def texts(self, k: int) -> list[str]:
         """Copy ``k``'s ``--set`` texts: the batch's, then its own values as given."""
