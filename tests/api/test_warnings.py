@@ -159,3 +159,20 @@ def test_a_run_session_given_a_log_prints_the_cli_notes_there(
     printed = [line.partition(": ")[2].partition(": ")[2] for line in log.getvalue().splitlines()
                if line.startswith("legdsl: note: ")]  # fmt: skip
     assert run.status == "ok" and len(said) == 4 and printed == said
+
+
+def test_a_scene_line_after_the_runs_end_is_warned_of_by_its_line_as_the_cli_notes(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The API named a scene's 'at 2 s set speed' as '--set speed=1.5m/s@2.0s', a --set the
+    caller never gave; the CLI names the scene's line."""
+    path = tmp_path / "hopper.leg"
+    scene = "\nscene late {\n  controller hop\n  at 2 s set speed = 1.5 m/s\n  time 3 s\n}\n"
+    path.write_text(HOPPER.read_text() + scene)
+    hopper = legdsl.load(path, generated=generated)
+    caught = [str(w.message) for w in _warned(lambda: hopper.run(scene="late", time=0.2))]
+    many = _warned(lambda: list(hopper.run_many([{"scene": "late", "time": 0.2}], threads=1)))
+    said = _cli_notes(capsys, [str(path), "--scene", "late", "--time", "0.2", "--generated",
+                               str(generated), "--out", str(tmp_path / "run")])  # fmt: skip
+    line = f"{path}:{len(HOPPER.read_text().splitlines()) + 4}:3: 'at 2 s set speed' of scene late"
+    assert caught == said == [str(w.message) for w in many] and said[0].startswith(line)

@@ -72,7 +72,8 @@ def before_run(
     log, else as warnings) as the command line's are (``RunSession.tell_before``; it notes the
     rest as it prepares); ``passive_asked``: the caller wrote controller=None, so a passive run
     is not news; ``unreached``: the notes of settings for gait bands the run never reaches."""
-    session.tell_before(plan["controller"], plan["settings"], plan["options"], unreached)
+    session.tell_before(plan["controller"], plan["settings"], plan["options"], unreached,
+                        plan.get("sources"))  # fmt: skip
     names = [c.name for c in session.model.controllers]
     if plan["controller"] is None and names and not passive_asked:  # legdsl run's summary says it
         session.tell("note", f"controller: none, a passive run: choose one with controller="

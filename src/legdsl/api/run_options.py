@@ -66,8 +66,9 @@ def session_args(
     scene: str | None = None,
     **options: Any,
 ) -> dict[str, Any]:
-    """``Creature.run``'s arguments as those of ``RunSession.run``, with ``unreached``: the
-    notes of settings for gait bands the run never reaches (told before it, not passed)."""
+    """``Creature.run``'s arguments as those of ``RunSession.run`` (a scene's lines named in
+    ``sources``), with ``unreached``: the notes of settings for gait bands the run never
+    reaches (told before it, not passed)."""
     for name, value in (("controller", controller), ("path", path), ("scene", scene)):
         if value is not None and not isinstance(value, str):
             raise UsageError(f"run(): {name}= takes a text, not {value!r}")
@@ -82,10 +83,12 @@ def session_args(
     settings = [setting_text(name, value) for name, value in (set or {}).items()]
     switches = [f"{_seconds_text(when)}={name}" for when, name in (switch or {}).items()]
     unreached: list[str] = []  # settings for gait bands the run never reaches
+    sources: dict[str, str] = {}  # the scene's lines, which its notes name as written
     if scene is not None:
-        from legdsl.pipeline.scenes import find_scene, scene_plan
+        from legdsl.pipeline.scenes import find_scene, scene_plan, scene_sources
 
         plan, given = find_scene(model, scene), controller
+        sources = scene_sources(plan)
         controller, settings, switches = scene_plan(plan, model, settings, switches, unreached)
         if given is not None and given != controller:  # a gait table's: its first band's
             raise UsageError(f"run(): scene {scene} starts with {controller}")
@@ -98,6 +101,7 @@ def session_args(
         "paths": [path] if path is not None else [],
         "options": options_read,
         "switches": switches,
+        "sources": sources,
         "unreached": unreached,
     }
 

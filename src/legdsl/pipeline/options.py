@@ -15,6 +15,7 @@ import numbers
 import os
 import sys
 import tempfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -204,7 +205,7 @@ def _why(e: OSError) -> str:
 
 
 def notes_before_run(
-    settings: list[str], options: RunOptions, model: Model, sources: dict[str, str] | None = None
+    settings: list[str], options: RunOptions, model: Model, sources: Mapping[str, str] | None = None
 ) -> list[str]:
     """What ``legdsl run`` (and the API, as warnings) notes before a run, once its options
     are checked (a mistake in them is told first): changes set for after the run's end (a

@@ -164,12 +164,13 @@ class RunSession:
         scale: float | None = None,
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
+        sources: Mapping[str, str] | None = None,
     ) -> Run:
         """Simulate (``prepare``'s arguments, with ``progress`` called as the run goes), its
         notes told before and after it (``tell_before``, ``tell_after``)."""
-        plan = self.prepare(controller, settings, paths, options, scale, switches, backend)
+        plan = self.prepare(controller, settings, paths, options, scale, switches, backend, sources)
         if self.tells_runs:
-            self.tell_before(controller, settings, plan.options)
+            self.tell_before(controller, settings, plan.options, (), plan.sources)
         done = plan.finish(plan.sim.run(progress))
         if self.tells_runs:
             self.tell_after(done)
@@ -184,6 +185,7 @@ class RunSession:
         scale: float | None = None,
         switches: Sequence[str | Switch] = (),
         backend: str | None = None,
+        sources: Mapping[str, str] | None = None,
     ) -> Plan:
         """A run ready to simulate (its ``sim``; ``Plan.finish`` makes the ``Run`` of its
         result), with ``controller`` if given; ``settings`` are ``--set`` texts
@@ -195,7 +197,8 @@ class RunSession:
         ``6s=gallop``, or ``Switch``es) change the controller during the run
         (``legdsl.sim.switching``). ``backend`` is ``python``, ``c`` or
         ``auto``; None takes ``$LEGDSL_BACKEND``, else ``auto``: C where a compiler is found
-        (``legdsl.pipeline.backend``)."""
+        (``legdsl.pipeline.backend``). ``sources``: a scene's lines by the ``--set`` texts they
+        stand for (``scene_sources``), which the run's notes name (``tell_before``)."""
         asked = options if options is not None else scaled.run_options(self.model, scale)
         check_run_options(asked, self.step_flags)
         if asked.drop is not None:
@@ -277,7 +280,7 @@ class RunSession:
         self._check_stiffness(sim, controls, set(sorted_settings.actuators))
         shown = asked if scale is not None else options  # a scaled run reports the scaled
         return Plan(self.model, sim, controller, shown, sorted_settings, machine, scale,
-                    self.source_sha256)  # fmt: skip
+                    self.source_sha256, dict(sources or {}))  # fmt: skip
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is refused at the line that places it."""
@@ -333,7 +336,7 @@ class RunSession:
             stop = stops[f.actuator]
             line = on_the_line(f, stop.units[0 if f.setting == "k" else 1], scale)
             self.tell("warning", f"{stop.span}: {stop_message(f, stops.values(), scale, flags)}{line}; "
-                       "a run that reaches it diverges there")  # fmt: skip
+                      "a run that reaches it diverges there")  # fmt: skip
 
     def tell_before(
         self,
@@ -343,12 +346,11 @@ class RunSession:
         unreached: Sequence[str] = (),
         sources: Mapping[str, str] | None = None,
     ) -> None:
-        """Tell what a run ``prepare`` refused nothing of will do unasked: settings only for
-        gait bands it never reaches (``unreached``, from ``scene_plan``), changes after its end
-        (a scene's named by its line: ``sources``), a drop whose fall outlasts it, an actuator
-        setting its controller writes itself. ``legdsl run``, the API and ``run`` alike."""
+        """Tell what a run ``prepare`` accepted does unasked: settings for gait bands it never
+        reaches (``unreached``), changes after its end (a scene's named by its line, ``sources``),
+        a drop outlasting it, a setting its controller writes (``legdsl run``'s, the API's)."""
         texts = [settings] if isinstance(settings, str) else list(settings)
-        late = notes_before_run(texts, options, self.model, dict(sources or {}))
+        late = notes_before_run(texts, options, self.model, sources)
         written = [f"--set {note}" for note in overwritten_notes(texts, controller, self)]
         for note in [*unreached, *late, *written]:
             self.tell("note", note)
@@ -389,6 +391,7 @@ class Plan:
     machine: StateMachine | SwitchingMachine | None
     scale: float | None = None
     source_sha256: str | None = None  # the file's as checked (RunSession.source_sha256)
+    sources: dict[str, str] = field(default_factory=dict)  # a scene's lines (scene_sources)
 
     def finish(
         self,
