@@ -125,7 +125,8 @@ def run_creature(
 
 def metrics(run: Run, start: float, **options: str) -> GaitMetrics:
     """``legdsl metrics DIR --from START`` (``joint=``, ``against=`` as ``--joint``, ``--against``)."""
-    return compute_metrics(run.result.trajectory, t_from=start, **options)
+    return compute_metrics(run.result.trajectory, t_from=start, events=run.result.events,
+                           **options)  # fmt: skip
 
 
 def table2_metrics(run: Run, creature: str, gait: str, start: float) -> GaitMetrics:

@@ -1,10 +1,11 @@
 """Gait metrics of a recorded run, measured as Table 2 of Raibert & Hodgins (1991) measures them.
 
-Everything is computed from a ``Trajectory`` alone (the events in ``run.json``
-are not needed): touchdowns and liftoffs are the 0->1 and 1->0 edges of the
-``contact`` flags. A touchdown happens at the first sample in contact and a
+Everything is computed from a ``Trajectory``: touchdowns and liftoffs are the 0->1 and 1->0
+edges of the ``contact`` flags. A touchdown happens at the first sample in contact and a
 liftoff at the first sample out of contact, so a stance is the half-open
-sample range ``[touchdown, liftoff)`` and its duration is exact to one sample.
+sample range ``[touchdown, liftoff)`` and its duration is exact to one sample. The touchdown
+spreads and the support phases, whose thresholds and leads are a few ms, are timed by the
+events in ``run.json`` (exact to the step) where they are given (``contact_times``).
 
 Definitions (docs/metrics.md has the long form):
 
@@ -40,7 +41,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from typing import Any
 
+from legdsl.analysis.contact_times import contact_times
 from legdsl.analysis.energy import energy_rows
 from legdsl.analysis.friction import LEVEL, MIN_NORMAL_FRACTION, contact_friction
 from legdsl.analysis.option_notes import friction_edge_note, min_stance_note, time_text
@@ -98,6 +101,7 @@ def compute_metrics(
     joint_slides: bool = False,
     min_stance: float | None = None,
     ground_normal: tuple[float, float, float] = LEVEL,
+    events: Sequence[Mapping[str, Any]] | None = None,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
@@ -109,7 +113,8 @@ def compute_metrics(
     ``edge`` (s): left out at each end of a stance for the interior friction row (the paper's
     10 ms; a creature of size L scaled dynamically has its stances, and so this, √L as long).
     ``ground_normal``: the ground's unit normal, which the friction needed is measured
-    against (a slope's; the trajectory does not say it).
+    against (a slope's; the trajectory does not say it). ``events``: run.json's, which time
+    the touchdown spreads and the support phases to the step (``contact_times``).
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -130,6 +135,7 @@ def compute_metrics(
     scuffs = scuff_note(tr, units, t_from, t_to) if min_stance is None else ""
     raw, tr = tr, debounced(tr, min_stance)
     ref_name, ref_contacts = reference(tr, units, leg)
+    times = contact_times(tr, events)
     cols = coordinates(tr, joint, against)
 
     starts, ends, note = counted_strides(t, touching(tr, ref_contacts), t_from, t_to, ref_name)
@@ -182,8 +188,9 @@ def compute_metrics(
             tr,
             t_from,
             t_to,
+            times,
         )
-        + pair_rows(tr, units, t_from, t_to)
+        + pair_rows(tr, units, t_from, t_to, times)
         + energy_rows(tr, t_from, t_to),
         note=note,
         options=options,

@@ -15,7 +15,8 @@ for the diagonals; any quadruped of other proportions or names qualifies.
 
 A pair's touchdown spread is, for each stance of the pair (the union of its members'
 contact), the time from its first member's touchdown to its last member's (a member that
-does not touch in that stance is left out of it): 0 when the pair strikes in unison.
+does not touch in that stance is left out of it): 0 when the pair strikes in unison. The
+touchdowns are timed by the run's events, exact to the step (``contact_times``).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from legdsl.analysis.contact_times import ContactTimes, contact_times
 from legdsl.analysis.results import MetricsError, Summary
 from legdsl.analysis.rows import stat
 from legdsl.analysis.strides import EPS_T, Unit, runs, touching
@@ -103,8 +105,12 @@ def pair_groups(positions: Mapping[str, tuple[float, float]], pairing: str) -> d
     return {"+".join(one): one, "+".join(two): two}
 
 
-def touchdown_spreads(tr: Trajectory, unit: Unit, t_from: float, t_to: float) -> list[float]:
-    """For each complete stance of a virtual leg in the window, its members' touchdown spread."""
+def touchdown_spreads(
+    tr: Trajectory, unit: Unit, t_from: float, t_to: float, times: ContactTimes | None = None
+) -> list[float]:
+    """For each complete stance of a virtual leg in the window, its members' touchdown spread,
+    timed by the run's events in ``times`` where it has them (else by the samples)."""
+    times = times or contact_times(tr, None)
     a, b = runs(touching(tr, unit.contacts))
     out = []
     for s, e in zip(a.tolist(), b.tolist(), strict=True):
@@ -114,20 +120,23 @@ def touchdown_spreads(tr: Trajectory, unit: Unit, t_from: float, t_to: float) ->
         for c in unit.contacts:
             on = np.flatnonzero(tr.contact[s:e, c] != 0)
             if on.size:
-                firsts.append(float(tr.t[s + on[0]]))
+                firsts.append(times.touchdown(c, s + int(on[0])))
         if len(firsts) > 1:
             out.append(max(firsts) - min(firsts))
     return out
 
 
-def pair_rows(tr: Trajectory, units: Sequence[Unit], t_from: float, t_to: float) -> list[Summary]:
+def pair_rows(
+    tr: Trajectory, units: Sequence[Unit], t_from: float, t_to: float, times: ContactTimes
+) -> list[Summary]:
     """Per virtual leg of two or more legs: the mean touchdown spread and the fraction of its
-    steps whose members touched down within ``UNISON`` of each other."""
+    steps whose members touched down within ``UNISON`` of each other (timed by ``times``: a
+    spread of 10 ms cannot be judged on samples 5.2 ms apart)."""
     rows = []
     for u in units:
         if u.kind != "group" or len(u.contacts) < 2:
             continue
-        spreads = touchdown_spreads(tr, u, t_from, t_to)
+        spreads = touchdown_spreads(tr, u, t_from, t_to, times)
         rows.append(stat(f"touchdown_spread_{u.name}", f"touchdown spread, {u.name} (s)", spreads))
         within = [float(x <= UNISON + EPS_T) for x in spreads]
         rows.append(

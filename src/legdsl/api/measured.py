@@ -45,7 +45,7 @@ def run_metrics(
         raise UsageError(str(e)) from None
     return measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
                    leg=leg, groups=given, min_stance=shortest, edge=edge,
-                   ground_normal=model_ground_normal(model))  # fmt: skip
+                   ground_normal=model_ground_normal(model), events=info.get("events"))  # fmt: skip
 
 
 def _kinematics(

@@ -81,6 +81,7 @@ def measure_run(
         min_stance=min_stance,
         edge=friction_edge,
         ground_normal=ground_normal(run),
+        events=_events(run),
     )
     try:
         write_json(metrics, run / "metrics.json")
@@ -114,6 +115,11 @@ def measure(trajectory: Trajectory, kinematics: Kinematics | str, **options: Any
     metrics.summaries.insert(at, speed)
     metrics.summaries += terrain_rows(kinematics, trajectory, t_from, t_to)
     return metrics
+
+
+def _events(run: Path) -> list[dict[str, Any]]:
+    """run.json's events (none for a trajectory without it: the samples time everything)."""
+    return load_run_info(run).get("events", []) if (run / "run.json").is_file() else []
 
 
 def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
