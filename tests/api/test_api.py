@@ -189,3 +189,25 @@ def test_open_run_compiles_where_it_is_told(
     assert not (tmp_path / "generated").exists()
     with pytest.raises(UsageError, match="generated= is the directory"):
         legdsl.open_run(where, generated=3)  # type: ignore[arg-type]
+
+
+def test_open_run_of_a_run_made_elsewhere_says_to_give_source(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """open_run told a Python caller 'pass the .leg file with --source FILE', a command-line
+    flag: its own way is source=."""
+    from conftest import CREATURES, GENERATED
+
+    from legdsl.lang.errors import UsageError
+
+    (tmp_path / "sub").mkdir()
+    shutil.copy(CREATURES / "hopper.leg", tmp_path / "sub" / "hopper.leg")
+    monkeypatch.chdir(tmp_path / "sub")
+    legdsl.load("hopper.leg", generated=GENERATED).run(controller="hop", time=0.1).save("runs/h")
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(UsageError) as told:
+        legdsl.open_run("sub/runs/h", generated=GENERATED)
+    assert "--source" not in str(told.value)
+    assert "with source=, as in open_run('sub/runs/h', source='path/to/the.leg')" in str(told.value)
+    again = legdsl.open_run("sub/runs/h", source="sub/hopper.leg", generated=GENERATED)
+    assert again.model.name == "hopper"

@@ -27,16 +27,17 @@ def run_source(directory: Path, info: dict[str, Any]) -> Path | None:
 
 
 def recorded_model(
-    directory: Path, info: dict[str, Any], source: Path | None = None
+    directory: Path, info: dict[str, Any], source: Path | None = None, give: str = "--source FILE"
 ) -> tuple[Path, Model]:
     """The ``.leg`` file and checked creature of the run in ``directory`` (``info`` its
-    run.json): ``source``, or the file run.json names; ``UsageError`` if it is not found or
-    its creature has changed since the run."""
+    run.json): ``source``, or the file run.json names; ``UsageError`` if it is not found
+    (saying to give it with ``give``: the caller's way, a flag or an argument) or its
+    creature has changed since the run."""
     source = source if source is not None else run_source(directory, info)
     if source is None:
         raise UsageError(
             f"{directory}/run.json names the source {str(info.get('source', ''))!r}, which is "
-            "not found from here; pass the .leg file with --source FILE"
+            f"not found from here; pass the .leg file with {give}"
         )
     model = check_model(source, info.get("creature"))
     recorded = info.get("creature_fingerprint")

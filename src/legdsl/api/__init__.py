@@ -500,6 +500,8 @@ def open_run(
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
     generated = a_generated("open_run()", generated)
-    found = read_run(Path(directory), a_path("open_run()", source) if source is not None else None)
+    given = a_path("open_run()", source) if source is not None else None
+    give = f"source=, as in open_run({str(directory)!r}, source='path/to/the.leg')"
+    found = read_run(Path(directory), given, give)
     dynamics = load_dynamics(found.model, found.source, generated)
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))

@@ -157,8 +157,9 @@ class Run:
     source: Path
 
 
-def read_run(directory: Path, source: Path | None = None) -> Run:
-    """The trajectory, run.json and checked model of a run directory."""
+def read_run(directory: Path, source: Path | None = None, give: str = "--source FILE") -> Run:
+    """The trajectory, run.json and checked model of a run directory (``source``, else the
+    file run.json names; ``give`` says how the caller gives another, as ``recorded_model``)."""
     from legdsl.analysis.recorded import recorded_model
 
     if not (directory / "trajectory.npz").is_file() or not (directory / "run.json").is_file():
@@ -167,7 +168,7 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
             "make one with: legdsl run FILE.leg --out DIR"
         )
     info = load_run_info(directory)  # not JSON, not an object...: a UsageError
-    source, model = recorded_model(directory, info, source)
+    source, model = recorded_model(directory, info, source, give)
     trajectory = Trajectory.load(directory)
     if len(trajectory) == 0:
         raise UsageError(f"{directory}: the run recorded no samples")
@@ -187,7 +188,7 @@ def read_run(directory: Path, source: Path | None = None) -> Run:
             raise UsageError(
                 f"{directory}: the run's {what} ({', '.join(recorded) or 'none'}) are not "
                 f"those of {source} ({', '.join(described) or 'none'}); give the .leg file "
-                f"the run was made with (--source FILE), or run {source} again"
+                f"the run was made with ({give}), or run {source} again"
             )
     return Run(directory, info, trajectory, model, source)
 
