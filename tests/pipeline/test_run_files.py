@@ -164,7 +164,7 @@ def test_the_command_to_run_again_keeps_what_the_run_was_given(
     capsys.readouterr()
     assert main(["plot", str(run)]) == 2
     err = capsys.readouterr().err
-    assert f"(legdsl run {leg} --controller hop --time 0.3s --out {run}, with the --set" in err
+    assert f"(legdsl run {leg} --controller hop --time 0.3s --set speed=1.5m/s --out {run})" in err
 
 
 def test_a_run_is_held_while_a_command_draws_from_it(

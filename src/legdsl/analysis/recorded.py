@@ -13,7 +13,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.source import check_model
+from legdsl.analysis.rerun import rerun_command
+from legdsl.check.source import check_file, choose
 from legdsl.codegen.fingerprints import creature_fingerprint
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -39,27 +40,14 @@ def recorded_model(
             f"{directory}/run.json names the source {str(info.get('source', ''))!r}, which is "
             f"not found from here; pass the .leg file with {give}"
         )
-    model = check_model(source, info.get("creature"))
+    models = check_file(source)
+    model = choose(models, info.get("creature"), source)
     recorded = info.get("creature_fingerprint")
     if recorded is not None and recorded != creature_fingerprint(model):
-        again = f"legdsl run {source}" + (
-            f" --scene {info['scene']}"
-            if info.get("scene")
-            else f" --controller {info['controller']}"
-            if info.get("controller")
-            else ""
-        )
-        if not info.get("scene"):  # a scene's switches are its own
-            again += "".join(f" --switch {w['t']:g}s={w['controller']}"
-                             for w in info.get("switches") or [])  # fmt: skip
-        duration = (info.get("options") or {}).get("duration")
-        again += f" --time {duration:g}s" if isinstance(duration, int | float) else ""
-        settings = info.get("settings") or {}
-        given = any(settings.get(k) for k in ("actuators", "inputs", "params", "schedule"))
         raise UsageError(
             f"{source} has changed since the run in {directory} was recorded: its creature "
-            f"'{model.name}' is not the one the run used; run it again ({again} --out "
-            f"{directory}" + (", with the --set values its run.json lists)" if given else ")")
+            f"'{model.name}' is not the one the run used; run it again "
+            f"({rerun_command(source, directory, info, model, len(models) > 1)})"
         )
     return source, model
 
