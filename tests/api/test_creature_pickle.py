@@ -63,3 +63,19 @@ def test_a_file_gone_is_said(copied) -> None:
     source.unlink()
     with pytest.raises(UsageError, match=r"came through pickle, but its file .* is gone"):
         pickle.loads(sent)
+
+
+def test_a_refused_creature_leaves_generated_as_it_was(tmp_path: Path, generated: Path) -> None:
+    """The refusal came after the edited file was compiled into generated/: a run pickled
+    before then failed ('dynamics.py was compiled since from another creature')."""
+    source, mine = tmp_path / "hopper.leg", tmp_path / "gen"
+    shutil.copy(CREATURES / "hopper.leg", source)
+    shutil.copytree(generated / "hopper", mine / "hopper")  # fresh: nothing to compile
+    sent = pickle.dumps(legdsl.load(source, generated=mine))
+    before = {p: p.read_bytes() for p in (mine / "hopper").rglob("*") if p.is_file()}
+    source.write_text(
+        source.read_text().replace("mass 10 kg  inertia 0.4", "mass 12 kg  inertia 0.4")
+    )
+    with pytest.raises(UsageError, match="has changed since"):
+        pickle.loads(sent)
+    assert {p: p.read_bytes() for p in (mine / "hopper").rglob("*") if p.is_file()} == before

@@ -40,18 +40,20 @@ def creature_state(session: Any) -> tuple[str, str, str, tuple[str, ...]]:
 
 
 def creature_again(source: str, name: str, generated: str, was: tuple[str, ...]) -> Any:
-    """A creature that came through pickle: its file read and checked again here."""
-    from legdsl.api import load
+    """A creature that came through pickle: its file read and checked again here, and only
+    then compiled (a refused one left ``generated/`` to the creature it holds)."""
+    from legdsl.api import Creature
+    from legdsl.pipeline.session import RunSession, check_file
 
     if not Path(source).is_file():
         now = " (a folder is in its place)" if Path(source).is_dir() else ""
         raise UsageError(f"this creature came through pickle, but its file {source} is gone{now}")
-    creature = load(source, name, generated)
-    if _fingerprints(creature.model) != was:  # the file, or one it uses (its shared parts)
+    model, syntax = check_file(source, name)
+    if _fingerprints(model) != was:  # the file, or one it uses (its shared parts)
         raise UsageError(f"this creature came through pickle, but {source} or a file it uses "
                          "has changed since: its creature or controllers are not the ones sent; "
                          "load it again with legdsl.load and send that")  # fmt: skip
-    return creature
+    return Creature(RunSession.from_checked(model, source, syntax, generated))
 
 
 def _fingerprints(model: Model) -> tuple[str, ...]:
