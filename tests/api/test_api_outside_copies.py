@@ -4,6 +4,7 @@ part), and the batch's repr (it said only ``<legdsl.api.Copies object at 0x...>`
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -63,3 +64,19 @@ def test_copies_without_a_c_compiler_are_told_what_a_python_caller_can_do(
     said = str(refused.value)
     assert said.startswith("run_copies() runs in C: LEGDSL_CC=/nonexistent: no such program")
     assert said.endswith("or run them with run_many()") and "--backend" not in said
+
+
+def test_a_copy_with_its_own_start_records_it(generated: Path, tmp_path: Path) -> None:
+    """A copy's q0/v0 was in no run.json: it read as a run from the file's initial state."""
+    pogo = legdsl.load(POGO, generated=generated)
+    q0 = np.array([[0.0, 0.08, 0.1, 0.0, 0.0]] * 2)
+    v0 = np.zeros((2, 5))
+    v0[:, 0] = [0.2, 0.3]
+    copies = pogo.run_copies(2, "hop", q0=q0, v0=v0, time=0.02)
+    names = pogo.model.q_names
+    assert copies[1].info["start"]["q"] == dict(zip(names, q0[1].tolist(), strict=True))
+    assert copies[1].info["start"]["v"] == dict(zip(pogo.model.v_names, v0[1], strict=True))
+    assert "start" not in pogo.run_copies(2, "hop", time=0.02)[0].info  # the file's start
+    saved = copies[1].save(tmp_path / "copy")
+    assert json.loads((saved / "run.json").read_text())["start"]["v"]["x"] == 0.3
+    assert legdsl.open_run(saved, generated=generated).info["start"]["q"]["z"] == 0.08

@@ -284,7 +284,9 @@ class Copies:
             if b.sim.machine_in_c is not None:  # as the copy's C machine left it
                 rows = {name: block[k] for name, block in self.blocks.items()}
                 pull_machine(machine, self.structs[k], rows, machine.schedule)
-        return b.plan.finish(self.result(k), settings, machine)
+        done = b.plan.finish(self.result(k), settings, machine)
+        done.start = b.start_of(k)
+        return done
 
     # ------------------------------------------------------------ one copy
     def _state_events(self, k: int) -> list[dict[str, Any]]:
@@ -361,4 +363,6 @@ class Copies:
         plan: Plan = b.session.prepare(b.controller, b.texts(k), b.paths, b.options, backend="c")
         assert isinstance(plan.sim, CSimulation)  # as the template's
         plan.sim.move_to(b.q0[k].tolist(), b.v0[k].tolist())
-        return plan.finish(plan.sim.run())
+        done = plan.finish(plan.sim.run())
+        done.start = b.start_of(k)
+        return done

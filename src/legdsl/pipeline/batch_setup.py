@@ -160,6 +160,17 @@ class BatchSetup:
             if said := overwritten(name, self.controller, module):
                 self.session.tell("note", f"vary {name}: {said}")
 
+    def start_of(self, k: int) -> dict[str, dict[str, float]] | None:
+        """Copy ``k``'s own start by coordinate (run.json's ``start``), None when the copies
+        start from the file's (neither ``q0`` nor ``v0`` given: broadcast, no row their own)."""
+        if self.q0.strides[0] == 0 and self.v0.strides[0] == 0:
+            return None
+        model = self.session.model
+        return {
+            "q": dict(zip(model.q_names, map(float, self.q0[k]), strict=True)),
+            "v": dict(zip(model.v_names, map(float, self.v0[k]), strict=True)),
+        }
+
     def texts(self, k: int) -> list[str]:
         """Copy ``k``'s ``--set`` texts: the batch's, then its own values as given."""
         own = [

@@ -431,6 +431,7 @@ class Run:
     scale: float | None = None  # run as the creature scaled by this (legdsl run --scale)
     source_sha256: str | None = None  # the file's as checked, else read when run.json is made
     scene: str | None = None  # the scene run (--scene), which run.json names
+    start: dict[str, dict[str, float]] | None = None  # its own q and v (a batch copy's q0, v0)
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
@@ -438,10 +439,7 @@ class Run:
 
     def info(self) -> dict[str, Any]:
         """The content of ``run.json``."""
-        extra: dict[str, Any] = {
-            "controller": self.controller,
-            "settings": self.settings.as_json(),
-        }
+        extra: dict[str, Any] = {"controller": self.controller, "settings": self.settings.as_json()}
         if self.machine is not None:
             m = self.machine
             first = m.first if isinstance(m, SwitchingMachine) else m  # the run's start
@@ -469,7 +467,7 @@ class Run:
             **_controller_fingerprints(self.machine),
             "options": asdict(self.options),
             **({"scale": self.scale} if self.scale is not None else {}),
-            **({"scene": self.scene} if self.scene is not None else {}),
+            **{k: v for k, v in {"scene": self.scene, "start": self.start}.items() if v},
             **extra,
             "status": result.status,
             "message": result.message,
