@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from conftest import CREATURES, GENERATED
 
+import legdsl
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.session import RunSession
@@ -138,6 +139,21 @@ def test_one_name_set_twice_on_the_command_line_is_refused(
              "--set", "speed=2.2m/s", "--generated", str(GENERATED), "--backend", "python",
              "--out", str(tmp_path / "biped")]  # fmt: skip
     assert main(biped) == 0
+
+
+def test_a_value_and_a_command_at_0_s_for_one_name_are_refused_as_twice(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--set speed=1m/s --set speed=2m/s@0s ran at 2 m/s from the first tick, the first value
+    never used, without a word; run(set=) merged 'speed' and 'speed ' (the later won)."""
+    assert main(_run(tmp_path, "--set", "speed=2m/s@0ms", "--set", "speed=1m/s")) == 2
+    assert ("--set speed=1m/s and --set speed=2m/s@0ms both set speed from the start (a command "
+            "at 0 s replaces the value before it is used): keep one") in capsys.readouterr().err  # fmt: skip
+    assert main(_run(tmp_path, "--set", "speed=1m/s", "--set", "speed=2m/s@0.1s")) == 0
+    hopper = legdsl.load(HOPPER, generated=GENERATED)
+    for given in ({"speed": "1 m/s", "speed ": "2 m/s"}, {"speed": "1 m/s", "speed@0s": "2 m/s"}):
+        with pytest.raises(UsageError, match="both set speed"):
+            hopper.run(controller="hop", set=given, time=0.05)
 
 
 def test_a_fall_tilt_past_upside_down_is_refused_before_anything_is_compiled(

@@ -19,6 +19,7 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import bare_number
 from legdsl.pipeline.options import RUN_NUMERIC
+from legdsl.pipeline.settings import refuse_repeated
 from legdsl.sim.run_loop import RunOptions
 
 RUN_EXAMPLES = {"dt": "0.4 ms", "control_dt": "2 ms", "record_rate": "200 Hz",
@@ -81,6 +82,7 @@ def session_args(
         raise UsageError(f"run(): set= maps names to values, e.g. {{'speed': '2 m/s'}}, "
                          f"not {set!r}")  # fmt: skip
     settings = [setting_text(name, value) for name, value in (set or {}).items()]
+    refuse_repeated(settings)  # 'speed' and 'speed ' (or 'speed@0s'): the later would win
     switches = [f"{_seconds_text(when)}={name}" for when, name in (switch or {}).items()]
     unreached: list[str] = []  # settings for gait bands the run never reaches
     sources: dict[str, str] = {}  # the scene's lines, which its notes name as written

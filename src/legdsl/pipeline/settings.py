@@ -430,16 +430,39 @@ def parse_path_option(text: str) -> PathSpec:
 
 
 def refuse_repeated(texts: Sequence[str]) -> None:
-    """The command line's own ``--set NAME=V`` twice for one name: the later would win
-    silently (a scene's value is the command line's to override, and is not among these)."""
+    """The command line's own ``--set NAME=V`` twice for one name (``speed`` and ``speed ``
+    alike: the API's keys): the later would win silently; so would ``NAME=V@0s``, a command at
+    the start, over ``NAME=V`` (a scene's value is the command line's to override, and is not
+    among these)."""
     seen: dict[str, str] = {}
+    at_start: dict[str, str] = {}
     for text in texts:
-        if "@" in text or "=" not in text:
-            continue  # a command at a time is refused by the session; a malformed one is told
+        if "=" not in text:
+            continue  # a malformed one is told by the run
         name = text.partition("=")[0].strip()
+        if "@" in text:  # two commands at one time are refused by the session
+            if _at_the_start(text):
+                at_start.setdefault(name, text)
+            continue
         if name in seen:
             raise UsageError(f"--set {seen[name]} and --set {text} both set {name}: keep one")
         seen[name] = text
+    for name in seen.keys() & at_start.keys():
+        raise UsageError(
+            f"--set {seen[name]} and --set {at_start[name]} both set {name} from the start (a "
+            f"command at 0 s replaces the value before it is used): keep one"
+        )
+
+
+def _at_the_start(text: str) -> bool:
+    """Whether the ``--set NAME=V@T`` text ``text`` commands at 0 s (a mistake in it: no, the
+    run tells it)."""
+    try:
+        given = parse_given(text.rpartition("@")[2], text)
+        check_dimension(text, "", given, KINDS["time"][0], "@{}")
+    except UsageError:
+        return False
+    return given.value == 0
 
 
 def overwritten_notes(settings: Sequence[str], controller: str | None, session: Any) -> list[str]:
