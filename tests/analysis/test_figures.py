@@ -56,7 +56,7 @@ def test_a_hopper_of_a_millimetre_reports_its_figures(
     assert main(["metrics", str(out)]) == 0
     table = capsys.readouterr().out
     for label in ("stride duration (s)", "apex height of the centre of mass (m)",
-                  "elastic energy stored per step (J)"):  # fmt: skip
+                  "elastic energy stored per stride (J)"):  # fmt: skip
         row = next(line for line in table.splitlines() if line.startswith(label))
         assert float(row[len(label) :].split()[0]) > 0, row
 

@@ -129,10 +129,14 @@ def test_hopper_recirculates_all_its_external_energy_swing() -> None:
     # Lossless: whatever external energy the mass loses in stance is in the spring.
     h = Hopper()
     m = compute_metrics(h.run(4.0))
-    assert m.value("energy_recirculated") == pytest.approx(1.0, abs=1e-3)
+    # the spring is read a sample before the least length: short by (w dt)^2 of its peak at
+    # most, and of what it took up since touchdown (a little less than the peak) a bit more
+    short = 1.5 * (h.w * DT) ** 2
+    assert m.value("energy_recirculated") == pytest.approx(1.0, abs=short)
     stored = 0.5 * M * h.w**2 * h.max_compression**2
-    assert m.value("stored_energy") == pytest.approx(stored, rel=1e-3)
+    assert m.value("stored_energy") == pytest.approx(stored, rel=short)
     assert m.value("energy_fluctuation") == pytest.approx(stored, rel=1e-3)
+    assert m.value("energy_taken_up") == pytest.approx(stored, rel=1e-3)  # one fall a stride
 
 
 def test_joint_magnitude_and_anti_phase_correlation() -> None:
@@ -358,7 +362,7 @@ def test_single_step_has_no_stride_but_keeps_its_stance() -> None:
     assert m.value("stance_duration") == pytest.approx(0.100, abs=1e-9)
     assert m.value("friction_toe") == pytest.approx(0.25)
     assert math.isnan(m.value("stride_duration"))
-    assert math.isnan(m.stances[0].recirculated)  # no stride, no external energy swing
+    assert m.summary("energy_recirculated").n == 0  # no stride, no external energy swing
     assert "no strides" in m.table()
     json.dumps(m.to_dict(), allow_nan=False)
 
@@ -474,13 +478,14 @@ def test_recirculated_energy_leaves_out_the_spring_preload() -> None:
     preload, peak, drop = 2.0, 3.0, 0.05
     tr.contact[:, 0] = tau < 100
     tr.leg_spring_energy[:, 0] = preload + peak * bump
+    tr.leg_length[:, 0] = 0.5 - 0.01 * bump  # shortest at the bump's top
     tr.com[:, 2] = 1.0 - drop * bump
     tr.com_vel[:, 0] = 3.0  # constant: only the height moves the external energy
     m = compute_metrics(tr)
     assert m.n_strides == 9
-    assert m.value("stored_energy") == pytest.approx(peak)
+    assert m.value("stored_energy") == pytest.approx(peak, rel=1e-3)  # a sample before the top
     assert m.value("energy_fluctuation") == pytest.approx(M * G * drop)
-    assert m.value("energy_recirculated") == pytest.approx(peak / (M * G * drop))
+    assert m.value("energy_recirculated") == pytest.approx(peak / (M * G * drop), rel=1e-3)
 
 
 # ---------------------------------------------------------------- text, options, errors

@@ -23,10 +23,10 @@ Definitions (docs/metrics.md has the long form):
 - **Friction coefficient needed**: ``|tangential force| / normal force`` during
   stance, normal = z; samples whose normal force is below a floor (a fraction
   of body weight) are skipped because the ratio means nothing there.
-- **Elastic energy recirculated per step** (after Alexander 1988): the
-  elastic energy the leg springs take up during a stance (peak minus the value
-  at touchdown) divided by the fluctuation (max - min) of the external
-  mechanical energy ``1/2 M |com_vel|^2 + M g com_z`` over the stride.
+- **Elastic energy recirculated per step** (after Alexander 1988): over each stride, the
+  elastic energy the leg springs take up while each leg shortens (their peak from touchdown to
+  the sample before its least length, above their touchdown value), divided by the external
+  mechanical energy ``1/2 M |com_vel|^2 + M g com_z`` the stride takes up (its falls).
 - **Positive actuator work**, **energy per metre** and **cost of transport** over the
   window (``energy``): the rise of the recorded running sums of max(0, tau qd) dt, per
   metre of the centre of mass's horizontal path, and divided by the weight ``M g``.
@@ -66,6 +66,7 @@ from legdsl.analysis.strides import (
     stride_series,
     touchdowns_in_window,
     touching,
+    with_recirculation,
 )
 from legdsl.analysis.support import with_support_rows
 from legdsl.sim.trajectory import Trajectory
@@ -148,7 +149,7 @@ def compute_metrics(
     if not tr.contact_names:
         note = "the creature has no contacts, so it takes none (only the work rows apply)"
     per_stride = stride_series(tr, starts, ends, cols, joint_slides)
-    stances = all_stances(tr, units, starts, ends, per_stride["energy_fluctuation"], t_from, t_to)
+    stances = all_stances(tr, units, starts, ends, t_from, t_to)
     flights = all_flights(tr, units, starts, ends, t_from, t_to)
     per_stride["flight_time"] = [
         float(sum(f.duration for f in flights if f.stride == k)) for k in range(len(starts))
@@ -156,6 +157,7 @@ def compute_metrics(
     per_stride["flight_count"] = [
         float(sum(1 for f in flights if f.stride == k)) for k in range(len(starts))
     ]
+    with_recirculation(tr, units, starts, ends, per_stride)
     friction = [
         contact_friction(tr, c, t_from, t_to, edge, min_normal_fraction, ground_normal)
         for c in range(len(tr.contact_names))

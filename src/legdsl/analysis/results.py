@@ -38,9 +38,8 @@ class Stance:
     t_touchdown: float  # s
     t_liftoff: float  # s
     stride: int  # index of the counted stride its touchdown falls in, -1 if none
-    leg_length_change: float  # m: max - min of leg_length during the stance (legs only)
-    stored_energy: float  # J: peak leg-spring energy in the stance minus its value at touchdown
-    recirculated: float  # stored_energy / external-energy fluctuation of its stride
+    leg_length_change: float  # m: leg_length at touchdown less its least in the stance (legs)
+    stored_energy: float  # J: leg-spring peak until just before that least, less at touchdown
 
     @property
     def duration(self) -> float:

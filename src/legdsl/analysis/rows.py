@@ -45,7 +45,6 @@ def summary_rows(
     ps = per_stride
     legs = [u for u in units if u.kind in ("leg", "contact")]
     groups = [u for u in units if u.kind == "group"]
-    grouped = {leg for g in groups for leg in g.legs}
     rows = [
         stat("stride_duration", "stride duration (s)", ps["duration"]),
         stat("stride_length", "stride length (m)", ps["length"]),
@@ -115,20 +114,23 @@ def summary_rows(
                 ps["joint_correlation"],
             )
         )
-    # A step is a stance of a virtual leg, or of a leg that belongs to none.
-    steps = [
-        s
-        for s in stances
-        if s.kind == "group" or (s.kind == "leg" and tr.leg_names.index(s.unit) not in grouped)
-    ]
     if tr.leg_names:
-        stored = [s.stored_energy for s in steps]
-        fraction = [s.recirculated for s in steps]
-        swing = ps["energy_fluctuation"]
+        taken = ps["energy_taken_up"]
         rows += [
-            stat("stored_energy", "elastic energy stored per step (J)", stored),
-            stat("energy_fluctuation", "external energy fluctuation per stride (J)", swing),
-            stat("energy_recirculated", "elastic energy recirculated per step (-)", fraction),
+            stat("stored_energy", "elastic energy stored per stride (J)", ps["stored_energy"]),
+            stat(
+                "energy_fluctuation",
+                "external energy fluctuation per stride (J)",
+                ps["energy_fluctuation"],
+            ),
+            stat("energy_taken_up", "external energy taken up per stride (J)", taken),
+            # weighted by what each stride took up: the window's stored over its taken up
+            stat(
+                "energy_recirculated",
+                "elastic energy recirculated per step (-)",
+                ps["energy_recirculated"],
+                taken,
+            ),
         ]
     for f in friction:
         rows += friction_rows(f)

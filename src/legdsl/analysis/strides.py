@@ -6,8 +6,8 @@ count when both their ends were seen inside the window; strides when they lie wh
 it. A contact shorter than ``min_stance`` (when one is given) is no touchdown at all
 (``debounced``); without it, contacts much shorter than the feet's usual stance are only
 pointed out (``scuff_note``). Each counted stride also gets its series of values (duration, length, pitch and roll
-magnitude, speed, peak vertical acceleration, external-energy fluctuation, and the
-magnitude and correlation of chosen coordinates).
+magnitude, speed, peak vertical acceleration, external-energy fluctuation and the external
+energy taken up, and the magnitude and correlation of chosen coordinates).
 """
 
 from __future__ import annotations
@@ -185,7 +185,8 @@ def stride_series(
 
     names = ["t_start", "t_end", "duration", "length", "pitch_magnitude", "roll_magnitude"]
     names += ["speed", "speed_command", "speed_error", "peak_vertical_acceleration"]
-    series: dict[str, list[float]] = {k: [] for k in names + ["energy_fluctuation"]}
+    names += ["energy_fluctuation", "energy_taken_up"]
+    series: dict[str, list[float]] = {k: [] for k in names}
     if "joint" in cols:
         series["joint_magnitude"] = []
     if "against" in cols:
@@ -204,6 +205,9 @@ def stride_series(
         series["speed_error"].append(_finite_mean(forward[a:b] - cmd))
         series["peak_vertical_acceleration"].append(float(np.max(acc_g[closed])))
         series["energy_fluctuation"].append(_ptp(e_ext[closed]))
+        # every fall, not max - min: a trot's or a biped's stride takes up energy twice
+        falls = np.diff(e_ext[closed])
+        series["energy_taken_up"].append(float(-np.sum(falls[falls < 0])))
         if "joint" in cols:
             q = tr.q[closed, cols["joint"]]
             series["joint_magnitude"].append(_ptp(q) if joint_slides else math.degrees(_ptp(q)))
@@ -234,37 +238,74 @@ def _correlation(x: np.ndarray, y: np.ndarray) -> float:
 
 
 def all_stances(
-    tr: Trajectory,
-    units: list[Unit],
-    starts: np.ndarray,
-    ends: np.ndarray,
-    fluctuation: list[float],
-    lo: float,
-    hi: float,
+    tr: Trajectory, units: list[Unit], starts: np.ndarray, ends: np.ndarray, lo: float, hi: float
 ) -> list[Stance]:
     out: list[Stance] = []
     for u in units:
         a, b = runs(touching(tr, u.contacts))
         keep = in_window(tr.t, a, b, lo, hi)
-        spring = tr.leg_spring_energy[:, list(u.legs)].sum(axis=1) if u.legs else None
         for s, e in zip(a[keep].tolist(), b[keep].tolist(), strict=True):
-            k = _stride_of(s, starts, ends)
-            length_change = _ptp(tr.leg_length[s:e, u.legs[0]]) if u.kind == "leg" else math.nan
-            stored = float(np.max(spring[s:e]) - spring[s]) if spring is not None else math.nan
-            swing = fluctuation[k] if k >= 0 else math.nan
+            leg = _compression(tr, u.legs[0], s, e) if u.kind == "leg" else _NONE
             out.append(
                 Stance(
                     unit=u.name,
                     kind=u.kind,
                     t_touchdown=float(tr.t[s]),
                     t_liftoff=float(tr.t[e]),
-                    stride=k,
-                    leg_length_change=length_change,
-                    stored_energy=stored,
-                    recirculated=stored / swing if swing > 0 else math.nan,
+                    stride=_stride_of(s, starts, ends),
+                    leg_length_change=leg[0],
+                    stored_energy=leg[1],
                 )
             )
     return out
+
+
+_NONE = (math.nan, math.nan, -1)
+
+
+def _compression(tr: Trajectory, leg: int, s: int, e: int) -> tuple[float, float, int]:
+    """A leg's shortening in the stance ``[s, e)`` (its length at touchdown less its least),
+    the elastic energy its springs took up while it shortened (their peak from touchdown to
+    the sample before the least length, above their touchdown value), and the sample of the
+    least length. Neither counts the thrust: a leg lengthened past its touchdown length, or a
+    spring whose rest the controller lengthens, is the actuator's work, not the landing's. The
+    least length's own sample is left out: a controller that lengthens the rest as soon as the
+    leg stops shortening (the quadruped's THRUST) has done so by then (its trot's rear legs:
+    27 J there, 4.5 J a sample before)."""
+    length = tr.leg_length[s:e, leg]
+    bottom = int(np.argmin(length))
+    spring = tr.leg_spring_energy[s:e, leg]
+    held = float(np.max(spring[: max(bottom, 1)]))
+    return float(length[0] - length[bottom]), held - float(spring[0]), s + bottom
+
+
+def with_recirculation(
+    tr: Trajectory,
+    units: list[Unit],
+    starts: np.ndarray,
+    ends: np.ndarray,
+    per_stride: dict[str, list[float]],
+) -> None:
+    """Add to ``per_stride`` the elastic energy the legs' springs store in it and its fraction
+    of the external energy the stride takes up. Each leg counts on its own, whatever virtual
+    legs were asked for (a display option must not change an energy), in the stride its
+    largest compression falls in: a leg landing a sample before the reference foot stores its
+    energy in the reference's stride, as it takes up the body's."""
+    stored = [0.0] * len(starts)
+    for u in units:
+        if u.kind != "leg":
+            continue
+        a, b = runs(touching(tr, u.contacts))
+        for s, e in zip(a.tolist(), b.tolist(), strict=True):
+            _, energy, bottom = _compression(tr, u.legs[0], s, e)
+            k = _stride_of(bottom, starts, ends)
+            if k >= 0:
+                stored[k] += energy
+    per_stride["stored_energy"] = stored
+    per_stride["energy_recirculated"] = [
+        e / taken if taken > 0 else math.nan
+        for e, taken in zip(stored, per_stride["energy_taken_up"], strict=True)
+    ]
 
 
 def all_flights(
