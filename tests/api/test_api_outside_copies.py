@@ -67,8 +67,11 @@ def test_copies_without_a_c_compiler_are_told_what_a_python_caller_can_do(
 
 
 def test_a_copy_with_its_own_start_records_it(generated: Path, tmp_path: Path) -> None:
-    """A copy's q0/v0 was in no run.json: it read as a run from the file's initial state."""
-    pogo = legdsl.load(POGO, generated=generated)
+    """A copy's q0/v0 was in no run.json: it read as a run from the file's initial state, and
+    a changed file's 'run it again (legdsl run ...)' advice would make another run."""
+    leg = tmp_path / "insect_pogo.leg"
+    leg.write_text(POGO.read_text())
+    pogo = legdsl.load(leg, generated=generated)
     q0 = np.array([[0.0, 0.08, 0.1, 0.0, 0.0]] * 2)
     v0 = np.zeros((2, 5))
     v0[:, 0] = [0.2, 0.3]
@@ -80,3 +83,6 @@ def test_a_copy_with_its_own_start_records_it(generated: Path, tmp_path: Path) -
     saved = copies[1].save(tmp_path / "copy")
     assert json.loads((saved / "run.json").read_text())["start"]["v"]["x"] == 0.3
     assert legdsl.open_run(saved, generated=generated).info["start"]["q"]["z"] == 0.08
+    leg.write_text(leg.read_text().replace("mass 3 g", "mass 4 g", 1))
+    with pytest.raises(UsageError, match=r"run it again \(with run_copies\(\), from the start"):
+        legdsl.open_run(saved, generated=generated)

@@ -44,10 +44,13 @@ def recorded_model(
     model = choose(models, info.get("creature"), source)
     recorded = info.get("creature_fingerprint")
     if recorded is not None and recorded != creature_fingerprint(model):
+        again = rerun_command(source, directory, info, model, len(models) > 1)
+        if info.get("start"):  # a run_copies copy's own q0, v0: no legdsl run starts there
+            again = (f"with run_copies(), from the start (q0, v0), controller, options and "
+                     f"settings its run.json lists, and save() it to {directory}")  # fmt: skip
         raise UsageError(
             f"{source} has changed since the run in {directory} was recorded: its creature "
-            f"'{model.name}' is not the one the run used; run it again "
-            f"({rerun_command(source, directory, info, model, len(models) > 1)})"
+            f"'{model.name}' is not the one the run used; run it again ({again})"
         )
     return source, model
 
