@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from anim_runs import creature_run, generated_dir
 from conftest import CREATURES
@@ -193,3 +194,30 @@ def test_a_summary_gives_a_short_runs_length_in_three_digits() -> None:
     """A 4.5 ms clip was "0.00 s of motion"."""
     assert seconds_text(0.0045) == "0.0045 s" and seconds_text(0.00417) == "0.00417 s"
     assert seconds_text(2.5) == "2.50 s" and seconds_text(0.0) == "0.00 s"
+
+
+@pytest.mark.parametrize("slow", ["1e300", "1e20", "1e12", "1e6", "1001"])
+def test_a_video_too_slow_is_refused_naming_the_slowest_and_its_frames(
+    run_dir: Path, tmp_path: Path, capsys, monkeypatch: pytest.MonkeyPatch, slow: str
+) -> None:
+    """--slow-motion 1e20 was an internal error (numpy's array too large, exit 70), 1e12 was
+    told to lower --fps, and 1e6 began a render of 90 million frames without a word."""
+    from legdsl.export import video
+    from legdsl.export.frames import enough_frames, every_frame
+
+    def drawn(*_: object) -> None:
+        raise AssertionError("a frame was drawn")
+
+    monkeypatch.setattr(video, "_frame", drawn)
+
+    out = tmp_path / "v.mp4"
+    assert main(["animate", str(run_dir), "--video", str(out), "--slow-motion", slow] + gen()) == 2
+    err = capsys.readouterr().err
+    frames = re.search(r"would be (\S+) frames, about \S+ (years )?of video at --fps 30;", err)
+    assert frames and "at most 1000 times slower than real time (--slow-motion 1000 or less)" in err
+    if slow == "1001":  # the frames it names are those it would have drawn
+        t = np.load(run_dir / "trajectory.npz")["t"]
+        drawn = every_frame(float(t[-1] - t[0]), 30.0 * 1001)
+        assert int(frames.group(1).replace(",", "")) == len(drawn)
+    assert not out.exists()
+    enough_frames(1.0, 240.0, slow=1000.0, top=240.0)  # the slowest is allowed

@@ -252,7 +252,11 @@ def test_plot_short_of_memory_asks_for_a_shorter_window(
 @pytest.mark.parametrize(
     ("command", "advice"),
     [
-        ("animate", "or ask for less (fewer frames: a lower --fps, e.g. --fps 10)\n"),
+        (
+            "animate",
+            "or ask for less (fewer frames: a lower --fps, e.g. --fps 10, or a video's lower "
+            "--slow-motion)\n",
+        ),
         ("export-motion", "or ask for less (fewer keyframes: a lower --fps, e.g. --fps 10)\n"),
     ],
 )

@@ -14,12 +14,13 @@ from typing import Any, TextIO
 from legdsl.signals import handled
 
 # what each command can ask less of, in its own options: `animate` was told legdsl run's
-# --time and --record-rate, when its --fps (the frames it stores) is what helps
+# --time and --record-rate, when its --fps (the frames it stores) is what helps; a video's
+# frames are --fps times --slow-motion a second (1e12 was told --fps alone)
 LESS_OF = {
     "run": "a shorter --time, a lower --record-rate",
     "plot": "a shorter window: --from T, --to T",
     "metrics": "a shorter window: --from T, --to T",
-    "animate": "fewer frames: a lower --fps, e.g. --fps 10",
+    "animate": "fewer frames: a lower --fps, e.g. --fps 10, or a video's lower --slow-motion",
     "export-motion": "fewer keyframes: a lower --fps, e.g. --fps 10",
     "sweep": "a shorter --time, fewer --jobs",
     "tune": "a shorter --time, fewer --jobs",

@@ -13,8 +13,10 @@ import math
 
 import numpy as np
 
+from legdsl.export.video_rates import MOST_SLOW_MOTION
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.report import time_left
 
 
 def enough_frames(
@@ -31,7 +33,10 @@ def enough_frames(
     a video ``slow`` times slower than real time has ``fps * slow`` frames a simulated second).
     A video (``top``, the most frames a second its format shows) is told the least
     ``--slow-motion`` first: the least --fps of a 4.5 ms run, 223, was more than a GIF shows.
-    ``flag`` names the rate as the caller takes it (the API's ``fps=``)."""
+    ``flag`` names the rate as the caller takes it (the API's ``fps=``). A video slower than
+    ``MOST_SLOW_MOTION`` is refused, saying how many frames it would have been."""
+    if top is not None and slow > MOST_SLOW_MOTION:
+        raise UsageError(too_slow(span, fps, slow))
     if span > 0 and math.floor(span * fps * slow + 1e-9) < 1:
 
         def rate(value: float) -> str:
@@ -47,6 +52,27 @@ def enough_frames(
             f"{said}--slow-motion {least_above(1 / (span * fps)):g} or more{faster} (a video "
             "shows --fps times --slow-motion frames a simulated second)"
         )
+
+
+def too_slow(span: float, fps: float, slow: float) -> str:
+    """Why a video ``slow`` times slower than real time is refused: its frames, and how long
+    it would play (``every_frame``'s count, each frame shown 1/fps)."""
+    frames = math.floor(span * fps * slow + 1e-9) + 1
+    count = f"{frames:,}" if frames < 1e12 else f"{frames:.3g}"
+    seconds = frames / fps
+    years = seconds / (86400 * 365.25)
+    plays = (
+        time_left(seconds)
+        if years < 1
+        else f"{years:,.0f} years"
+        if years < 1e6
+        else f"{years:.3g} years"
+    )
+    return (
+        f"--slow-motion {slow:g}: this {span:.3g} s run would be {count} frames, about {plays} "
+        f"of video at --fps {fps:g}; a video is at most {MOST_SLOW_MOTION:g} times slower than "
+        f"real time (--slow-motion {MOST_SLOW_MOTION:g} or less)"
+    )
 
 
 def least_above(value: float, digits: int = 3) -> float:
