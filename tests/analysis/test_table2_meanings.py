@@ -1,7 +1,7 @@
 """Rows compared with the paper's Table 2 measure what the paper's rows mean, whatever
 virtual legs a display option asks for: the leg's shortening in support (not max - min, which
-counted the thrust's lengthening) and the elastic energy taken up from the landing (not the
-thrust stroke's work)."""
+counted the thrust's lengthening), the elastic energy taken up from the landing (not the
+thrust stroke's work) and a phase of the bound's stride counted 0 in a stride without it."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from legdsl.analysis.metrics import compute_metrics
+from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
 from legdsl.sim.trajectory import Trajectory, empty
 
 DT = 0.001
@@ -89,3 +90,30 @@ def test_the_change_of_leg_length_is_the_shortening() -> None:
     assert [s.leg_length_change for s in m.stances] == [pytest.approx(0.03, abs=1e-9)] * len(
         m.stances
     )
+
+
+def _bound(n: int = 8001) -> Trajectory:
+    """A bound of two kinds of stride, 400 samples each: front [0, 100), gathered flight,
+    rear [300, 380), an extended flight of 20 ms; then front [400, 500), gathered flight, rear
+    [700, 820), down still when the front lands at 800: no extended flight."""
+    tr = _run(("f", "r"), n)
+    tau = (np.arange(n) + 150) % 800
+    tr.contact[:, 0] = (tau < 100) | ((tau >= 400) & (tau < 500))
+    tr.contact[:, 1] = ((tau >= 300) & (tau < 380)) | (tau >= 700) | (tau < 20)
+    return tr
+
+
+def test_a_stride_without_an_extended_flight_counts_zero() -> None:
+    """The bound's extended flight read 0.027 s over the 20 of 38 strides that had one; a
+    phase of the stride, it is 0.015 s a stride."""
+    m = compute_metrics(_bound(), groups={"front": ["f"], "rear": ["r"]}, leg="front")
+    assert m.value("flight_duration_before_front") == pytest.approx(0.020, abs=1e-9)
+    per_stride = m.summary("flight_time_before_front")
+    assert per_stride.n == m.n_strides >= 18
+    assert per_stride.value == pytest.approx(0.010, abs=0.020 / m.n_strides)
+    assert m.value("flight_time_before_rear") == pytest.approx(0.200, abs=1e-9)
+    rows = TABLE2["quadruped bound"]
+    text = compare_table(m, rows, measured_as=MEASURE["quadruped bound"])
+    label = "extended flight phase duration (s)"
+    extended = next(x for x in text.splitlines() if x.startswith(label))
+    assert float(extended[len(label) :].split()[0]) == pytest.approx(per_stride.value, rel=0.01)
