@@ -1,17 +1,24 @@
 """Rows compared with the paper's Table 2 measure what the paper's rows mean, whatever
 virtual legs a display option asks for: the leg's shortening in support (not max - min, which
 counted the thrust's lengthening), the elastic energy taken up from the landing (not the
-thrust stroke's work) and a phase of the bound's stride counted 0 in a stride without it."""
+thrust stroke's work), a phase of the bound's stride counted 0 in a stride without it, and
+the biped's stride a single step as the paper's."""
 
 from __future__ import annotations
+
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from legdsl.analysis.metrics import compute_metrics
-from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
+from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table, step_legs, virtual_legs
+from legdsl.check.source import check_model
+from legdsl.cli import main
 from legdsl.sim.trajectory import Trajectory, empty
 
+ROOT = Path(__file__).resolve().parents[2]
 DT = 0.001
 M, G = 20.0, 9.81
 
@@ -117,3 +124,28 @@ def test_a_stride_without_an_extended_flight_counts_zero() -> None:
     label = "extended flight phase duration (s)"
     extended = next(x for x in text.splitlines() if x.startswith(label))
     assert float(extended[len(label) :].split()[0]) == pytest.approx(per_stride.value, rel=0.01)
+
+
+def test_the_biped_run_is_measured_a_step_a_stride() -> None:
+    """--table2 'biped run' set this tool's two-step stride beside the paper's single step."""
+    groups, first = virtual_legs("biped run", check_model(ROOT / "creatures" / "biped.leg"))
+    assert groups == {"either": ["left", "right"]} and first == "either"
+    assert step_legs("biped run", ["main"]) == ({}, None)  # a hopper's stride is a step
+
+
+def test_cli_biped_run_strides_are_steps(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    n = 4001
+    tr = _run(("left", "right"), n)
+    tr.contact[:, 0] = _stance(n, 400, 50, 120)[0]
+    tr.contact[:, 1] = _stance(n, 400, 250, 120)[0]
+    tr.save(tmp_path)
+    # the legs are the trajectory's: the run's .leg file is not needed
+    (tmp_path / "run.json").write_text(json.dumps({"source": "gone.leg", "creature": "biped"}))
+    assert main(["metrics", str(tmp_path), "--table2", "biped run"]) == 0
+    out = capsys.readouterr().out
+    assert "reference: either" in out
+    beside = out[out.index("beside Table 2 of the paper, biped run:") :].splitlines()
+    duration = next(x for x in beside if x.startswith("stride duration (s)"))
+    assert duration.split()[3] == "0.200"  # a step: 200 samples, not the two-step 0.400

@@ -32,8 +32,9 @@ def _load(
 
 
 TABLE2, MEASURE = _load(Path(__file__).with_name("table2.toml"))
-# MEASURE[gait]: "pairs" (its virtual legs, legdsl.analysis.pairs), "reference" (the stride's
-# virtual leg, or "first"), and paper labels measured as legdsl rows (label -> row key)
+# MEASURE[gait]: "pairs" (its virtual legs, legdsl.analysis.pairs, or "steps": one of every
+# leg, so a stride is a step), "reference" (the stride's virtual leg, or "first"), and paper
+# labels measured as legdsl rows (label -> row key)
 
 
 def virtual_legs(gait: str, model: Model) -> tuple[dict[str, list[str]], str | None]:
@@ -42,9 +43,19 @@ def virtual_legs(gait: str, model: Model) -> tuple[dict[str, list[str]], str | N
     how = MEASURE.get(gait, {})
     if "pairs" not in how:
         return {}, None
+    if how["pairs"] == "steps":
+        return step_legs(gait, [leg.name for leg in model.legs])
     groups = pair_groups(hip_positions(model), how["pairs"])
     reference = how.get("reference", "first")
     return groups, next(iter(groups)) if reference == "first" else reference
+
+
+def step_legs(gait: str, legs: Sequence[str]) -> tuple[dict[str, list[str]], str | None]:
+    """For a gait measured a step a stride (the paper's biped): one virtual leg of all
+    ``legs``, whose touchdowns (either foot's) start the strides; none for fewer than two legs,
+    whose strides are steps already."""
+    name = str(MEASURE[gait].get("reference", "steps"))
+    return ({name: list(legs)}, name) if len(legs) > 1 else ({}, None)
 
 
 def compare_table(

@@ -15,7 +15,7 @@ from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, wr
 from legdsl.analysis.segments import segment_report
 from legdsl.analysis.series_units import series_unit
 from legdsl.analysis.strides import debounced
-from legdsl.analysis.table2 import MEASURE, virtual_legs
+from legdsl.analysis.table2 import MEASURE, step_legs, virtual_legs
 from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -63,6 +63,8 @@ def measure_run(
                 _rows_can_read(table2, given)
                 pair = MEASURE[table2].get("reference")  # reference pair, else the first
                 first: str | None = pair if pair in given else next(iter(given))
+            elif MEASURE[table2]["pairs"] == "steps":  # every leg, named in the trajectory
+                given, first = step_legs(table2, trajectory.leg_names)
             else:
                 given, first = virtual_legs(table2, run_model(run, table2))
             leg = leg if leg is not None else first
