@@ -119,6 +119,23 @@ def test_export_motion_names_the_rate_that_gives_a_mites_stances_keyframes(
     assert stances.any()
 
 
+def test_run_with_animate_tells_the_mites_stances_as_legdsl_animate_does(
+    mite: Scaled, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`legdsl run --animate` wrote the same player as `legdsl animate` of its run without
+    the note that its stances get too few keyframes."""
+    out = mite.where / "animated"
+    gen = ["--generated", str(mite.generated)]
+    argv = ["run", str(mite.leg), "--controller", "hop", "--time", "0.05", "--out", str(out)]
+    capsys.readouterr()
+    assert main([*argv, "--animate", *gen]) == 0
+    during = capsys.readouterr().err
+    assert main(["animate", str(out), "-o", str(mite.where / "again.html"), *gen]) == 0
+    after = capsys.readouterr().err
+    note = [line for line in after.splitlines() if line.startswith("legdsl: note: leg main's")]
+    assert len(note) == 1 and note[0] in during.splitlines(), (during, after)
+
+
 def test_a_video_of_the_mite_in_slow_motion_gives_its_stances_frames(
     mite: Scaled, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -452,5 +452,7 @@ def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
         )
         return path
     size = write_player(motion, path)
+    if motion.note:  # as legdsl animate of the run says it
+        print(motion.note, file=sys.stderr)
     print(f"  animation: {path} ({human_size(size)}); open it in a web browser", file=sys.stdout)
     return path

@@ -237,7 +237,8 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
-    motion.note = stance_note(run.model, run.trajectory, *(video[:2] if video else (fps,)))
+    if video is not None:  # a video's frames are its own, not the rate they are read at
+        motion.note = stance_note(run.model, run.trajectory, *video[:2])
     specs = run.info.get("paths") or []
     if specs:
         from legdsl.ir.paths import PathSpec
@@ -401,6 +402,7 @@ def motion_from(
         contact_bodies=tuple(names.index(c.body) for c in model.contacts),
         contact_points=np.array([c.point for c in model.contacts], dtype=float).reshape(-1, 3),
         touching=tr.contact[index].reshape(len(at), nc).astype(bool),
+        note=stance_note(model, tr, fps),  # here, for every player: `run --animate` had none
     )
 
 
