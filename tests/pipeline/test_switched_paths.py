@@ -33,6 +33,9 @@ controller beside extends along {
 }
 """
 
+# s: 3 s for a 0.81 m creature; the box stands 0.1 m, its time sqrt(0.1 / 0.81) as long
+SETTLE = 1.1
+
 
 @pytest.fixture(scope="module")
 def switched(tmp_path_factory: pytest.TempPathFactory) -> Path:
@@ -52,8 +55,8 @@ def test_each_path_is_reported_over_its_controllers_part_of_the_run(switched: Pa
         ("polyline((-10, 2) m, (10, 2) m)", [[4.0, 8.0]]),
     ]
     along, beside = info["path_reports"]
-    assert (along["from"], along["to"], along["lateral_rms"]) == (3.0, 4.0, 0.0)
-    assert (beside["from"], beside["to"]) == (7.0, 8.0)  # from 3 s after it took over
+    assert (along["from"], along["to"], along["lateral_rms"]) == (SETTLE, 4.0, 0.0)
+    assert (beside["from"], beside["to"]) == (4 + SETTLE, 8.0)  # after it took over
     assert beside["lateral_mean"] == pytest.approx(-2.0, abs=1e-6)  # right of its path
 
 
@@ -63,7 +66,7 @@ def test_metrics_and_the_top_view_read_the_same_spans(
     capsys.readouterr()
     assert main(["metrics", str(switched), "--json"]) == 0
     reports = json.loads(capsys.readouterr().out)["path_reports"]
-    assert [(r["from"], r["to"]) for r in reports] == [(3.0, 4.0), (7.0, 8.0)]
+    assert [(r["from"], r["to"]) for r in reports] == [(SETTLE, 4.0), (4 + SETTLE, 8.0)]
     assert main(["metrics", str(switched), "--from", "3.5"]) == 0
     out = capsys.readouterr().out
     assert "(from 3.5 s to 4 s)" in out and "(from 4 s to 8 s)" in out

@@ -11,12 +11,32 @@ import numpy as np
 from legdsl.analysis.results import jsonable
 from legdsl.analysis.strides import EPS_T
 from legdsl.figures import figure
+from legdsl.lang.errors import UsageError
 from legdsl.sim.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from legdsl.ir.paths import PathSpec
 
 PATH_FROM = 3.0  # s: the report's window starts here by default (after the start-up)
+
+
+def time_unit(info: Mapping[str, Any]) -> float:
+    """The natural time of a run's creature over a 0.81 m one's (run.json's ``time_unit``:
+    sqrt(standing height / 0.81 m), times sqrt(L) for a ``--scale L`` run; 1 for a run
+    recorded without it), by which the reports' waits after a start or a takeover scale."""
+    unit = info.get("time_unit", 1.0)
+    if isinstance(unit, bool) or not isinstance(unit, int | float) or not 0 < unit < math.inf:
+        raise UsageError(f"run.json: 'time_unit' is not a positive number ({str(unit)[:20]}); "
+                         "run the creature again")  # fmt: skip
+    return float(unit)
+
+
+def settle_time(seconds: float, unit: float) -> float:
+    """``seconds`` written for a 0.81 m creature, for one whose time ``unit`` is given (Table 1:
+    times by sqrt(L)), to two figures: a wait to settle is no finer, and the shipped biped
+    (0.83 m) and hopper (0.80 m) wait 3 s as the quadruped does."""
+    return float(f"{seconds * unit:.2g}")
+
 
 # A path and the spans of the run (from, to) its controllers followed it in: None when the
 # whole run did (a run that changed to a controller following another path, or none, has spans)
@@ -80,21 +100,27 @@ def path_report(
 
 
 def followed_reports(
-    tr: Trajectory, followed: Sequence[Followed], t_from: float | None, t_to: float | None
+    tr: Trajectory,
+    followed: Sequence[Followed],
+    t_from: float | None,
+    t_to: float | None,
+    unit: float = 1.0,
 ) -> list[tuple[PathSpec, dict[str, Any]]]:
     """The reports of every path a run followed: one over the run (from ``t_from``, else from
     ``PATH_FROM``) for a path followed throughout, else one per span it was followed in
     (from ``PATH_FROM`` after the controller took over, or ``t_from`` within the span), its
     progress from the takeover: a path a later controller no longer follows is not measured
-    against what the creature did after, nor one it took over with against what it did before."""
+    against what the creature did after, nor one it took over with against what it did before.
+    ``PATH_FROM`` is for a 0.81 m creature: ``unit`` (``time_unit``) scales it to the run's."""
+    after = settle_time(PATH_FROM, unit)
     reports = []
     for spec, spans in followed:
         if spans is None:
-            start = PATH_FROM if t_from is None else t_from
+            start = after if t_from is None else t_from
             reports.append((spec, path_report(tr, spec, start, t_to)))
             continue
         for start, end in spans:
-            lo = min(start + PATH_FROM, end) if t_from is None else max(t_from, start)
+            lo = min(start + after, end) if t_from is None else max(t_from, start)
             hi = end if t_to is None else min(t_to, end)
             if lo <= hi:  # a span outside the asked window has nothing to say
                 reports.append((spec, path_report(tr, spec, lo, hi, start, end)))

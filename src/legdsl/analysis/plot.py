@@ -353,7 +353,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     """A top view: the path(s) the run followed and the track of the centre of mass."""
     plt = pyplot()
 
-    from legdsl.analysis.path_report import followed_reports
+    from legdsl.analysis.path_report import followed_reports, time_unit
     from legdsl.sim.path_tracking import PathGeometry
 
     tr = Trajectory.load(run)
@@ -370,7 +370,9 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     span = np.ptp(np.vstack([*drawn, track]), axis=0) + 1.0  # a metre's margin, never 0 wide
     titles = [
         textwrap.fill(path_title(spec.name, report), 90)
-        for spec, report in followed_reports(tr, followed, t_from if t_from > 0 else None, t_to)
+        for spec, report in followed_reports(
+            tr, followed, t_from if t_from > 0 else None, t_to, time_unit(load_run_info(run))
+        )
         if report["lateral_rms"] is not None
     ]
     # 6 inches of plot across; as tall as the ground covered is deep (within 3 to 7), plus

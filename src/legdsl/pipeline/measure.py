@@ -8,7 +8,7 @@ from typing import Any
 
 from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.pairs import PAIR_NAMES, group_hint
-from legdsl.analysis.path_report import followed_reports
+from legdsl.analysis.path_report import followed_reports, time_unit
 from legdsl.analysis.plot import run_followed, samples_in_window
 from legdsl.analysis.recorded import recorded_model, run_source
 from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, write_json
@@ -39,7 +39,8 @@ def measure_run(
     friction_edge: float = FRICTION_EDGE,
 ) -> tuple[GaitMetrics, list[dict[str, Any]]]:
     """The metrics of ``run/trajectory.npz`` (also written to ``run/metrics.json``) and the
-    lateral deviation from each path the run followed (from ``t_from``, else from 3 s). The
+    lateral deviation from each path the run followed (from ``t_from``, else from 3 s scaled by
+    the run's ``time_unit``). The
     foot clearance at the apex and the foot's speed over the ground at touchdown are measured
     with ``generated/NAME/dynamics.py`` when it is there and fresh (``legdsl.pipeline.apex``,
     ``legdsl.pipeline.touchdown``).
@@ -90,8 +91,8 @@ def measure_run(
     except OSError as e:  # the measurement stands: it was refused, with nothing printed
         metrics.unwritten = (f"{run / 'metrics.json'} not written ({e.strerror or e}): the "
                              "metrics are only printed")  # fmt: skip
-    followed = run_followed(run)
-    reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to)]
+    followed, unit = run_followed(run), _time_unit(run)
+    reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to, unit)]
     return metrics, reports
 
 
@@ -124,6 +125,11 @@ def _events(run: Path) -> list[dict[str, Any]]:
     return load_run_info(run).get("events", []) if (run / "run.json").is_file() else []
 
 
+def _time_unit(run: Path) -> float:
+    """The run's ``time_unit`` (1 for a trajectory without run.json)."""
+    return time_unit(load_run_info(run)) if (run / "run.json").is_file() else 1.0
+
+
 def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
     """Pairs given by hand for a gait whose rows read pairs by name (the bound's front and
     rear) must have those names: else the rows came out n/a without a word."""
@@ -145,7 +151,7 @@ def run_segments(run: str | Path) -> list[dict[str, Any]]:
     segments = load_run_info(run).get("segments")
     if not isinstance(segments, list) or not all(isinstance(s, dict) for s in segments):
         return []
-    return segment_report(Trajectory.load(run), segments)
+    return segment_report(Trajectory.load(run), segments, _time_unit(run))
 
 
 def _slides(run: Path, joint: str) -> bool:

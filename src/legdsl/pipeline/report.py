@@ -188,3 +188,17 @@ def path_summary(report: dict[str, Any]) -> str:
     rows = path_rows(report)
     width = max(len(r[0]) for r in rows)
     return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+
+
+def run_path_reports(
+    machine: Any, result: RunResult, scale: float | None, unit: float
+) -> list[Any]:
+    """The report of each path a run followed, from ``PATH_FROM`` after its start or takeover
+    for a creature whose natural time is ``unit`` (``legdsl.analysis.path_report``)."""
+    from legdsl.analysis.path_report import followed_reports
+    from legdsl.pipeline.scenes import followed_paths
+
+    if machine is None or not len(result.trajectory):
+        return []
+    followed = followed_paths(machine, result.sim_time, scale)
+    return [r for _, r in followed_reports(result.trajectory, followed, None, None, unit)]

@@ -36,7 +36,7 @@ from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
-from legdsl.pipeline.report import path_summary, summary
+from legdsl.pipeline.report import path_summary, run_path_reports, summary
 from legdsl.pipeline.scenes import (
     followed_paths,
     parse_switch,
@@ -407,14 +407,11 @@ class Plan:
             machine.unit = natural_scale(self.sim)
         if self.scale is not None:
             result = scaled.scale_result(result, self.model, self.scale)
-        reports = []
-        if machine is not None and len(result.trajectory):
-            from legdsl.analysis.path_report import followed_reports
-
-            followed = followed_paths(machine, result.sim_time, self.scale)
-            reports = [r for _, r in followed_reports(result.trajectory, followed, None, None)]
+        unit = natural_scale(self.sim) * (self.scale or 1.0) ** 0.5  # the creature as run
+        reports = run_path_reports(machine, result, self.scale, unit)
         return Run(self.model, self.controller, self.options, settings or self.settings,
-                   machine, result, reports, self.scale, self.source_sha256)  # fmt: skip
+                   machine, result, reports, self.scale, self.source_sha256,
+                   time_unit=unit)  # fmt: skip
 
 
 @dataclass
@@ -432,6 +429,7 @@ class Run:
     source_sha256: str | None = None  # the file's as checked, else read when run.json is made
     scene: str | None = None  # the scene run (--scene), which run.json names
     start: dict[str, dict[str, float]] | None = None  # its own q and v (a batch copy's q0, v0)
+    time_unit: float = 1.0  # its natural time over a 0.81 m creature's (path_report.time_unit)
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
@@ -485,6 +483,7 @@ class Run:
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
             "samples": len(result.trajectory),
+            "time_unit": round(self.time_unit, 9),
             **intervals_as_run(self.options),
             "events": result.events,
         }
