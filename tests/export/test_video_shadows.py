@@ -87,7 +87,8 @@ def test_a_slope_takes_the_shadow_in_its_plane(quadruped: Motion) -> None:
         0.0,
         1.0,
     ]
-    cast, top = ground_shadows(slope, tris, PerspectiveView.LIGHT)
-    assert not top.any()
+    cast, on_tops = ground_shadows(slope, tris, PerspectiveView.LIGHT)
+    assert not on_tops and len(cast) == len(tris)
+    cast = np.array(cast)
     assert np.allclose(cast[..., 2], np.tan(np.radians(20)) * cast[..., 0], atol=1e-12)
     assert drawn(dataclasses.replace(quadruped, terrain=slope))[0] > 0

@@ -5,8 +5,8 @@
   section;
 * ``PerspectiveView``, for 3D creatures: a perspective view from the player's default
   camera; the links' triangle meshes are projected, shaded by a fixed light, sorted back to
-  front and drawn with their shadows on the ground and the terrain's tops
-  (``legdsl.export.video_shadows``).
+  front with the terrain's faces (``legdsl.export.video_order``) and drawn with their shadows
+  on the ground and the terrain's tops (``legdsl.export.video_shadows``).
 
 The camera follows the mass centre horizontally at a fixed height, raised smoothly only where
 the creature would leave the frame at the top (``legdsl.export.player.camera``, the player's
@@ -26,7 +26,8 @@ from legdsl.export.motion import Footprint, Motion, Snapshot, slope_tangent, ter
 from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.player.camera import camera_lift
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
-from legdsl.export.video_shadows import ground_shadows, lies_on
+from legdsl.export.video_order import Face, Wall, back_to_front, seen_faces
+from legdsl.export.video_shadows import ground_shadows
 
 SKY = "#eef0f3"
 GROUND = "#d9d9d6"
@@ -379,10 +380,13 @@ class PerspectiveView(View):
             lines.append((np.array([cx - span, k, ends[0]]), np.array([cx + span, k, ends[1]])))
         self.grid.set_segments(self._segments(lines))
 
-        # Terrain blocks and the creature, sorted back to front together.
-        faces: list[tuple[float, np.ndarray, Any]] = []
+        # The creature, the terrain blocks' faces and the shadows on their tops, back to front.
+        def depth(poly: np.ndarray) -> float:
+            return float(cam.to_camera(poly.mean(axis=0, keepdims=True))[0, 2])
+
+        faces: list[Face] = []
         shadows: list[np.ndarray] = []  # on the floor or the slope
-        raised: list[np.ndarray] = []  # on a step's or a box's top
+        raised: dict[int, list[Face]] = {}  # on the top of the terrain's step or box [index]
         for mesh, color, p, r in zip(
             self.meshes, self.colors, snap.positions, snap.rotations, strict=True
         ):
@@ -395,25 +399,17 @@ class PerspectiveView(View):
             light = np.clip(tri_normals @ self.LIGHT, 0.0, 1.0)
             for tri, lit, front in zip(tris, light, facing, strict=True):
                 if front:
-                    depth = float(cam.to_camera(tri.mean(axis=0, keepdims=True))[0, 2])
-                    faces.append((depth, tri, _shade(tuple(color), 0.55 + 0.6 * lit)))
-            cast, top = ground_shadows(m.terrain, tris, self.LIGHT)
-            shadows.extend(cast[top == 0])
-            raised.extend(cast[top > 0])
-        tops = []  # each block's top face and its depth: a shadow on it is drawn just after it
-        for box in _terrain_boxes(m, cx, cy, reach):
-            for k, face in enumerate(box):
-                depth = float(cam.to_camera(face.mean(axis=0, keepdims=True))[0, 2])
-                faces.append((depth, face, hex_rgb(TERRAIN)))
-                if k == 0:
-                    tops.append((face, depth))
-        for shadow in raised:
-            centre = shadow.mean(axis=0)
-            for face, depth in tops:
-                if lies_on(face, centre):
-                    faces.append((depth - 1e-9 * abs(depth), shadow, hex_rgb(SHADOW)))
-                    break
-        faces.sort(key=lambda f: -f[0])
+                    faces.append((depth(tri), tri, _shade(tuple(color), 0.55 + 0.6 * lit)))
+            on_floor, on_tops = ground_shadows(m.terrain, tris, self.LIGHT)
+            shadows.extend(on_floor)
+            for shadow, block in on_tops:
+                raised.setdefault(block, []).append((depth(shadow), shadow, hex_rgb(SHADOW)))
+        walls: list[Wall] = []
+        for block, box in _terrain_boxes(m, cx, cy, reach):
+            for k in seen_faces(box, cam.eye):  # a top seen from below hides its shadows
+                on_it = raised.get(block, []) if k == 0 else []
+                walls.append(((depth(box[k]), box[k], hex_rgb(TERRAIN)), on_it))
+        faces = back_to_front(faces, walls, cam.eye, depth, self.size)
         polys = [f[1] for f in faces]
         flat = []
         colors = []
@@ -482,10 +478,13 @@ def _arrow_segments(a: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.n
     return [(a, b), (b, back + 0.4 * head * side), (b, back - 0.4 * head * side)]
 
 
-def _terrain_boxes(m: Motion, cx: float, cy: float, reach: float) -> list[list[np.ndarray]]:
-    """The visible faces of the terrain's steps and boxes (each a list of four-corner faces)."""
+def _terrain_boxes(
+    m: Motion, cx: float, cy: float, reach: float
+) -> list[tuple[int, list[np.ndarray]]]:
+    """The terrain's steps and boxes within ``reach``: each one's index in the terrain and its
+    faces above the floor (four corners each, the top first)."""
     boxes = []
-    for t in m.terrain:
+    for index, t in enumerate(m.terrain):
         if t.kind == "step":
             x0, x1, y0, y1 = t.get("x"), cx + reach, cy - reach, cy + reach
         elif t.kind == "box":
@@ -498,5 +497,5 @@ def _terrain_boxes(m: Motion, cx: float, cy: float, reach: float) -> list[list[n
         h = t.get("height")
         c = np.array([[x, y, z] for z in (0, h) for y in (y0, y1) for x in (x0, x1)], dtype=float)
         quads = [(4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-        boxes.append([c[list(q)] for q in quads])
+        boxes.append((index, [c[list(q)] for q in quads]))
     return boxes
