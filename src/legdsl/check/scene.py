@@ -218,8 +218,9 @@ class _SceneChecker:
         return switches
 
     def _two_commands(self, values: list[SceneValue]) -> None:
-        """Two ``at T set`` lines for one input at one time, or two ``set`` lines of one name:
-        the run would keep the later (as ``--set`` given twice is refused)."""
+        """Two ``at T set`` lines for one input at one time, two ``set`` lines of one name, or
+        a ``set`` and an ``at 0 s set`` of one (the command replaces the value before it is
+        used): the run would keep one silently (as such ``--set`` texts are refused)."""
         seen: dict[tuple[str, float], Span] = {}
         given: dict[str, Span] = {}
         for v in values:
@@ -232,6 +233,12 @@ class _SceneChecker:
             if v.at is None:
                 given.setdefault(v.name, v.span)
                 continue
+            if v.at == 0 and v.name in given:
+                self.diag.error(
+                    v.span,
+                    f"{v.name} is set at line {given[v.name].line} and commanded here at 0 s: the "
+                    "command replaces that value before it is used: keep one",
+                )
             if (v.name, v.at) in seen:
                 self.diag.error(
                     v.span,
