@@ -140,14 +140,17 @@ class Workers:
             if self._pool is None:
                 self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
             with signals_held():  # the first submit forks the processes
-                pending = {self._pool.submit(fn, item) for item in items}
+                order = {self._pool.submit(fn, item): k for k, item in enumerate(items)}
+            pending = set(order)
             # kept here: the executor forgets a process that died before its exit code is read
             self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
             while pending:
                 ready, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
                 if not ready:
                     self._check_manager()
-                for future in ready:
+                # those done by one wake in the order given (a set's order put a table's rows
+                # 0, 2, 1 on a loaded machine, and a resume test cut the wrong row)
+                for future in sorted(ready, key=order.__getitem__):
                     try:
                         result = future.result()
                     except BrokenProcessPool:
