@@ -176,3 +176,15 @@ def test_a_scene_line_after_the_runs_end_is_warned_of_by_its_line_as_the_cli_not
                                str(generated), "--out", str(tmp_path / "run")])  # fmt: skip
     line = f"{path}:{len(HOPPER.read_text().splitlines()) + 4}:3: 'at 2 s set speed' of scene late"
     assert caught == said == [str(w.message) for w in many] and said[0].startswith(line)
+
+
+def test_a_player_whose_stances_get_few_keyframes_is_warned_of(
+    generated: Path, tmp_path: Path
+) -> None:
+    """Run.animate() wrote the player legdsl animate notes, silently (the note was made and
+    dropped)."""
+    hopper = legdsl.load(HOPPER, generated=generated)
+    run = hopper.run(controller="hop", time=3, record_rate=8)
+    caught = _warned(lambda: run.animate(tmp_path / "a.html"))
+    assert [str(w.message).split(" (")[0] for w in caught] == ["leg main's stances"]
+    assert all(Path(w.filename) == Path(__file__) for w in caught)

@@ -415,6 +415,8 @@ class Run:
             else self._directory() / "animation.html"
         )
         write_player(motion, out)
+        if motion.note:  # a stance of few keyframes, as legdsl animate notes it
+            notes.warn(motion.note.removeprefix("legdsl: note: "))
         return out
 
     def _repr_html_(self) -> str:
