@@ -1,6 +1,6 @@
-"""A switch that never takes over is said in one line, on both backends: one the run ends
-before (given for after ``--time``, or still waiting for a liftoff), and one still waiting
-when the next comes due (the later takes over); a run whose switches were all made says
+"""A switch that never takes over is said in one line, on both backends: one given for after
+``--time`` (its time never came), one the run ends before while it waits for a liftoff,
+and one still waiting when the next comes due (the later takes over); a run whose switches were all made says
 nothing. Two switches at one time are refused."""
 
 from __future__ import annotations
@@ -35,9 +35,15 @@ def test_a_switch_after_the_end_is_said(
     err = capsys.readouterr().err
     # the hopper's wait: 1 s for a creature standing 0.81 m, sqrt(h / 0.81 m) as long for it
     assert (
-        "legdsl: the run ended at 0.2 s before the switches to hop at 0.19 s, hop at 5 s took "
+        "legdsl: the run ended at 0.2 s before the switch to hop at 0.19 s took "
         "over (a switch waits up to 0.994 s for a liftoff); give a longer --time to see it"
     ) in err, err
+    # one whose time never came did not wait for a liftoff: it is told as a late --set is
+    assert (
+        "legdsl: the switch to hop at 5 s comes after the run's end (0.2 s) and never took "
+        "over; give a longer --time to see it"
+    ) in err, err
+    assert "hop at 5 s took over" not in err, err
     argv[argv.index("--time") + 1] = "1.2"  # the handover comes by 1.05 s at the latest
     assert main([*argv[:-4], "--switch", "0.05s=hop"]) == 0
     assert "before the switch" not in capsys.readouterr().err

@@ -262,15 +262,29 @@ def switches_not_made(run: Any) -> list[str]:
     ]
     over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
     left = [w for w in machine.switches if id(w) not in over]
-    if left and run.result.status == "ok":
-        which = ", ".join(f"{w.controller} at {w.t:g} s" for w in left)
-        s = "es" if len(left) > 1 else ""
+    if not left or run.result.status != "ok":
+        return lines
+    end = run.result.sim_time
+    # a switch whose time never came did not wait for a liftoff: told as a late --set is
+    waiting = [w for w in left if w.t <= end]
+    after = [w for w in left if w.t > end]
+    if waiting:
         lines.append(
-            f"the run ended at {run.result.sim_time:g} s before the switch{s} to {which} took "
-            f"over (a switch waits up to {wait:.3g} s for a liftoff); give a longer "
-            "--time to see it"
+            f"the run ended at {end:g} s before the {_switches_to(waiting)} took over (a "
+            f"switch waits up to {wait:.3g} s for a liftoff); give a longer --time to see it"
+        )
+    if after:
+        lines.append(
+            f"the {_switches_to(after)} {'come' if len(after) > 1 else 'comes'} after the "
+            f"run's end ({end:g} s) and never took over; give a longer --time to see it"
         )
     return lines
+
+
+def _switches_to(switches: Sequence[Switch]) -> str:
+    """``switch to pace at 5 s`` or ``switches to pace at 5 s, trot at 10 s``."""
+    which = ", ".join(f"{w.controller} at {w.t:g} s" for w in switches)
+    return f"switch{'es' if len(switches) > 1 else ''} to {which}"
 
 
 def followed_paths(machine: Any, end: float, scale: float | None = None) -> list[Followed]:
