@@ -47,22 +47,33 @@ class CreaturePart(ValueChecker):
         self.names = scope.names
         self.unsettled = scope.unsettled
 
-    def point(self, value: ast.Value, what: str, kind: str = "length") -> Vec3 | None:
+    def point(
+        self, value: ast.Value, what: str, kind: str = "length", example: str | None = None
+    ) -> Vec3 | None:
         """A point or direction: (x, z) in a planar creature, (x, y, z) otherwise."""
-        v = self.vector(value, kind, 2 if self.planar else 3, what)
+        v = self.vector(value, kind, 2 if self.planar else 3, what, example=example)
         if v is None:
             return None
         return (v[0], 0.0, v[1]) if self.planar else (v[0], v[1], v[2])
 
     def unit_vector(self, value: ast.Value, what: str) -> Vec3 | None:
-        v = self.point(value, what, "dimensionless")
+        v = self.point(value, what, "dimensionless", self._direction_example(value))
         if v is None:
             return None
         norm = math.hypot(*v)  # not sqrt of the sum of squares: (1e200, 1e200, 0) overflows it
         if norm < 1e-12:
-            self.err(value.span, f"{what} has zero length; give a direction such as (0, 0, -1)")
+            down = "(0, -1)" if self.planar else "(0, 0, -1)"
+            self.err(value.span, f"{what} has zero length; give a direction such as {down}")
             return None
         return (v[0] / norm, v[1] / norm, v[2] / norm)
+
+    def _direction_example(self, value: ast.Value) -> str:
+        """A direction to show for ``value``: along the axis it names (``axis z``: (0, 0, 1)),
+        else along x; never (0, 0, 0), which has no direction."""
+        axes = "xz" if self.planar else "xyz"
+        name = value.ident.name.lower() if isinstance(value, ast.NameValue) else "x"
+        along = axes.index(name) if len(name) == 1 and name in axes else 0
+        return "(" + ", ".join("1" if i == along else "0" for i in range(len(axes))) + ")"
 
     def name_of(self, value: ast.Value, what: str) -> ast.Ident | None:
         if isinstance(value, ast.NameValue):

@@ -176,14 +176,22 @@ class ValueChecker:
         return sign * q.value
 
     def vector(
-        self, value: ast.Value, kind: str, n: int, what: str, axes: str | None = None
+        self,
+        value: ast.Value,
+        kind: str,
+        n: int,
+        what: str,
+        axes: str | None = None,
+        example: str | None = None,
     ) -> tuple[float, ...] | None:
         """A tuple of ``n`` numbers of dimension ``kind``; a unit after ')' applies to all.
-        ``axes`` names the components in the error (a planar creature's (x, z) if n is 2)."""
+        ``axes`` names the components in the error (a planar creature's (x, z) if n is 2);
+        ``example`` is the error's valid vector where zeros are not (a direction)."""
         if not isinstance(value, ast.Vector):
             self.err(
                 value.span,
-                f"{what} must be a vector of {n} numbers, as in {example_vector(n, kind)}",
+                f"{what} must be a vector of {n} numbers, as in "
+                f"{example or example_vector(n, kind)}",
             )
             return None
         if len(value.items) != n:
