@@ -46,3 +46,14 @@ def test_a_series_unit(runs: dict[str, legdsl.Run], creature: str, name: str, un
 def test_a_name_that_is_no_series_is_told_the_nearest(runs: dict[str, legdsl.Run]) -> None:
     with pytest.raises(KeyError, match="did you mean 'q.hip'"):
         runs["hopper"].unit("q.hipp")
+
+
+def test_a_run_says_which_series_it_has_and_is_not_iterated(runs: dict[str, legdsl.Run]) -> None:
+    """``NAME in run`` asks for a series by name, as ``run[NAME]`` reads it; iterating a run
+    (``list(run)``, ``dict(run)``) is refused towards ``run.samples``, not told as a series 0."""
+    run = runs["hopper"]
+    assert "com.x" in run and "q.hip" in run
+    assert "no_such" not in run and 0 not in run and "COM.x" not in run
+    for iterate in (list, dict, iter):
+        with pytest.raises(TypeError, match=r"its series are run\.samples"):
+            iterate(run)

@@ -339,6 +339,16 @@ class Run:
     def __len__(self) -> int:
         return len(self.trajectory)
 
+    # without these two, Python tries run[0] for 'in', list() and dict(): "no series 0"
+    def __contains__(self, name: object) -> bool:
+        return isinstance(name, str) and name in self.samples
+
+    def __iter__(self) -> Iterator[str]:  # over names, it would disagree with len(run)
+        raise TypeError(
+            "a Run is not iterated: its series are run.samples, a dict (for name in "
+            "run.samples, dict(run.samples)); len(run) is its number of samples"
+        )
+
     def to_pandas(self) -> Any:
         """The samples as a pandas DataFrame indexed by time (pandas must be installed)."""
         try:
