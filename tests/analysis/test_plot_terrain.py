@@ -17,7 +17,7 @@ from legdsl.sim.trajectory import Trajectory, empty
 HOPPER = CREATURES / "hopper.leg"
 
 
-def _run(tmp_path: Path, terrain: str) -> Path:
+def _run(tmp_path: Path, terrain: str, **info: object) -> Path:
     text = HOPPER.read_text()
     assert "    friction none\n  }" in text
     source = tmp_path / "hopper.leg"
@@ -34,7 +34,7 @@ def _run(tmp_path: Path, terrain: str) -> Path:
     tr.com[:, 2] = 0.9
     out = tmp_path / "run"
     tr.save(out)
-    (out / "run.json").write_text(json.dumps({"source": str(source), "creature": "hopper"}))
+    (out / "run.json").write_text(json.dumps({"source": str(source), "creature": "hopper", **info}))
     return out
 
 
@@ -53,6 +53,15 @@ def test_the_ground_under_the_centre_of_mass_follows_the_terrain(
     ground = ground_under_com(run, tr)
     assert ground is not None
     assert ground == pytest.approx(expected(tr.com[:, 0]))  # type: ignore[operator]
+
+
+def test_a_scaled_run_stands_over_the_scaled_terrain(tmp_path: Path) -> None:
+    # legdsl run --scale 2 records the creature twice as large: its step is at 4 m, 10 cm high
+    run = _run(tmp_path, "terrain step(x = 2 m, height = 5 cm)", scale=2.0)
+    tr = Trajectory.load(run)
+    ground = ground_under_com(run, tr)
+    assert ground is not None
+    assert ground == pytest.approx(np.where(tr.com[:, 0] >= 4.0, 0.1, 0.0))
 
 
 def test_a_flat_floor_draws_no_ground_line(tmp_path: Path) -> None:

@@ -300,7 +300,8 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
 
 def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
     """The terrain's height under the centre of mass at every sample, or None for a flat
-    floor (or when the run's creature cannot be read back: the panel is then the body alone)."""
+    floor (or when the run's creature cannot be read back: the panel is then the body alone).
+    A ``--scale L`` run's ground is the file's scaled by L, as its motion and metrics are."""
     from legdsl.analysis.recorded import model_if_readable
     from legdsl.sim.contact import GroundContact
 
@@ -308,7 +309,9 @@ def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
     if model is None or model.ground is None or not model.ground.terrain:
         return None
     surface = GroundContact(model.ground, (), model.planar)
-    return np.array([surface.height(float(x), float(y)) for x, y in tr.com[:, :2]])
+    scale = float(load_run_info(run).get("scale") or 1.0)
+    return np.array([scale * surface.height(float(x) / scale, float(y) / scale)
+                     for x, y in tr.com[:, :2]])  # fmt: skip
 
 
 def run_paths(run: Path) -> list[PathSpec]:
