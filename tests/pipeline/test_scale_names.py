@@ -131,6 +131,26 @@ def test_a_name_given_that_another_creature_has_is_told_so_not_as_a_cut(
         assert "64 characters" not in err and f"give {names[0].partition('=')[0]} another" in err
 
 
+def test_a_name_given_that_a_creature_of_the_file_has_unscaled_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--name pogo=hopper gave the scaled pogo the unscaled hopper's name (and --name myhop
+    a lone creature its own), so its generated/hopper/ and runs were the unscaled one's."""
+    two = tmp_path / "two.leg"
+    two.write_text(_creature("hopper") + _creature("pogo"))
+    one = tmp_path / "myhop.leg"
+    one.write_text(_creature("myhop"))
+    out = tmp_path / "out.leg"
+    for source, name, taken in [(two, "pogo=hopper", "hopper"), (two, "pogo=pogo", "pogo"),
+                                (one, "myhop", "myhop")]:  # fmt: skip
+        assert main(["scale", str(source), "--by", "2", "-o", str(out), "--name", name]) == 2
+        err = capsys.readouterr().err
+        assert f"--name {name}: {taken} is the name of {source}'s creature {taken}, unscaled" in err
+        assert "Traceback" not in err and not out.exists()
+    assert main(["scale", str(two), "--by", "2", "-o", str(out), "--name", "pogo=hopper2"]) == 0
+    assert [m.name for m in check_file(out)] == ["hopper_x2", "hopper2"]
+
+
 def test_a_creature_that_uses_a_file_is_named_and_checked_from_its_new_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

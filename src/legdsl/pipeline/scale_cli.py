@@ -127,6 +127,13 @@ def _new_names(creatures: list[str], given: list[str], scale: float, file: str) 
         if old in names:
             raise UsageError(f"--name {text}: creature {old} is named twice (also {names[old]})")
         names[old] = _valid_name(new, text)
+        if new in creatures:  # the scaled creature would take an unscaled one's generated/NEW/
+            again = f"{old}={new}_big" if sep else f"{new}_big"
+            raise UsageError(
+                f"--name {text}: {new} is the name of {file}'s creature {new}, unscaled; a scaled "
+                f"creature needs a name of its own, or its generated code and runs are that "
+                f"creature's (generated/{new}/): give another, e.g. --name {again}"
+            )
     for old in creatures:
         names.setdefault(old, scale_name(old, scale))
     seen: dict[str, str] = {}
