@@ -267,8 +267,15 @@ def test_bad_scale_factors_are_user_errors(
     assert main(["run", hopper, *gen, "--scale", "2", "--animate", "--out", out]) == 2
     err = capsys.readouterr().err
     assert "the scale factor is a positive, finite number" in err
-    assert main(["scale", hopper, "--by", "1e400", "-o", out]) == 2  # read as inf
-    assert "--by inf: the scale factor is a positive, finite number" in capsys.readouterr().err
+    # past a double as written: told as written ('--by 0.0', '--scale 0', '--by inf' before)
+    for by, told in (("1e-400", "small a number: it underflows"), ("1e400", "large a number")):
+        for args in (["scale", hopper, "--by", by, "-o", out],
+                     ["run", hopper, *gen, "--scale", by, "--time", "0.01", "--out", out]):  # fmt: skip
+            with pytest.raises(SystemExit) as refused:  # argparse's
+                main(args)
+            assert refused.value.code == 2
+        said = capsys.readouterr().err
+        assert said.count(f"{by!r} is too {told}") == 2 and "positive, finite" in said
     # float() read '1_5' as 15 (meant 1.5?) and Arabic-Indic digits: as a .leg file, refused
     for by in ("1_5", "\u0661"):
         for args in (["scale", hopper, "--by", by, "-o", out],

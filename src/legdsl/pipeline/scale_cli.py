@@ -51,7 +51,7 @@ def add_scale_parser(sub: Any) -> Callable[[argparse.Namespace], int]:
 
 def cmd_scale(args: argparse.Namespace) -> int:
     if not 0 < args.by < float("inf"):
-        raise UsageError(f"--by {args.by}: the scale factor is a positive, finite number")
+        raise UsageError(f"--by {args.by:g}: the scale factor is a positive, finite number")
     if is_stream(args.output):  # the scaled file is checked where it is written, uses and all
         raise UsageError(f"-o {args.output}: legdsl scale writes a .leg file and checks it there "
                          "(its 'use' paths are relative to it); name a file, e.g. -o scaled.leg")  # fmt: skip

@@ -12,7 +12,9 @@ velocities, forces, energies, events) is multiplied by its factor before it is w
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
+import decimal
 import math
 import re
 from typing import Any
@@ -81,12 +83,22 @@ def check_scaled_defaults(options: RunOptions, scale: float | None, given: dict[
 
 def scale_factor(text: str) -> float:
     """``--scale L``, ``--by L`` as argparse reads it: a plain number, the length ratio; a
-    length (``2m``) is told what L is."""
-    return plain_number(
+    length (``2m``) is told what L is, and one past a double as written (it read as 0 or inf)."""
+    value = plain_number(
         text,
         "the scale factor L is a plain number, the ratio of the scaled creature's lengths to "
         "this one's (2: twice as large)",
     )
+    written = decimal.Decimal(text)  # plain_number read it: it is a number
+    if written.is_finite() and written != 0 and value in (0.0, math.inf, -math.inf):
+        past = ("small a number: it underflows a double (nearer 0 than a double holds, "
+                "5e-324)" if value == 0 else "large a number: it overflows a double")  # fmt: skip
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is too {past} and would read as {value:g}; the scale factor is a "
+            "positive, finite number not so far from 1 (L^5, an inertia's factor, and 1 / L^5 "
+            "are doubles too)"
+        )
+    return value
 
 
 def check_scale(scale: float | None) -> None:
