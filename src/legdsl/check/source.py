@@ -198,7 +198,7 @@ def load_uses(
 
     def visit(current: ast.SourceFile, chain: tuple[Path, ...], first: ast.UseDecl | None) -> None:
         for use in current.uses:
-            path = _use_path(current, use)
+            path = use_path(current, use)
             if path.is_file():
                 edges[chain[-1]].append(path.resolve())
             at = first or use  # a mistake in a used file is reported at the user's own 'use'
@@ -313,7 +313,7 @@ def _not_there(target: str, path: Path, user: Path) -> str:
     return told
 
 
-def _use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:
+def use_path(tree: ast.SourceFile, use: ast.UseDecl) -> Path:
     """A quoted path is relative to the file that says ``use``; a bare name is the stdlib's."""
     if _is_a_path(use):
         path = Path(tree.path).parent / use.target

@@ -85,14 +85,14 @@ def _offset(lines: list[int], line: int, col: int) -> int:
     return lines[line - 1] + col - 1
 
 
-def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> None:
-    """Collect (span, dimension) of every number with a unit under ``node``."""
+def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim, float]]) -> None:
+    """Collect (span, dimension, value) of every number with a unit under ``node``."""
     if isinstance(node, ast.Number | ast.EQuantity):
         q = node.quantity
         if not q.unitless:
-            out.append((node.span, q.dim))
+            out.append((node.span, q.dim, q.value))
         elif unit_dim is not None:  # a bare number inside '( ... ) UNIT'
-            out.append((node.span, unit_dim))
+            out.append((node.span, unit_dim, q.value))
         return
     if isinstance(node, ast.Vector):
         dim = parse_unit(node.unit)[1] if node.unit is not None else unit_dim
@@ -109,17 +109,19 @@ def _walk(node: Any, unit_dim: Dim | None, out: list[tuple[ast.Span, Dim]]) -> N
                 _walk(getattr(node, f.name), unit_dim, out)
 
 
-def _quantities(tree: ast.SourceFile) -> list[tuple[ast.Span, Dim]]:
-    """(span, dimension) of every number with a unit in a file."""
-    found: list[tuple[ast.Span, Dim]] = []
+def _quantities(tree: ast.SourceFile) -> list[tuple[ast.Span, Dim, float]]:
+    """(span, dimension, value) of every number with a unit in a file."""
+    found: list[tuple[ast.Span, Dim, float]] = []
     _walk((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), None, found)
     return found
 
 
 def scales_anything(text: str, file: str = "<string>") -> bool:
-    """Whether a file holds a number that scaling changes (one whose unit is not an angle's
-    or none): a used file that does is left as written by ``scale_source``."""
-    return any(exponent(dim) != 0 for _, dim in _quantities(parse(text, file)))
+    """Whether a file holds a number that scaling changes (not 0, with a unit that is not an
+    angle's or none): a used file that does is left as written by ``scale_source``."""
+    return any(
+        exponent(dim) != 0 and value != 0 for _, dim, value in _quantities(parse(text, file))
+    )
 
 
 def _beyond(value: float, dim: Dim, scale: float) -> str:
@@ -221,7 +223,7 @@ def scale_source(
     edits: list[tuple[int, int, str]] = []  # (start, end, replacement)
 
     beyond: list[Diagnostic] = []
-    for span, dim in _quantities(tree):
+    for span, dim, _ in _quantities(tree):
         start = _offset(starts, span.line, span.col)
         match = _NUMBER.match(text, start)
         assert match is not None, f"no number at {span}"

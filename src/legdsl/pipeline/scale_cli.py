@@ -10,10 +10,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from legdsl.check.source import check_file, check_tree, load_uses
+from legdsl.check.source import check_file, check_tree, load_uses, use_path
 from legdsl.check.values import MAX_NAME, did_you_mean, stdlib_name
 from legdsl.files import write_atomic
 from legdsl.ir.model import Model
+from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, LegError, UsageError
 from legdsl.lang.parser import parse, parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
@@ -85,14 +86,28 @@ def cmd_scale(args: argparse.Namespace) -> int:
                 f"{'NEW' if len(names) == 1 else f'{old}=NEW'}",
                 file=sys.stderr,
             )
-    for path in map(_readable, _unscaled(used, Path(args.file))):
+    users = _users([tree, *(parse(text, path) for path, text in used.items())])
+    for path in _unscaled(used, Path(args.file)):
+        user = users[Path(path).resolve()]
+        by = "it" if user == Path(args.file).resolve() else _readable(str(user))
+        point = "the 'use' at it" if by == "it" else f"the 'use' in {by} at it (a copy, for OUT)"
         print(
-            f"legdsl: note: {path}, which it uses, is not scaled and has numbers with units: "
-            f"scale it too (legdsl scale {path} --by {args.by:g} -o OUT.leg) and point the "
-            "'use' at it, unless its numbers are meant for any size",
+            f"legdsl: note: {_readable(path)}, which {by} uses, is not scaled and has numbers "
+            f"with units: scale it too (legdsl scale {_readable(path)} --by {args.by:g} -o "
+            f"OUT.leg) and point {point}, unless its numbers are meant for any size",
             file=sys.stderr,
         )
     return 0
+
+
+def _users(trees: list[ast.SourceFile]) -> dict[Path, Path]:
+    """The file (of ``trees``: FILE first, then those it uses) that uses each used file
+    first: FILE itself where it does, else the used file through which it is reached."""
+    users: dict[Path, Path] = {}
+    for tree in trees:
+        for use in tree.uses:
+            users.setdefault(use_path(tree, use).resolve(), Path(tree.path).resolve())
+    return users
 
 
 def _suffix(scale: float) -> str:
