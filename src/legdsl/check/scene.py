@@ -170,8 +170,9 @@ class _SceneChecker:
             if key == by and owner in self.controllers:
                 diag.error(
                     v.span,
-                    f"'gait by {by}' chooses by the command of {by}; give it with "
-                    f"'set {by} = ...' (one controller's own {by} would run outside its band)",
+                    f"'gait by {by}' chooses by one command of {by} for all its controllers; "
+                    f"give it with 'set {by} = ...' (a scene with a gait table gives no "
+                    f"controller its own {by})",
                 )
                 return None
         if bands:
