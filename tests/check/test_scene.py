@@ -92,6 +92,41 @@ def test_gait_bands_choose_the_controller_with_hysteresis() -> None:
     assert (controller, planned) == ("run", ["18.0s=gallop"])
 
 
+def test_a_controller_line_starts_a_gait_table_only_in_its_band(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The ``controller`` line chooses between the bands that hold the first command (their
+    overlap); one whose band does not hold it is refused, at the line in the file and as a
+    UsageError where a ``--set`` moves the first command, and ``--controller`` refused for it
+    names the line, not the band, as its reason."""
+    path = tmp_path / "biped.leg"
+    table = "gait by speed { gallop to 1.6 m/s; run from 1.4 m/s }"
+    path.write_text(BIPED.read_text() + f"scene lead {{ {table}; controller run;"
+                    " set speed = 1.5 m/s; time 0.2 s }\n")  # fmt: skip
+    model = check_model(path)
+    scene = model.scene("lead")
+    assert scene_plan(scene, model, [], [])[0] == "run"  # 1.5 m/s: gallop's band holds it too
+    with pytest.raises(UsageError, match=r"starts with run \(its 'controller' line\), but no "
+                       r"band of run holds the first command, speed = 1 \(SI\)"):  # fmt: skip
+        scene_plan(scene, model, ["speed=1m/s"], [])
+    args = ["run", str(path), "--scene", "lead", "--generated", str(tmp_path / "generated")]
+    assert main([*args, "--controller", "gallop"]) == 2
+    assert (
+        "--scene lead starts with controller run (its 'controller' line); leave out --controller"
+    ) in capsys.readouterr().err
+    from legdsl.lang.errors import LegError
+
+    path.write_text(BIPED.read_text() + f"scene lead {{ {table}; controller run;"
+                    " set speed = 1 m/s }\n")  # fmt: skip
+    with pytest.raises(LegError) as err:
+        check_model(path)
+    assert (
+        "the scene starts with run, but no band of run holds the first command, speed = 1 m/s "
+        "(bands: gallop to 1.6 m/s; run from 1.4 m/s): leave out this line (the table starts "
+        "with gallop)"
+    ) in err.value.render()
+
+
 def test_a_speed_no_band_holds_is_an_error(tmp_path: Path) -> None:
     from legdsl.lang.errors import LegError
 

@@ -208,8 +208,24 @@ def draw_gait_table(d: Draw, controllers: list[str]) -> list[str]:
             continue  # two at one time, or a value (t = -1) and a command at 0 s: refused
         d.speeds.append((t, speed(), flag_t))
         d.lines.append(f"at {scene_t} set speed = {d.speeds[-1][1]:g} m/s")
+    if d.lines[0].startswith("controller "):  # one of the bands holding the first command
+        held = [n for n, lo, hi in d.bands if _holds(lo, hi, _first_speed(d))]
+        d.lines[0] = f"controller {rng.choice(held)}"
+        d.flags[:2] = ["--controller", d.lines[0].split()[1]]
     kept = d.lines[0].split()[1:] if d.lines[0].startswith("controller ") else []
     return list(dict.fromkeys([*kept, *names]))
+
+
+def _holds(low: float | None, high: float | None, v: float) -> bool:
+    return (low is None or v >= low) and (high is None or v <= high)
+
+
+def _first_speed(d: Draw) -> float:
+    """The first speed command: a command at 0 s, else the value, else the controllers'."""
+    first = 1.5 if d.model.name == "biped" else 1.0  # every shipped controller's speed
+    for t, v, _ in sorted(d.speeds):
+        first = v if t <= 0 else first
+    return first
 
 
 def gaits_as_flags(d: Draw) -> None:
@@ -218,21 +234,14 @@ def gaits_as_flags(d: Draw) -> None:
     the first), and a switch where a command leaves the current controller's band."""
 
     def first_holding(v: float) -> str:
-        return next(
-            n for n, lo, hi in d.bands if (lo is None or v >= lo) and (hi is None or v <= hi)
-        )
+        return next(n for n, lo, hi in d.bands if _holds(lo, hi, v))
 
     start = d.lines[0].split()[1:] if d.lines[0].startswith("controller ") else []
-    default = 1.5 if d.model.name == "biped" else 1.0  # every shipped controller's speed
-    first = default
-    for t, v, _ in sorted(d.speeds):
-        first = v if t <= 0 else first
-    current = start[0] if start else first_holding(first)
+    current = start[0] if start else first_holding(_first_speed(d))
     if not start:
         d.flags[:0] = ["--controller", current]
     for t, v, flag_t in sorted(d.speeds):
-        held = any(n == current and (lo is None or v >= lo) and (hi is None or v <= hi)
-                   for n, lo, hi in d.bands)  # fmt: skip
+        held = any(n == current and _holds(lo, hi, v) for n, lo, hi in d.bands)
         if t > 0 and not held:
             current = first_holding(v)
             d.switches.append((t, current))

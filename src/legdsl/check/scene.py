@@ -27,7 +27,15 @@ from legdsl.check.values import (
     written_unit,
 )
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
-from legdsl.ir.scene import GaitBand, Scene, SceneSwitch, SceneValue, choose_gaits
+from legdsl.ir.scene import (
+    GaitBand,
+    Scene,
+    SceneSwitch,
+    SceneValue,
+    choose_gaits,
+    first_command,
+    starts_in_band,
+)
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS
@@ -176,7 +184,7 @@ class _SceneChecker:
                 )
                 return None
         if bands:
-            start = self._gaits(tables[0], bands, start, used, values)
+            start = self._gaits(tables[0], bands, first[0] if first else None, used, values)
             if start is None:
                 return None
         assert start is not None
@@ -304,10 +312,13 @@ class _SceneChecker:
                 out.append(GaitBand(b.controller.name, low, high, b.span))
         return tuple(out) if fine else None
 
-    def _gaits(self, table: ast.SceneGaits, bands: tuple[GaitBand, ...], start: str | None,
-               used: list, values: list[SceneValue]) -> str | None:  # fmt: skip
-        """The controller the scene starts with; a command no band holds is an error at it."""
+    def _gaits(self, table: ast.SceneGaits, bands: tuple[GaitBand, ...],
+               line: ast.SceneController | None, used: list,
+               values: list[SceneValue]) -> str | None:  # fmt: skip
+        """The controller the scene starts with; a command no band holds is an error at it, and
+        a ``controller`` line whose bands do not hold the first command at the line."""
         name = table.input.name
+        start = line.name.name if line is not None else None
         given = [v for v in values if v.name == name and v.at is None]
         default = next((c.value for ctl in used for c in ctl.inputs if c.name == name), 0.0)
         initial = given[-1].value if given else default
@@ -322,7 +333,19 @@ class _SceneChecker:
                 span,
                 f"no band of 'gait by {name}' holds {name} = {v:g} {unit} (bands: {bands_text})",
             )
-        return first if not lost else None
+        if lost:
+            return None
+        speed = first_command(initial, changes)
+        if line is not None and not starts_in_band(bands, line.name.name, speed):
+            by_band, _, _ = choose_gaits(bands, None, initial, changes)
+            self.diag.error(
+                line.name.span,
+                f"the scene starts with {line.name.name}, but no band of {line.name.name} holds the first "
+                f"command, {name} = {speed:g} {unit} (bands: {bands_text}): leave out this line "
+                f"(the table starts with {by_band}), or give a first command in its band",
+            )
+            return None
+        return first
 
     def _value(self, item: ast.SceneSet, used: list) -> SceneValue | None:
         diag = self.diag

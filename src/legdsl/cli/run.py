@@ -117,7 +117,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             scene = scale_scene(scene, model, args.scale)
         controller, settings, switches = scene_plan(scene, model, settings, switches, unreached)
         if args.controller not in (None, controller):  # a gait table's start is its first band's
-            chosen = " (its gait table's band for the first command)" if scene.bands else ""
+            chosen = (" (its gait table's band for the first command)" if scene.starts_by_band
+                      else " (its 'controller' line)" if scene.bands else "")  # fmt: skip
             raise UsageError(
                 f"--scene {scene.name} starts with controller {controller}{chosen}; "
                 "leave out --controller (or change the scene)"
@@ -140,7 +141,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.scene is not None:  # a note names the scene's lines as written
         from legdsl.pipeline.scenes import scene_sources
 
-        sources = scene_sources(scene)
+        sources = scene_sources(scene, model.scene(args.scene))  # as the file says it, unscaled
     out = check_output_dir(args.out or Path("runs") / model.name, "--out")
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}

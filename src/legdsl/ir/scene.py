@@ -72,10 +72,10 @@ def choose_gaits(
 
     # a command at 0 s is the one the run starts with: it chooses the first band, as the
     # untimed one would (a switch at 0 s cannot be made)
-    for _, v in sorted(c for c in changes if c[0] <= 0.0):
-        speed = v
+    speed = first_command(speed, changes)
     changes = [c for c in changes if c[0] > 0.0]
-    current = start if start is not None else pick(speed, 0.0)
+    band = pick(speed, 0.0)  # with a controller line too: a first command no band holds is lost
+    current = start if start is not None else band
     current = current if current is not None else bands[0].controller
     first = current
     switches: list[tuple[float, str]] = []
@@ -88,6 +88,19 @@ def choose_gaits(
             switches.append((t, new))
             current = new
     return first, switches, lost
+
+
+def first_command(speed: float, changes: list[tuple[float, float]]) -> float:
+    """The command a run starts with: the last of ``changes`` (t, speed) at 0 s, which
+    replaces the value ``speed`` before it is used, else ``speed``."""
+    at_start = [v for t, v in sorted(changes) if t <= 0.0]
+    return at_start[-1] if at_start else speed
+
+
+def starts_in_band(bands: tuple[GaitBand, ...], start: str, speed: float) -> bool:
+    """Whether a band of controller ``start`` (a scene's ``controller`` line) holds the first
+    command ``speed``: else it would run outside its band, against its gait table."""
+    return any(b.controller == start and b.holds(speed) for b in bands)
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from legdsl.analysis.path_report import Followed
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
-from legdsl.ir.scene import Scene, choose_gaits
+from legdsl.ir.scene import Scene, choose_gaits, first_command, starts_in_band
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, si_unit
 from legdsl.pipeline.scaled import scale_path
@@ -85,16 +85,18 @@ def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
     return sets, switches
 
 
-def scene_sources(scene: Scene) -> dict[str, str]:
-    """Each ``at T set`` line of ``scene`` by the ``--set`` text it stands for, as a note
-    names it: its place in the file and its words (``demo.leg:30:3: 'at 11 s set speed' of
-    scene demo``)."""
+def scene_sources(scene: Scene, written: Scene | None = None) -> dict[str, str]:
+    """Each ``set`` line of ``scene`` by the ``--set`` text it stands for, as a note names it:
+    its place in the file and its words (``demo.leg:30:3: 'at 11 s set speed' of scene demo``),
+    with the times of ``written``, the file's scene that ``scene`` is scaled from
+    (``scale_scene``: a note quoted its scaled times as the file's words)."""
     sets, _ = scene_texts(scene)
-    return {
-        text: f"{v.span}: 'at {v.at:g} s set {v.name}' of scene {scene.name}"
-        for text, v in zip(sets, scene.values, strict=True)
-        if v.at is not None
-    }
+    named: dict[str, str] = {}
+    for text, v, ran in zip(sets, (written or scene).values, scene.values, strict=True):
+        at = "" if v.at is None else f"at {v.at:g} s "
+        scaled = f", at {ran.at:g} s once scaled," if ran.at != v.at else ""
+        named[text] = f"{v.span}: '{at}set {v.name}' of scene {scene.name}{scaled}"
+    return named
 
 
 def find_scene(model: Model, name: str) -> Scene:
@@ -197,12 +199,19 @@ def scene_plan(
     commands = [(c.t, c.value) for c in given.schedule if c.name == by]
     start = None if scene.starts_by_band else scene.controller
     first, planned, lost = choose_gaits(scene.bands, start, initial, commands)
+    bands = "; ".join(b.text() for b in scene.bands)
     if lost:
-        bands = "; ".join(b.text() for b in scene.bands)
         t, v = lost[0]
         raise UsageError(
             f"--scene {scene.name}: no band of its gait table holds {by} = {v:g} (SI) at {t:g} s "
             f"(bands, SI: {bands})"
+        )
+    speed = first_command(initial, commands)
+    if start is not None and not starts_in_band(scene.bands, start, speed):  # a --set moved it
+        raise UsageError(
+            f"--scene {scene.name} starts with {start} (its 'controller' line), but no band of "
+            f"{start} holds the first command, {by} = {speed:g} (SI) (bands, SI: {bands}); give "
+            "a first command in its band"
         )
     # a band's values ('set pace.kp = ...', or a name only its controller has) wait for its
     # band: a band the commands never reach has none (the run refuses names it lacks)
