@@ -178,6 +178,30 @@ def test_a_scene_line_after_the_runs_end_is_warned_of_by_its_line_as_the_cli_not
     assert caught == said == [str(w.message) for w in many] and said[0].startswith(line)
 
 
+def test_a_scene_line_its_controller_overwrites_is_named_as_written_scaled_or_not(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A scene's 'set hip_servo.kv', which hop sets itself, was noted as '--set
+    hip_servo.kv=2.0kg*m^2/s/rad' (a --set never given, in SI base units, no line), and under
+    --scale 4 its 'at 1 s set speed' as 'at 2 s set speed', the scaled time as the file's."""
+    path = tmp_path / "hopper.leg"
+    scene = ("\nscene go {\n  controller hop\n  set hip_servo.kv = 2 N*m*s/rad\n"
+             "  at 1 s set speed = 1.5 m/s\n  time 3 s\n}\n")  # fmt: skip
+    path.write_text(HOPPER.read_text() + scene)
+    end = len(HOPPER.read_text().splitlines())
+    kv = f"{path}:{end + 4}:3: 'set hip_servo.kv' of scene go: controller 'hop' sets hip_servo.kv"
+    speed = f"{path}:{end + 5}:3: 'at 1 s set speed' of scene go"
+    hopper = legdsl.load(path, generated=generated)
+    caught = [str(w.message) for w in _warned(lambda: hopper.run(scene="go", time=0.2))]
+    argv = [str(path), "--scene", "go", "--time", "0.2", "--generated", str(generated)]
+    said = _cli_notes(capsys, [*argv, "--out", str(tmp_path / "run")])
+    assert caught == said and said[0].startswith(speed + " comes after")
+    assert said[1].startswith(kv) and "--set" not in said[1]
+    scaled = _cli_notes(capsys, [*argv, "--scale", "4", "--out", str(tmp_path / "run4")])
+    assert scaled[0].startswith(f"{speed}, at 2 s once scaled, comes after the run's end")
+    assert scaled[1].startswith(kv)
+
+
 def test_a_player_whose_stances_get_few_keyframes_is_warned_of(
     generated: Path, tmp_path: Path
 ) -> None:

@@ -351,7 +351,7 @@ class RunSession:
         a drop outlasting it, a setting its controller writes (``legdsl run``'s, the API's)."""
         texts = [settings] if isinstance(settings, str) else list(settings)
         late = notes_before_run(texts, options, self.model, sources)
-        written = [f"--set {note}" for note in overwritten_notes(texts, controller, self)]
+        written = overwritten_notes(texts, controller, self, sources)
         for note in [*unreached, *late, *written]:
             self.tell("note", note)
 

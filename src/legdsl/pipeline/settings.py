@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -465,10 +465,16 @@ def _at_the_start(text: str) -> bool:
     return given.value == 0
 
 
-def overwritten_notes(settings: Sequence[str], controller: str | None, session: Any) -> list[str]:
-    """``TEXT: why`` for each ``--set`` text of an actuator setting that ``controller`` writes
-    itself (``legdsl.sim.machine.overwritten``); none while the settings or the controller's
-    name hold a mistake, which the run tells alone."""
+def overwritten_notes(
+    settings: Sequence[str],
+    controller: str | None,
+    session: Any,
+    sources: Mapping[str, str] | None = None,
+) -> list[str]:
+    """``--set TEXT: why`` for each ``--set`` text of an actuator setting that ``controller``
+    writes itself (``legdsl.sim.machine.overwritten``), a scene's line named as ``sources``
+    has it (``scene_sources``: it was told as a --set in SI units the user never wrote); none
+    while the settings or the controller's name hold a mistake, which the run tells alone."""
     if controller is None or session is None:
         return []
     if controller not in {c.name for c in session.model.controllers}:
@@ -479,4 +485,5 @@ def overwritten_notes(settings: Sequence[str], controller: str | None, session: 
         return []
     module = session.control(controller)
     said = [(t, overwritten(t.partition("=")[0].strip(), controller, module)) for t in settings]
-    return [f"{text}: {why}" for text, why in said if why]
+    named = sources or {}
+    return [f"{named.get(text, f'--set {text}')}: {why}" for text, why in said if why]
