@@ -28,6 +28,12 @@ CASES = {
     # finite real number, whatever the state", though the branch may never be taken
     "select": ("hip_servo.setpoint = 1 deg * sqrt(select(com.z > 0.7 m, -1, 1))",
                "sqrt(-1) has no real value", "com.z = 0.7651"),
+    # an overflow said "is undefined ((34, 'Numerical result out of range'))", Python's words
+    "power": ("hip_servo.setpoint = 1 deg * (com.z / 1 m + 10) ^ 400",
+              "x^y(10.77, 400) overflows a double (it would be about 1e413, past the largest, "
+              "1.8e308); bound what it reads, as in clamp(..., low, high)", "com.z = 0.7651"),
+    "exp": ("hip_servo.setpoint = 1 deg * exp(com.z / 1 m * 1000)",
+            "exp(765.1) overflows a double (it would be about 1e332", "com.z = 0.7651"),
     "division": ("hip_motor.force = 1 N*m*s / time_in_state",
                  "a division by 0: its divisor 'time_in_state' is 0 here; give a value to use "
                  "while it is, as in select(time_in_state != 0, ..., ...)", "time_in_state = 0"),
@@ -54,7 +60,8 @@ ADVICE += "select(main.stance_time > 0 s, main.stance_time, 0.3 s)"
 
 
 @pytest.mark.parametrize(
-    ("case", "backend"), [(c, "c") for c in CASES] + [("min", "python"), ("negative", "python")]
+    ("case", "backend"),
+    [(c, "c") for c in CASES] + [("min", "python"), ("negative", "python"), ("power", "python")],
 )
 def test_a_failing_control_law_names_its_statement(
     capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path, case: str, backend: str

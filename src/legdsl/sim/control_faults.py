@@ -102,15 +102,38 @@ def _ev(e: Any, values: dict[Any, float]) -> Any:
             out = complex(e.func(*args).evalf())
     except ZeroDivisionError:  # a division is a power -1 in sympy: Python's words tell that
         raise _Bad(f"{_call_text(e, args)} divides by 0", args, e) from None
-    except (ValueError, OverflowError, TypeError) as err:
+    except OverflowError:  # Python's words for it are an errno tuple: say it plainly
+        raise _Bad(_overflows(e, args), args, e) from None
+    except (ValueError, TypeError) as err:
         raise _Bad(f"{_call_text(e, args)} is undefined ({err})", args, e) from None
     if isinstance(out, complex):
         if out.imag != 0:
             raise _Bad(f"{_call_text(e, args)} has no real value", args, e)
         out = out.real
     if not math.isfinite(out) and all(math.isfinite(a) for a in args):
-        raise _Bad(f"{_call_text(e, args)} is {out}", args, e)
+        what = _overflows(e, args) if math.isinf(out) else f"{_call_text(e, args)} is {out}"
+        raise _Bad(what, args, e)
     return out
+
+
+def _overflows(e: Any, args: Sequence[float]) -> str:
+    """An operation of finite operands whose result is past the largest double, with the
+    size it would have had (where that is simple to tell) and the way out."""
+    size = ""
+    try:
+        if _name(e) == "x^y":
+            size = f"{args[1] * math.log10(abs(args[0])):.0f}"
+        elif _name(e) == "exp":
+            size = f"{args[0] * math.log10(math.e):.0f}"
+        elif e.func is sympy.Mul:
+            size = f"{math.fsum(math.log10(abs(a)) for a in args):.0f}"
+    except (ValueError, IndexError):  # an operand of 0: no size to tell
+        size = ""
+    would = f"it would be about 1e{size}, " if size else ""
+    return (
+        f"{_call_text(e, args)} overflows a double ({would}past the largest, 1.8e308); "
+        f"bound what it reads, as in clamp(..., low, high)"
+    )
 
 
 def _call_text(e: Any, args: Sequence[float]) -> str:
