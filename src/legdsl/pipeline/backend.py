@@ -104,12 +104,14 @@ def make_simulation(
     missing = available()
     if missing is not None:  # a LEGDSL_CC that is wrong is told what to do already
         return python_instead(missing, "" if missing.startswith("LEGDSL_CC") else "install gcc ")
-    from legdsl.sim.c_mirrors import step_matches
+    from legdsl.sim.c_mirrors import machine_matches, step_matches
 
     if not step_matches():  # the Python runtime was edited since step.c was brought in line
         tell("the C runtime mirrors an older Python runtime (see legdsl/sim/c_mirrors.py): "
              "running on the Python backend")  # fmt: skip
         return Simulation(model, dynamics, options, controller)
+    if controller is not None:  # read here, once: inside the run it was 40 ms of its wall time
+        machine_matches()
     source, generated, syntax = where
     # a library per controller (a switching run's: one per controller it switches between)
     names = list(getattr(controller, "modules", None) or [
