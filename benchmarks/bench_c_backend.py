@@ -17,6 +17,7 @@ threads). The results replace the "c-backend" section of docs/benchmarks.md.
 
 from __future__ import annotations
 
+import argparse
 import ctypes
 import functools
 import os
@@ -382,4 +383,8 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    # no options: --help says what it measures and where it writes, rather than starting
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()
     main()

@@ -15,6 +15,7 @@ check. The results replace the "runtime" section of docs/benchmarks.md.
 
 from __future__ import annotations
 
+import argparse
 import platform
 import sys
 import time
@@ -124,4 +125,8 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    # no options: --help says what it measures and where it writes, rather than starting
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()
     main()
