@@ -305,6 +305,8 @@ def test_generated_c_edited_by_hand_that_cannot_build_is_the_users_to_fix(
     assert said in err and err.rstrip().endswith(
         f"; run 'legdsl compile {CREATURES / 'hopper.leg'}' to write it again"
     )
+    if "error:" in said:  # located in the file edited, not in the build's deleted copy control.c
+        assert f"(edited by hand?): {generated}/hopper/control_hop.c:" in err, err
 
 
 def test_the_api_is_warned_when_the_python_backend_runs_in_cs_place(

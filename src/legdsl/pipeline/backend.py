@@ -197,11 +197,23 @@ def _build_failed(
     said = f": {said.strip()[:300]}" if said.strip() else ""
     if not edited:
         return InternalError(f"the C compiler refused the C legdsl generated in {folder}{said}")
+    said = _in_generated(said, folder, controller)  # where an editor can go to the line
     return UsageError(
         f"the C library cannot be built from {folder / edited[0]}, which differs from what "
         f"legdsl generates from {source} (edited by hand?){said}; run "
         f"'legdsl compile {source}' to write it again"
     )
+
+
+def _in_generated(said: str, folder: Path, controller: str | None) -> str:
+    """The compiler's words (': file:line:col: ...') with the file named as the user knows it: the
+    build compiles copies of ``folder``'s files, the controller's as ``control.c``
+    (``control.c:37:37: error: ...`` is ``generated/hopper/control_hop.c:37:37: ...``)."""
+    unit, colon, rest = said.removeprefix(": ").partition(":")
+    named = {name: name for name in DYNAMICS_FILES}
+    if controller:
+        named["control.c"] = f"control_{controller}.c"
+    return f": {folder / named[unit]}{colon}{rest}" if colon and unit in named else said
 
 
 # (model, controller, generated/) -> (the model, the stats of its C files when found fresh):

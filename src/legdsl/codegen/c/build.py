@@ -90,14 +90,8 @@ SIZES = ("LEG_NQ", "LEG_NV", "LEG_NB", "LEG_NC", "LEG_FREE3D", "LEG_PLANAR")
 SIZE_LINE = re.compile(r"^#define (LEG_[A-Z0-9]+) \d+\b.*$", re.MULTILINE)
 INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.MULTILINE)  # a local header
 DYNAMICS_FILES = ("dynamics.c", "dynamics_some.c", "dynamics.h")  # generated per creature
-UNITS = (
-    "dynamics.c",
-    "dynamics_some.c",
-    "step.c",
-    "machine.c",
-    "batch.c",
-    "control.c",
-)  # a library's translation units
+# a library's translation units
+UNITS = ("dynamics.c", "dynamics_some.c", "step.c", "machine.c", "batch.c", "control.c")
 
 
 class NoCompiler(Exception):
@@ -353,7 +347,8 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 ]
                 commands.append(command)
                 _start(command, compiler, work, started)
-            errors = [process.communicate()[1] for process in started]  # all, failed or not
+            # all, failed or not; their files named as the units are (control.c:37:37: ...)
+            errors = [p.communicate()[1].replace(f"{work}{os.sep}", "") for p in started]
             codes = [process.returncode for process in started]
             for command, code, err in zip(commands, codes, errors, strict=True):
                 _check(code, command, err, name, compiler)
