@@ -104,3 +104,28 @@ def test_a_base_of_its_own_name_while_the_used_file_is_missing_is_no_second_erro
     with pytest.raises(LegError) as caught:
         check_model(main)
     assert "extend another controller, or 'use' a file that has it" in caught.value.render()
+
+
+def test_a_controller_extending_one_that_includes_a_part_of_a_file_missing_further_down(
+    tmp_path: Path,
+) -> None:
+    """The names a used file's controller takes from a part of a file missing further down,
+    read by a controller that extends it and set by a scene, were each told unknown (63
+    errors for the knee quadruped's files copied without quadruped.leg, 'cannot find' the
+    52nd): the missing file is the one error."""
+    (tmp_path / "mid.leg").write_text(
+        'use "gone.leg"\ncontroller hop {\n  include my_gains\n  table {\n'
+        "    state FLIGHT on liftoff(main): hip_servo.kp = swing_kp\n  }\n}\n"
+    )
+    main = tmp_path / "main.leg"
+    main.write_text(
+        'use "mid.leg"\n' + CREATURE + "controller hop2 extends hop {\n}\n"
+        "controller hop3 extends hop {\n}\n"
+        "scene s {\n  controller hop2\n  set swing_kp = 10 N*m/rad\n}\n"
+        "scene t {\n  gait by swing_kp { hop2 to 2 N*m/rad; hop3 from 1 N*m/rad }\n}\n"
+    )
+    with pytest.raises(LegError) as caught:
+        check_model(main)
+    assert [d.message.split(":")[0] for d in caught.value.diagnostics] == [
+        "cannot find 'gone.leg' to use (asked for in mid.leg)"
+    ], caught.value.render()

@@ -62,7 +62,7 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
     # what a used file would have defined is unknown: its absence is no news; and the names
     # of a part no file defines (a missing file's, or a misspelt 'include') are not told
     # unknown one by one, as a misspelt 'extends' leaves its controller unchecked
-    blind = _blind_spans(tree, shared)
+    blind = _blind_spans(shared, used)
     if unread or blind:
         diag.items = [
             d
@@ -80,35 +80,48 @@ def _undefined(message: str) -> bool:
     return message.startswith(known) or message.endswith("or 'use' a file that has it")
 
 
-def _blind_spans(tree: ast.SourceFile, shared: list[ast.SharedDecl]) -> list[Span]:
-    """The file's controllers and shared parts that include a shared part no file read
-    defines (a missing used file's, say), directly or through another part or a base
-    controller: the names they use may be that part's declarations."""
+def _blind_spans(shared: list[ast.SharedDecl], used: UsedControllers) -> list[Span]:
+    """The controllers and shared parts, of the file and the files it uses, that include a
+    shared part no file read defines (a missing used file's, say), directly or through
+    another part or a base controller (its own file's, or a used one's): the names they use
+    may be that part's declarations."""
     defined = {part.name.name for part in shared}
-    parts = {p.name.name: _included(p.items) for p in tree.shared}
-    controllers = {c.name.name: _included(c.items) for c in tree.controllers}
-    blind_parts = {n for names in (*parts.values(), *controllers.values()) for n in names}
+    trees = list(used.trees.values())
+    parts = {p.name.name: _included(p.items) for tree in trees for p in tree.shared}
+    controllers = [c for tree in trees for c in tree.controllers]
+    included = {id(c): _included(c.items) for c in controllers}
+    blind_parts = {n for names in (*parts.values(), *included.values()) for n in names}
     blind_parts -= defined
     if not blind_parts:
         return []
-    blind_controllers: set[str] = set()
-    bases = {c.name.name: c.base.name for c in tree.controllers if c.base is not None}
+    bases = {id(c): _bases(c, used) for c in controllers}
+    blind: set[int] = set()  # the blind controllers, by id
     while True:  # parts including blind parts, controllers extending blind ones
         more = {n for n, names in parts.items() if names & blind_parts} - blind_parts
         more_controllers = {
-            n
-            for n, names in controllers.items()
-            if names & blind_parts or bases.get(n) in blind_controllers
-        } - blind_controllers
+            id(c)
+            for c in controllers
+            if included[id(c)] & blind_parts or any(id(b) in blind for b in bases[id(c)])
+        } - blind
         if not more and not more_controllers:
             break
         blind_parts |= more
-        blind_controllers |= more_controllers
-    spans = [c.span for c in tree.controllers if c.name.name in blind_controllers]
-    spans += [p.span for p in tree.shared if p.name.name in blind_parts]
-    if blind_controllers:  # a scene's set may name what such a controller would declare
-        spans += [scene.span for scene in tree.scenes]
+        blind |= more_controllers
+    spans = [c.span for c in controllers if id(c) in blind]
+    spans += [p.span for tree in trees for p in tree.shared if p.name.name in blind_parts]
+    if blind:  # a scene's set may name what such a controller would declare
+        spans += [scene.span for tree in trees for scene in tree.scenes]
     return spans
+
+
+def _bases(decl: ast.ControllerDecl, used: UsedControllers) -> list[ast.ControllerDecl]:
+    """The controllers ``decl`` may extend: its file's of that name, else the nearest used
+    file's (as ``control_shared`` resolves them)."""
+    if decl.base is None:
+        return []
+    own = [c for c in used.own(decl.span.file) if c.name.name == decl.base.name and c is not decl]
+    found = own or used.find(decl.span.file, decl.base.name)
+    return found if isinstance(found, list) else []
 
 
 def _included(items: tuple[object, ...]) -> set[str]:
@@ -119,8 +132,10 @@ def _included(items: tuple[object, ...]) -> set[str]:
 
 def _unseen(found: Diagnostic, blind: list[Span]) -> bool:
     """A name reported unknown where it may be declared by a shared part never read."""
-    if not found.message.startswith(
-        ("unknown name '", "no controller of this scene has an input or parameter '")
+    words = ("unknown name '", "no controller of this scene has an input or parameter '")
+    if (
+        not found.message.startswith(words)
+        and ": no controller of the table has an input '" not in found.message
     ):
         return False
     span = found.span
