@@ -402,3 +402,36 @@ def test_a_cache_that_may_not_run_programs_is_told_so(
     monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
     refused = OSError(f"{tmp_path}/x.so: failed to map segment from shared object")
     assert _cache_fix(refused).startswith("its file system may not run programs (mounted noexec?)")
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_with_no_path_the_compiler_found_on_the_default_one_finds_its_linker_there(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    """``env -u PATH legdsl run`` (cron, env={}): legdsl found /bin/cc on the default search
+    path, ran it with no PATH, and gcc found no 'ld': "install a C compiler", said of gcc."""
+    monkeypatch.delenv("PATH")
+    assert main(_run(tmp_path, "c")) == 0
+    err = capsys.readouterr().err
+    assert "legdsl: built " in err and "cannot build" not in err, err
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+def test_a_compiler_without_its_assembler_on_path_is_told_that_not_to_install_one(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    fresh: None,
+) -> None:
+    alone = tmp_path / "bin"  # gcc, and not the 'as' and 'ld' it runs from PATH
+    alone.mkdir()
+    (alone / "cc").symlink_to(str(shutil.which("gcc")))
+    monkeypatch.setenv("PATH", str(alone))
+    monkeypatch.setenv("LEGDSL_CC", str(alone / "cc"))
+    assert main(_run(tmp_path, "c")) == 2
+    err = capsys.readouterr().err
+    assert f"; put the folder of 'as' (binutils) on PATH, which is {alone}; " in err, err
+    assert "install" not in err

@@ -394,14 +394,19 @@ def probe(compiler: Compiler, root: Path) -> str | None:
             said = lines[0].strip() if lines else f"exit {done.returncode}, no library written"
             said = said.replace(f"{work}{os.sep}", "")  # probe.c:1:19: error: ...
     fix = "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
+    tool = re.search(r"cannot (?:find|execute) \W(as|ld)\W", said)  # it runs them from PATH
+    if tool:  # the compiler is there: not a compiler to install
+        path = _temporaries_in(work)["PATH"]  # the one it ran with
+        fix = f"put the folder of '{tool[1]}' (binutils) on PATH, which is {path}"
     return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
 
 
 def _temporaries_in(work: str) -> dict[str, str]:
     """The environment of a compiler writing its temporary files (its assembly, the objects of
     a link) in ``work``, the build's directory in the cache: a missing, unwritable or full
-    $TMPDIR does not stop a build that the cache has room for."""
-    return {**os.environ, "TMPDIR": work}
+    $TMPDIR does not stop a build that the cache has room for; with no PATH (cron), the path
+    it was found on, where its linker is too (gcc found no 'ld': "install gcc", it said)."""
+    return {"PATH": os.defpath, **os.environ, "TMPDIR": work}
 
 
 def _stop(processes: list[subprocess.Popen[str]]) -> None:
