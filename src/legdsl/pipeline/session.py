@@ -402,12 +402,13 @@ class Plan:
         """The ``Run`` of ``result`` (with other ``settings`` and ``machine``: a copy's of a
         batch, ``legdsl.pipeline.batch``): scaled back, its paths reported."""
         machine = machine or self.machine
+        size = natural_scale(self.sim)
         if isinstance(machine, SwitchingMachine) and machine.unit is None:
             # a C run ticks it only from its first command or switch: the notes need the size
-            machine.unit = natural_scale(self.sim)
+            machine.unit = size
         if self.scale is not None:
             result = scaled.scale_result(result, self.model, self.scale)
-        unit = natural_scale(self.sim) * (self.scale or 1.0) ** 0.5  # the creature as run
+        unit = size * (self.scale or 1.0) ** 0.5  # the creature as run
         reports = run_path_reports(machine, result, self.scale, unit)
         return Run(self.model, self.controller, self.options, settings or self.settings,
                    machine, result, reports, self.scale, self.source_sha256,

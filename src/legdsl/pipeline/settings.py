@@ -264,15 +264,10 @@ def sort_settings(
         params |= {c.name: c for c in ctl.params if c.name not in params}
     for original in texts:
         where = f"--set {original}"
-        text, at = original, None
-        if "@" in original:
-            text, _, when = original.rpartition("@")
-            given = parse_given(when, f"--set ...@{when}")
-            check_dimension(where, "the time after '@' is in seconds", given, _TIME, "@{}")
-            at = given.value
-            if at < 0:  # ran as if given from the start, unsaid
-                raise UsageError(f"{where}: a change comes at a time from the run's start, 0 or "
-                                 f"more; to set it from the start, write --set {text}")  # fmt: skip
+        text, at = _command_time(original)
+        if at is not None and at < 0:  # ran as if given from the start, unsaid
+            raise UsageError(f"{where}: a change comes at a time from the run's start, 0 or "
+                             f"more; to set it from the start, write --set {text}")  # fmt: skip
         name, given = _split(text, original)
         owner, dot, own_name = name.partition(".")
         if dot and owner in {c.name for c in model.controllers}:
@@ -458,11 +453,20 @@ def _at_the_start(text: str) -> bool:
     """Whether the ``--set NAME=V@T`` text ``text`` commands at 0 s (a mistake in it: no, the
     run tells it)."""
     try:
-        given = parse_given(text.rpartition("@")[2], text)
-        check_dimension(text, "", given, KINDS["time"][0], "@{}")
+        return _command_time(text)[1] == 0
     except UsageError:
         return False
-    return given.value == 0
+
+
+def _command_time(original: str) -> tuple[str, float | None]:
+    """A ``--set`` text as its ``NAME=V`` and the time after its '@' in seconds (None
+    without one), that time's unit checked."""
+    if "@" not in original:
+        return original, None
+    text, _, when = original.rpartition("@")
+    given = parse_given(when, f"--set ...@{when}")
+    check_dimension(f"--set {original}", "the time after '@' is in seconds", given, _TIME, "@{}")
+    return text, given.value
 
 
 def overwritten_notes(
