@@ -19,6 +19,7 @@ from typing import Any
 
 from legdsl.ir.model import Model, setting_kind
 from legdsl.ir.paths import PathSpec, number
+from legdsl.ir.scene import Scene
 from legdsl.lang.scaling import factor
 from legdsl.lang.units import KINDS, Dim, si_unit
 from legdsl.sim.run_loop import RunOptions, default_control_dt
@@ -48,7 +49,7 @@ def rerun_command(
     words += list(_options(info.get("options") or {}, model, scale))
     if scale is not None:
         words += ["--scale", _written(scale)]
-    for name, value, at in _settings(info, model, scale):
+    for name, value, at in _settings(info, model, scale, scene):
         when = f"@{_written(at)}s" if at is not None else ""
         words += ["--set", f"{name}={_written(value)}{_unit(name, model, info)}{when}"]
     for text in _paths(info, model):
@@ -94,9 +95,11 @@ def _options(options: dict[str, Any], model: Model, scale: float | None) -> Iter
         yield from ("--fall-tilt", f"{_written(_rounded(math.degrees(tilt)))}deg")
 
 
-def _settings(info: dict[str, Any], model: Model, scale: float | None) -> list[Setting]:
-    """The run's ``--set`` values (a scaled run's for the scaled creature), but the scene's
-    own, which ``--scene`` gives."""
+def _settings(
+    info: dict[str, Any], model: Model, scale: float | None, scene: Scene | None
+) -> list[Setting]:
+    """The run's ``--set`` values (a scaled run's for the scaled creature), but those of its
+    ``scene``, which ``--scene`` gives."""
     recorded = info.get("settings") or {}
     given: list[Setting] = [
         *((n, v, None) for key in ("actuators", "inputs", "params")
@@ -112,7 +115,6 @@ def _settings(info: dict[str, Any], model: Model, scale: float | None) -> list[S
              None if t is None else _rounded(t * tick))
             for n, v, t in given
         ]  # fmt: skip
-    scene = next((s for s in model.scenes if s.name == info.get("scene")), None)
     for v in scene.values if scene is not None else ():
         ran = v.value * factor(v.dim, scale or 1.0), None if v.at is None else v.at * tick
         given = [s for s in given if not _same(s, (v.name, *ran))]
