@@ -167,12 +167,20 @@ def test_ctrl_c_stops_the_runs_of_a_batch_in_threads(
     from legdsl.pipeline.backend import iter_batch
 
     run, sent, once = Simulation.run, [], threading.Lock()
+    idle = threading.Event()  # a thread of the caller's own, taking signals (xdist's, a kernel's)
+    taker = threading.Thread(target=idle.wait)
+    taker.start()
 
     def ctrl_c_at_a_start(sim: Simulation, progress: Any = None, stop: Any = None) -> object:
         def asked() -> str:
             with once:  # both threads start at once: one Ctrl-C
                 if not sent:
-                    sent.append(os.kill(os.getpid(), signal.SIGINT))
+                    # Taken by the idle thread once this one waits for the runs: Python runs its
+                    # handler here only when this thread runs Python again. It waited on the
+                    # runs without a timeout, so the Ctrl-C came as the first run ended (its 20
+                    # s of steps), the third run already started (CI, 2026-12-02).
+                    time.sleep(0.3)
+                    sent.append(signal.pthread_kill(taker.ident or 0, signal.SIGINT))
             return stop()
 
         return run(sim, progress, asked)
@@ -180,7 +188,11 @@ def test_ctrl_c_stops_the_runs_of_a_batch_in_threads(
     monkeypatch.setattr(Simulation, "run", ctrl_c_at_a_start)
     long = RunOptions(duration=5000.0)  # some 20 s of the C backend each
     jobs = [{"controller": "hop", "options": long} for _ in range(3)]
-    done = dict(iter_batch(roo, jobs, threads=2))
+    try:
+        done = dict(iter_batch(roo, jobs, threads=2))
+    finally:
+        idle.set()
+        taker.join()
     assert sorted(done) == [0, 1]
     for k in (0, 1):
         result = done[k].result

@@ -14,7 +14,7 @@ import os
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from legdsl.codegen.c.build import DYNAMICS_FILES
 from legdsl.files import cache_dir
@@ -25,6 +25,9 @@ from legdsl.pipeline.generated import c_sources, edited_by_hand
 from legdsl.signals import signals_held
 from legdsl.sim.run_loop import Interrupted, RunOptions, signal_of
 from legdsl.sim.simulate import Controller, Simulation
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future
 
 BACKENDS = ("python", "c", "auto")
 DEFAULT_BACKEND = "auto"
@@ -364,7 +367,7 @@ def _in_threads(
     """``iter_batch`` in ``workers`` threads. A signal comes to this thread, waiting for the
     runs; each run asks for it as it reports its progress (at least every 20000 steps in C)
     and ends there as a run Ctrl-C stops in the main thread (``Simulation.run``)."""
-    from concurrent.futures import Future, ThreadPoolExecutor, as_completed
+    from concurrent.futures import ThreadPoolExecutor
 
     stop: list[str] = []  # the signal, once one came
 
@@ -384,15 +387,15 @@ def _in_threads(
             with signals_held():  # each run known once started: a Ctrl-C finds them all
                 for i, job in enumerate(jobs):
                     futures[pool.submit(run, job)] = i
-            for future in as_completed(futures):
+            for future in _as_completed(futures):
                 told.add(futures[future])
                 yield futures[future], future.result()
         except (KeyboardInterrupt, Interrupted) as sig:
             stop.append(signal_of(sig))
             for future in futures:
                 future.cancel()  # those not started
-            going = [f for f in futures if not f.cancelled() and futures[f] not in told]
-            for future in as_completed(going):
+            going = {f: i for f, i in futures.items() if not f.cancelled() and i not in told}
+            for future in _as_completed(going):
                 yield futures[future], future.result()
     except GeneratorExit:  # the caller left the loop (a break, its own Ctrl-C)
         leaving = True
@@ -405,6 +408,20 @@ def _in_threads(
         except (KeyboardInterrupt, Interrupted):
             if not leaving:  # else the caller's own exception is on its way out
                 raise
+
+
+def _as_completed(futures: Mapping[Future[Any], int]) -> Iterator[Future[Any]]:
+    """The futures as they finish (those found at one wake in the jobs' order), waking every
+    0.1 s. A Ctrl-C taken by another thread of the process (one not holding it back: a
+    kernel's, Dask's) runs its handler in this one only when this one runs Python again;
+    waiting without a timeout, it came as the first run ended, 20 s on, the third run
+    already started."""
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    left = set(futures)
+    while left:
+        done, left = wait(left, timeout=0.1, return_when=FIRST_COMPLETED)
+        yield from sorted(done, key=futures.__getitem__)
 
 
 def _one_per_library(jobs: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
