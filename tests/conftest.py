@@ -42,6 +42,21 @@ def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         os.environ["LEGDSL_CACHE"] = before
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _ctrl_c_as_at_a_terminal() -> Iterator[None]:
+    """Ctrl-C handled as at a terminal, though the suite was started as a background job
+    (``bash .ci/run &``), which starts every process with SIGINT ignored: the tests that send
+    one, to this process or to a ``legdsl`` it starts, ran on to their ends and failed."""
+    import signal
+
+    ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    if ignored:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    if ignored:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _project_files() -> dict[str, tuple[int, int]]:
     """Each file of generated/ with its size and time of change, and each top-level entry."""
     found = {str(p.relative_to(ROOT)): (p.stat().st_size, p.stat().st_mtime_ns)
