@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -440,7 +441,18 @@ def test_a_gait_of_pairs_scores_its_pairs_landing_apart() -> None:
     together = {**row, "by_label": {"unison_diagonal_a": 1.0, "unison_diagonal_b": 1.0}}
     apart = {**row, "by_label": {"unison_diagonal_a": 0.14, "unison_diagonal_b": 0.5}}
     assert score([apart], objective) - score([together], objective) == pytest.approx(0.68)
-    assert pairs_apart({"speed": 1.0}) == 0.0  # no pairs measured: nothing added
+    assert pairs_apart({"speed": 1.0}, "quadruped trot") == 0.0  # no pairs measured: nothing
+
+
+def test_a_pair_that_never_lands_together_lands_apart_and_the_biped_has_no_pairs() -> None:
+    """A pair whose feet never touched together has no stance of both (its unison row n/a):
+    it was left out, and scored as landing in unison. The biped's run measures one virtual leg
+    of both feet, which take turns: its unison row was scored as a pair's."""
+    never = {"unison_diagonal_a": math.nan, "unison_diagonal_b": 1.0}
+    assert pairs_apart(never, "quadruped trot") == pytest.approx(0.5)
+    assert pairs_apart({"unison_either": 0.0}, "biped run") == 0.0
+    assert pairs_apart({"unison_either": math.nan}, "biped run") == 0.0
+    assert pairs_apart({"unison_front": 0.5}, "kangaroo hop") == 0.0  # measured without pairs
 
 
 def test_the_runs_of_a_gait_of_pairs_are_measured_on_its_pairs(generated: Path) -> None:

@@ -10,8 +10,9 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
   rows of ``--table2 ROW`` (the paper's animation column, where the run measured them); for
   a gait of pairs (a trot, a pace, a bound) the runs are measured on its pairs, found from
   the hips as ``legdsl metrics --table2`` finds them, and the share of the pairs' stances
-  whose members land more than 10 ms apart is added too (a trot that holds its speed with
-  the diagonal feet landing apart is no trot),
+  whose members land more than 10 ms apart is added too, a pair that never touches down
+  together landing apart every time (a trot that holds its speed with the diagonal feet
+  landing apart is no trot),
 * plus ``--spread-weight`` times the stride-to-stride standard deviation of the running speed,
   relative to the command as the error is (a mean on the command can hide a gait swinging
   about it by a sixth over seconds),
@@ -104,7 +105,7 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
         if objective.pitch_weight and math.isfinite(pitch):  # held speed, trunk rocking
             term += objective.pitch_weight * math.radians(pitch)
         if objective.table2 is not None:
-            apart = pairs_apart(row["by_label"])
+            apart = pairs_apart(row["by_label"], objective.table2)
             term += objective.table2_weight * (
                 table2_distance(row["by_label"], objective.table2) + apart
             )
@@ -115,10 +116,15 @@ def score(rows: Sequence[dict[str, Any]], objective: Objective) -> float:
     return total / len(objective.speeds)
 
 
-def pairs_apart(by_key: dict[str, float]) -> float:
+def pairs_apart(by_key: dict[str, float], row: str) -> float:
     """The mean share of the pairs' stances whose members land more than 10 ms apart (the
-    ``unison_PAIR`` rows; 0 without pairs)."""
-    shares = [v for k, v in by_key.items() if k.startswith("unison_") and math.isfinite(v)]
+    ``unison_PAIR`` rows; 0 for a gait measured without pairs). A pair whose members never
+    touch together has no such stance (its row n/a): it lands apart every time, where it was
+    left out and scored as in unison. A gait measured a step a stride (the biped's run: one
+    virtual leg of both feet, which take turns) has no pair to land together."""
+    if MEASURE.get(row, {}).get("pairs", "steps") == "steps":
+        return 0.0
+    shares = [v if math.isfinite(v) else 0.0 for k, v in by_key.items() if k.startswith("unison_")]
     return 1.0 - sum(shares) / len(shares) if shares else 0.0
 
 
