@@ -136,6 +136,12 @@ def _load(
 # ---------------------------------------------------------------- legdsl animate
 
 
+def _say_note(motion: Any) -> None:
+    """The motion's note (a stance of few keyframes) on standard error, where one was made."""
+    if motion.note:
+        print(motion.note, file=sys.stderr)
+
+
 def _player_name(output: str | None) -> None:
     """``-o`` names the HTML player: a video's or another format's name would hold HTML."""
     suffix = Path(output).suffix.lower() if output else ""
@@ -170,8 +176,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         slow = args.slow_motion if args.slow_motion is not None else 1.0
         _positive(slow, "--slow-motion")
         motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
-        if motion.note:
-            print(motion.note, file=sys.stderr)
+        _say_note(motion)
         progress = stderr_progress()
         try:
             result = render_video(motion, video, fps, size, overlays, progress=progress, slow=slow)
@@ -194,8 +199,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
 
     out = Path(args.output) if args.output else run / "animation.html"
     size_bytes = write_player(motion, out, overlays)
-    if motion.note:
-        print(motion.note, file=sys.stderr)
+    _say_note(motion)
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
         f"{seconds_text(motion.duration)}); open it in a web browser",
@@ -307,8 +311,7 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
         from legdsl.export.gltf import write_gltf
 
         size = write_gltf(motion, out, args.format, skin=args.skin)
-    if motion.note:
-        print(motion.note, file=sys.stderr)
+    _say_note(motion)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
@@ -452,7 +455,6 @@ def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
         )
         return path
     size = write_player(motion, path)
-    if motion.note:  # as legdsl animate of the run says it
-        print(motion.note, file=sys.stderr)
+    _say_note(motion)  # as legdsl animate of the run says it
     print(f"  animation: {path} ({human_size(size)}); open it in a web browser", file=sys.stdout)
     return path
