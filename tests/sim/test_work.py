@@ -141,6 +141,26 @@ def test_the_window_work_per_metre_and_cost_of_transport() -> None:
     assert math.isnan(rig["energy_per_metre"]) and math.isnan(rig["cost_of_transport"])
 
 
+def test_a_trot_in_place_has_no_work_per_metre() -> None:
+    """A trot in place (its root swaying, its centre of mass still but for rounding) summed
+    2.7e-15 m of horizontal path and read 1.3e17 J/m and a cost of transport of 6.8e14; a
+    path shorter than a millionth of the centre of mass's height is no move."""
+    n = 401
+    tr: Trajectory = empty(n, 3, 3, 0, 0, 1, actuator_names=("a",), total_mass=8.0,
+                           gravity=9.81)  # fmt: skip
+    tr.t[:] = np.linspace(0.0, 4.0, n)
+    tr.work_positive[:, 0] = 100.0 * tr.t
+    tr.root_pos[:, 0] = 0.01 * np.sin(tr.t * 20.0)  # the trunk sways
+    tr.com[:, 0] = 1e-17 * (-1.0) ** np.arange(n)  # rounding
+    tr.com[:, 2] = 0.55
+    still = {r.key: r.value for r in energy_rows(tr, 1.0, 3.0)}
+    assert 0.0 < still["distance"] < 1e-14 and still["positive_work"] == pytest.approx(200.0)
+    assert math.isnan(still["energy_per_metre"]) and math.isnan(still["cost_of_transport"])
+    tr.com[:, 0] = 1e-5 * tr.t  # 20 micrometres in the window: a move, however slow
+    crept = {r.key: r.value for r in energy_rows(tr, 1.0, 3.0)}
+    assert crept["energy_per_metre"] == pytest.approx(200.0 / 2e-5)
+
+
 def test_a_run_reports_its_energy_and_an_older_run_loads_without(tmp_path: Path) -> None:
     import legdsl
 
