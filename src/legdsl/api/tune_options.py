@@ -1,0 +1,206 @@
+"""The options of ``legdsl tune`` checked before it searches: the ``--param`` bounds, the
+``--speeds``, the ``--table2`` row, the weights, times and CMA-ES's options."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from legdsl.analysis.results import MetricsError
+from legdsl.analysis.table2 import virtual_legs
+from legdsl.api.sweep import bare_in_si, parse_axis, seconds, units_of
+from legdsl.api.tune import Bound
+from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, written_unit
+from legdsl.api.workers import dask_address
+from legdsl.check.values import did_you_mean
+from legdsl.ir.controller import Constant, Controller
+from legdsl.ir.model import Model
+from legdsl.lang.errors import UsageError
+from legdsl.lang.units import KINDS, Dim, describe
+from legdsl.pipeline.settings import plain_number
+
+
+def _bounds(
+    args: argparse.Namespace, controller: Controller, source: Path, settings: dict[str, Any]
+) -> list[Bound]:
+    """``--param NAME=LO:HI`` of each parameter to tune: a parameter the controller declares
+    in ``source`` itself, given once, its file value within the bounds."""
+    params = {c.name: c for c in controller.params}
+    if not args.param:
+        raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
+    if not params:
+        raise UsageError(
+            f"tune: controller '{args.controller}' has no parameters to tune; declare them in "
+            "it (param NAME = VALUE UNIT) or tune another controller"
+        )
+    bounds: list[Bound] = []
+    for text in args.param:
+        name = text.partition("=")[0].strip()
+        if name in {c.name for c in controller.inputs}:
+            raise UsageError(
+                f"--param {text}: {name} is an input of '{args.controller}', not a parameter; "
+                "tune its parameters (commanded speeds are --speeds)"
+            )
+        if "=" in text and name in settings and name not in params:  # knee_spring.k: swept
+            raise UsageError(
+                f"--param {name}: an actuator's setting, which a tune cannot write into the "
+                "tuned file (it changes the controller's parameters); sweep it with 'legdsl "
+                "sweep --grid', or declare a param the controller sets it from and tune that"
+            )
+        if "=" in text and name not in params:  # the list: those the tuned file can change
+            raise UsageError(
+                f"--param {name}: not a parameter of the controller{did_you_mean(name, params)} "
+                f"(it has {', '.join(params)})"
+            )
+        axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
+        if any(b.name == axis.name for b in bounds):
+            raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
+        low, high = axis.values
+        start = params[axis.name].value
+        if not low <= start <= high:
+            unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
+            unit = f" {unit}" if unit else ""  # a plain number's: no space before nothing
+            written = written_unit(source, controller, axis.name)  # the file's own ("cm")
+            raise UsageError(
+                f"--param {text}: the file's value {start:g}{unit} is outside the bounds "
+                f"({low:g} to {high:g}{unit}); widen them"
+                + bare_in_si(text, axis.name, params[axis.name].dim, written)
+            )
+        bounds.append(Bound(axis.name, low, high, start))
+    spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune
+    for name, part in shared_owners(source, spans).items():
+        print(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
+              f"changes it for every controller that includes '{part}'", file=sys.stderr)  # fmt: skip
+    for name, used in used_owners(source, spans).items():
+        print(f"legdsl: note: {name} is declared in {used}: the tuned file overrides it in "
+              f"controller '{controller.name}' and leaves {used} as it is", file=sys.stderr)  # fmt: skip
+    return bounds
+
+
+def _table2_legs(row: str, model: Model, source: Path) -> dict[str, list[str]]:
+    """The virtual legs ``--table2 ROW`` is measured on, found from the creature's hips; a row
+    whose pairs this creature has not (a trot's diagonal pairs of a one-legged creature) is
+    refused, naming the rows that fit it (it was an internal error, its advice an option of
+    ``legdsl metrics`` that tune lacks)."""
+    from legdsl.analysis.table2 import TABLE2
+
+    try:
+        return virtual_legs(row, model)[0]
+    except MetricsError as e:
+        why = str(e).partition(": give")[0]  # what it has; not metrics' --group, tune has none
+        fits = []
+        for other in TABLE2:
+            with contextlib.suppress(MetricsError):
+                virtual_legs(other, model)
+                fits.append(repr(other))
+        raise UsageError(
+            f"--table2 {row!r}: {why}, so '{model.name}' in {source} cannot be measured as "
+            f"{row!r}; give a row that fits it ({', '.join(fits) or 'none does'}), or leave "
+            "--table2 out"
+        ) from None
+
+
+def _speed_input(name: str, controller: Controller, model: Model | None = None) -> Constant:
+    """The controller's input ``speed``, a running speed: the objective is its error. Without
+    one, the refusal says what to do (it named the lack alone): rename an input in m/s, declare
+    one, or tune another controller of the ``model`` that has one."""
+    speed = next((c for c in controller.inputs if c.name == "speed"), None)
+    if speed is None:
+        raise UsageError(
+            f"tune: controller '{name}' has no input 'speed' to command (the objective is the "
+            f"running speed's error from it); {_how_to_command(controller, model)}"
+        )
+    if speed.dim != KINDS["velocity"][0]:
+        raise UsageError(
+            f"tune: the input 'speed' of controller '{name}' is {describe(speed.dim)}, not a "
+            "running speed (m/s), and the objective is the running speed's error; tune a "
+            "controller whose speed is in m/s"
+        )
+    return speed
+
+
+def _how_to_command(controller: Controller, model: Model | None) -> str:
+    """What to do for a controller without an input ``speed``."""
+    velocity = KINDS["velocity"][0]
+    named = [c.name for c in controller.inputs if c.dim == velocity]
+    if named:  # vel, v_des...: the tune commands 'speed' by name
+        fix = f"rename its input '{named[0]}' (a speed in m/s) to 'speed'"
+    else:
+        fix = ("declare one in it, 'input speed = 1 m/s', and steer its gait by it (as "
+               "creatures/hopper.leg's hop does)")  # fmt: skip
+    others = [c.name for c in (model.controllers if model is not None else ())
+              if any(i.name == "speed" and i.dim == velocity for i in c.inputs)]  # fmt: skip
+    if others:
+        fix += f", or tune a controller of the file that has one ({', '.join(others)})"
+    return fix
+
+
+def _check_search(args: argparse.Namespace) -> None:
+    """The objective's weights, the runs' times and CMA-ES's options (``args.time`` and
+    ``args.t_from`` become seconds)."""
+    from legdsl.analysis.table2 import TABLE2
+
+    dask_address(args.dask)
+    if args.table2 is not None and args.table2 not in TABLE2:
+        raise UsageError(f"--table2 {args.table2!r}: Table 2 has {', '.join(map(repr, TABLE2))}")
+    for flag, weight in (("--energy-weight", args.energy_weight),
+                         ("--table2-weight", args.table2_weight),
+                         ("--spread-weight", args.spread_weight),
+                         ("--pitch-weight", args.pitch_weight)):  # fmt: skip
+        if not (math.isfinite(weight) and weight >= 0):
+            raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
+    args.time = seconds("--time", args.time)
+    args.t_from = seconds("--from", args.t_from, "nonnegative")
+    if args.generations < 1 or args.jobs < 1 or args.time <= 0:
+        raise UsageError("tune: --generations, --jobs and --time must be positive")
+    if not args.t_from < args.time:  # no speed measured: every candidate would score alike
+        raise UsageError(
+            f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
+            "so no candidate's speed would be measured; give --from from 0 to before --time "
+            "(seconds; --from is 3 unless given)"
+        )
+    if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
+        raise UsageError(
+            f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
+            "0 as a seed from the clock, and the tune could not be repeated or resumed)"
+        )
+    if args.popsize is not None and args.popsize < 2:  # CMA-ES ranks candidates
+        raise UsageError(
+            f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
+            "give --popsize 2 or more (or leave it out for CMA-ES's own)"
+        )
+
+
+def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
+    """``--speeds V,V,...`` in m/s: each a commanded speed (the speed error is relative to
+    it; a 0's, in place, to the slowest other); a negative one commands running backwards."""
+    try:
+        speeds = parse_axis("grid", f"speed={text}", {"speed": dim}).values
+    except UsageError as e:  # it names --grid, the option it was written for
+        why = str(e).partition(": ")[2]
+        if "write NAME" in why:
+            why = "write the speeds as V,V,... (m/s, or each with its unit: 2m/s,3m/s)"
+        raise UsageError(f"--speeds {text}: {why}") from None
+    if not any(speeds):
+        raise UsageError(
+            f"--speeds {text}: a speed of 0 has no relative speed error to tune against on its "
+            "own (its drift is taken relative to the slowest other speed); add a speed other "
+            "than 0 (m/s)"
+        )
+    twice = sorted({f"{v:g}" for v in speeds if speeds.count(v) > 1})
+    if twice:  # it ran, scored and reported each twice
+        raise UsageError(f"--speeds {text}: {', '.join(twice)} m/s is given more than once; "
+                         "give each speed once")  # fmt: skip
+    return speeds
+
+
+def _weight(text: str) -> float:
+    """A ``--...-weight`` as argparse reads it: a plain number (its range is checked with the
+    other options', ``_check_search``); one with a unit is told what a weight is."""
+    return plain_number(
+        text, "a weight is a plain number (every term of the objective is dimensionless)"
+    )
