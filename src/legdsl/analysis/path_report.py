@@ -16,6 +16,7 @@ from legdsl.sim.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from legdsl.ir.paths import PathSpec
+    from legdsl.sim.path_tracking import PathGeometry
 
 PATH_FROM = 3.0  # s: the report's window starts here by default (after the start-up)
 
@@ -58,7 +59,11 @@ def path_report(
     over the samples in the window. The progress is tracked from the run's
     first sample (so laps count from the start; from ``track_from`` to ``track_to`` for a
     path a controller took over with, as its tracker did); the speed along the path is
-    the progress made in the window over its duration.
+    the progress made in the window over its duration. Past an open path's end the runner
+    goes on along its last side (docs/biped.md), and the lateral deviation is measured from
+    that side's line: so is the speed, the way on along that line counting as progress
+    (``_beyond_ends``), where the tracker's progress stops at the end. ``past_end`` is how
+    far on the last sample is (negative: back before the start, along the first side).
     """
     from legdsl.sim.path_tracking import PathGeometry, track
 
@@ -73,6 +78,7 @@ def path_report(
     window = (times >= t_from - EPS_T) & (times <= end + EPS_T)
     geometry = PathGeometry(spec)
     length = geometry.length
+    beyond = _beyond_ends(geometry, tr.com[tracked, :2], prog)
     out: dict[str, Any] = {
         "path": spec.describe(),
         "closed": bool(geometry.closed),  # else "laps" is the fraction of the path covered
@@ -85,18 +91,52 @@ def path_report(
     }
     if math.isfinite(track_from):  # followed from a controller's takeover, not the run's start
         out["followed_from"] = float(track_from)
+    if len(times) and end < times[-1] - EPS_T:  # a window asked to end before the run does
+        out["to_before_end"] = True
+    if not geometry.closed:
+        out["past_end"] = float(beyond[-1]) if len(beyond) else 0.0
     if window.sum() >= 2:
         w = lat[window]
         t = times[window]
+        on = prog[window] + beyond[window]  # along the path, and on along its end sides' lines
         out |= {
             "lateral_rms": float(np.sqrt(np.mean(w**2))),
             "lateral_max": float(np.max(np.abs(w))),
             "lateral_mean": float(np.mean(w)),
-            "path_speed": float((prog[window][-1] - prog[window][0]) / (t[-1] - t[0])),
+            "path_speed": float((on[-1] - on[0]) / (t[-1] - t[0])),
         }
+        if np.any(beyond[window] > 0):
+            out["speed_past_end"] = True
+        if np.any(beyond[window] < 0):
+            out["speed_before_start"] = True
     else:
         out |= dict.fromkeys(("lateral_rms", "lateral_max", "lateral_mean", "path_speed"), math.nan)
     return jsonable(out)
+
+
+# m: a tracked progress this near an open path's end (or its start) is there: the tracker sums
+# its steps along the path, so its progress at the end is the length to rounding only
+AT_END = 1e-6
+
+
+def _beyond_ends(geometry: PathGeometry, xy: np.ndarray, prog: np.ndarray) -> np.ndarray:
+    """How far each point is on past an open path's end along its last side's line (where its
+    tracked progress is at the end), or back before its start along its first side's
+    (negative, where it is at the start); 0 elsewhere, and all along a closed path. The
+    tracker's nearest point stays at the end, and the lateral deviation there is the
+    distance from that line (``PathGeometry.project``): this is the way along it."""
+    beyond = np.zeros(len(prog))
+    v = geometry.vertices
+    if geometry.closed or len(v) < 2 or not len(prog):
+        return beyond
+    for (ax, ay), (bx, by), at, sign in (
+        (v[-2], v[-1], prog >= geometry.length - AT_END, 1.0),
+        (v[1], v[0], prog <= AT_END, -1.0),
+    ):
+        side = math.hypot(bx - ax, by - ay)
+        along = ((xy[:, 0] - bx) * (bx - ax) + (xy[:, 1] - by) * (by - ay)) / side
+        beyond = np.where(at & (along > 0), sign * along, beyond)
+    return beyond
 
 
 def followed_reports(
@@ -134,10 +174,20 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
         v = report.get(key)
         return "n/a" if v is None else f"{figure(v)}{unit}"
 
-    window = f"from {report['from']:g} s"
-    if "followed_from" in report:  # a span of a run that changed controllers
-        window += f" to {report['to']:g} s"
+    window = window_label(report)
     covered = "laps of" if report.get("closed", True) else "of its"  # open: the fraction covered
+    progress = f"{num('progress', ' m')} ({num('laps', '')} {covered} {num('length', ' m')})"
+    past = report.get("past_end") or 0.0  # beyond an open path's end (or before its start)
+    if past > 0:
+        progress += f", then {figure(past)} m on past its end along its last side"
+    elif past < 0:
+        progress += f", and {figure(-past)} m back before its start along its first side"
+    speed = f"speed along the path ({window}"
+    if report.get("speed_past_end"):
+        speed += "; on past its end"
+    if report.get("speed_before_start"):
+        speed += "; from before its start"
+    speed += ")"
     return [
         ("path", str(report["path"])),
         (f"lateral deviation RMS ({window})", num("lateral_rms", " m")),
@@ -145,9 +195,15 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
             f"lateral deviation max / mean ({window})",
             f"{num('lateral_max', ' m')} / {num('lateral_mean', ' m')}",
         ),
-        (
-            "progress along the path",
-            f"{num('progress', ' m')} ({num('laps', '')} {covered} {num('length', ' m')})",
-        ),
-        (f"speed along the path ({window})", num("path_speed", " m/s")),
+        ("progress along the path", progress),
+        (speed, num("path_speed", " m/s")),
     ]
+
+
+def window_label(report: Mapping[str, Any]) -> str:
+    """The report's window as its rows and the top view's title say it: "from 3 s", and "to
+    5 s" where it ends before the run does (``--to``, or a later controller took over)."""
+    window = f"from {report['from']:g} s"
+    if "followed_from" in report or report.get("to_before_end"):
+        window += f" to {report['to']:g} s"
+    return window

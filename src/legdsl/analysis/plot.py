@@ -342,12 +342,13 @@ def run_followed(run: Path) -> list[tuple[PathSpec, list[tuple[float, float]] | 
 def path_title(name: str, report: dict[str, Any]) -> str:
     """The top view's title for a path (``path_report``): an open path's share, a closed
     one's laps."""
+    from legdsl.analysis.path_report import window_label
+
     closed = report.get("closed", True)
     covered = "laps" if closed else f"of its {figure(report['length'])} m"
     return (
         f"{name}: lateral deviation {figure(report['lateral_rms'])} m RMS, "
-        f"{figure(report['lateral_max'])} m max (from {report['from']:g} s"
-        + (f" to {report['to']:g} s), " if "followed_from" in report else "), ")
+        f"{figure(report['lateral_max'])} m max ({window_label(report)}), "
         + f"{report['laps']:.2f} {covered}"
     )
 
