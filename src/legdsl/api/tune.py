@@ -207,8 +207,8 @@ def tune(
 
     es = search()
     if journal is not None:  # the generations done before: their objectives, told again
-        journal.generations = journal.generations[:generations]
-        for before in journal.generations:
+        # those past --generations are kept in it: finished work, not lost to a shorter tune
+        for before in journal.generations[:generations]:
             xs = es.ask()
             if [list(map(float, x)) for x in xs] != before["xs"]:  # not the recorded search
                 es, history, best = search(), [], None

@@ -167,6 +167,15 @@ def _tune_into(
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
             "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
     journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
+    if len(journal.generations) > args.generations:  # its later ones would be lost, unsaid
+        done = len(journal.generations)
+        raise UsageError(
+            f"--generations {args.generations}: {journal.path} holds {done} generations of this "
+            f"tune (the files in {out} are of them), and a tune of fewer would replace its "
+            f"results with those of generation {args.generations}; give --generations {done} "
+            f"or more to keep them (the same command again runs no candidate), or another "
+            f"--out to tune {args.generations} afresh"
+        )
     if journal.set_aside:  # the user may have meant to go on from it: say why not
         print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
               "starts afresh and replaces it", file=sys.stderr)  # fmt: skip

@@ -9,7 +9,9 @@ bit for bit, and the tune goes on as if it had never stopped. A candidate that d
 out as recorded (another version of cma) discards the generations, and the search starts
 again from the start's runs. The journal is kept when a tune finishes: the same command
 again comes to the same result without a candidate's run, and one with ``--generations``
-raised goes on from its end (a finished tune's journal was removed, and both started afresh).
+raised goes on from its end (a finished tune's journal was removed, and both started afresh);
+one with fewer generations than it holds is refused by the command (it replaced the finished
+tune's files with the last asked generation's and cut the journal to it, unsaid).
 """
 
 from __future__ import annotations
