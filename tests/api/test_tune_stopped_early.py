@@ -91,3 +91,52 @@ def test_an_out_that_is_a_file_is_refused_saying_so(
         f"--out {out}: this is a file, not a directory; give a directory" in capsys.readouterr().err
     )
     assert out.read_text() == "mine\n"
+
+
+@pytest.mark.parametrize("where", ["check_model", "load"])
+def test_a_tune_stopped_in_its_start_up_says_nothing_was_written(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    where: str,
+) -> None:
+    """Ctrl-C while the file was checked or its controller compiled (0.3 to 1.2 s into the
+    command) said only "legdsl: interrupted", where at 1.6 s the documented sentence came."""
+
+    def stopped(*args: Any, **kwargs: Any) -> None:
+        raise KeyboardInterrupt
+
+    import legdsl.api
+
+    monkeypatch.setattr(tune_cli if where == "check_model" else legdsl.api, where, stopped)
+    out = tmp_path / "tuned"
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
+                 "--jobs", "1", "--out", str(out), "--generated", str(tmp_path / "generated")])  # fmt: skip
+    assert code == 130
+    assert f"stopped before the file's own values were measured: nothing written to {out}" in (
+        capsys.readouterr().err
+    )
+    assert not out.exists()
+
+
+def test_a_tune_stopped_as_the_commands_load_says_nothing_was_written(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C in the command's first second, as the parsers import the commands' modules
+    (timeout -s INT 0.3 to 1.2 legdsl tune ...), said only "legdsl: interrupted"."""
+    import legdsl.cli
+
+    def stopped() -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(legdsl.cli, "_parser", stopped)
+    out = tmp_path / "tuned"
+    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+                 "--param", "k_speed=0.02:0.2", "--speeds", "1", f"--out={out}"])  # fmt: skip
+    assert code == 130
+    err = capsys.readouterr().err
+    assert f"stopped before the file's own values were measured: nothing written to {out}" in err
+    monkeypatch.setattr(legdsl.cli, "_parser", stopped)
+    assert main(["run", str(ROOT / "creatures" / "hopper.leg"), "--out", str(out)]) == 130
+    assert capsys.readouterr().err == "legdsl: interrupted\n"  # another command: as it was

@@ -104,6 +104,17 @@ def add_tune_parser(sub: Any) -> Command:
 
 
 def cmd_tune(args: argparse.Namespace) -> int:
+    measured: list[bool] = []  # one once the file's own values are measured
+    try:
+        return _cmd_tune(args, measured)
+    except (KeyboardInterrupt, Interrupted):
+        if not measured:  # at any point before, however early (checking, compiling, forking)
+            print("legdsl: tune: stopped before the file's own values were measured: nothing "
+                  f"written to {args.out}", file=sys.stderr)  # fmt: skip
+        raise
+
+
+def _cmd_tune(args: argparse.Namespace, measured: list[bool]) -> int:
     source = Path(args.file)
     model = check_model(source, args.creature)
     require_controller(model, args.controller)
@@ -124,7 +135,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
     try:
-        return _tune_into(out, made, lock, args, source, model, controller, bounds, speeds)
+        return _tune_into(out, made, lock, args, source, model, controller, bounds, speeds,
+                          measured)  # fmt: skip
     finally:  # an API caller may tune into the same --out again in this process
         release(lock, out, made)
 
@@ -139,8 +151,10 @@ def _tune_into(
     controller: Controller,
     bounds: list[Bound],
     speeds: tuple[float, ...],
+    measured: list[bool],
 ) -> int:
-    """The tune, its lock held: the search, the three files, the report."""
+    """The tune, its lock held: the search, the three files, the report (``measured`` told
+    once the search has measured the file's own values)."""
     params = {c.name: c for c in controller.params}
     units = units_of({b.name: params[b.name].dim for b in bounds})
     pairs = _table2_legs(args.table2, model, source) if args.table2 is not None else {}
@@ -190,9 +204,8 @@ def _tune_into(
             Path(lock.name).unlink(missing_ok=True)
             if made and not any(out.iterdir()):
                 out.rmdir()
-            print("legdsl: tune: stopped before the file's own values were measured: nothing "
-                  f"written to {out}", file=sys.stderr)  # fmt: skip
-            raise
+            raise  # cmd_tune says nothing was written
+        measured.append(True)
         stops.searching = False  # from here on a signal waits for the three files
         tuned = write_tuned(source, controller, result["best"]["values"], out / source.name,
                             model.controllers)  # fmt: skip

@@ -328,6 +328,19 @@ def _short_of_memory(e: MemoryError | ImportError | SystemError, command: str = 
     return out_of_memory(command)
 
 
+def _tune_stopped_loading(argv: Sequence[str]) -> None:
+    """A tune stopped as the commands' modules load (its first second or so) says, as one
+    stopped later before its first runs does, that it wrote nothing (it said only "legdsl:
+    interrupted", and the user could not tell what was kept)."""
+    words = [w for w in argv if w != "--debug"]
+    out = next((w.partition("=")[2] for w in words if w.startswith("--out=")), None)
+    if out is None and "--out" in words[:-1]:
+        out = words[words.index("--out") + 1]
+    if words[:1] == ["tune"] and out:
+        print("legdsl: tune: stopped before the file's own values were measured: nothing "
+              f"written to {out}", file=sys.stderr)  # fmt: skip
+
+
 def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
     try:  # the parsers import their commands' modules: a Ctrl-C may come meanwhile
         from legdsl.sim.run_loop import Interrupted
@@ -339,6 +352,7 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
             return EXIT_USER_ERROR
         args = parser.parse_args(given)
     except KeyboardInterrupt:
+        _tune_stopped_loading(sys.argv[1:] if argv is None else argv)
         return interrupted(process_ends)
     except (MemoryError, ImportError, SystemError) as e:  # a memory limit (ulimit -v) too low
         print(f"legdsl: {_short_of_memory(e)}", file=sys.stderr)  # to load numpy and sympy,
