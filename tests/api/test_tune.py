@@ -202,7 +202,10 @@ def test_bounds_without_a_unit_for_an_angle_say_they_are_radians(
     assert main(["tune", str(source), "--controller", "run", "--param", "stand=-1:-0.5",
                  "--param", "k_speed=1:2", "--speeds", "1", "--time", "1", "--from", "0.2",
                  "--out", str(tmp_path / "t")]) == 2  # fmt: skip
-    assert "bare number" not in capsys.readouterr().err  # seconds: the usual unit is SI
+    err = capsys.readouterr().err  # stand's bounds hold its -40 deg: noted as radians
+    assert "legdsl: note: --param stand=-1:-0.5: a bare number is in rad" in err
+    refusal = err.splitlines()[-1]
+    assert "k_speed" in refusal and "bare number" not in refusal  # seconds: usual unit is SI
 
 
 def test_bounds_without_a_unit_say_the_unit_the_file_writes(

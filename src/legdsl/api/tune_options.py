@@ -70,6 +70,12 @@ def _bounds(
                 f"({low:g} to {high:g}{unit}); widen them"
                 + bare_in_si(text, axis.name, params[axis.name].dim, written)
             )
+        # bare numbers are SI, as a sweep's: an angle's are radians (lean=-5:5 searched
+        # ±286° of a 2 deg lean, unsaid), and the note is the sweep's
+        bare = bare_in_si(text, axis.name, params[axis.name].dim,
+                          written_unit(source, controller, axis.name))  # fmt: skip
+        if bare:
+            print(f"legdsl: note: --param {text}: {bare.removeprefix('; ')}", file=sys.stderr)
         bounds.append(Bound(axis.name, low, high, start))
     spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune
     for name, part in shared_owners(source, spans).items():
