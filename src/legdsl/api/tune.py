@@ -411,11 +411,16 @@ def plot_history(history: Sequence[dict[str, Any]], out: Path, start: float | No
 
 def report(result: dict[str, Any], units: dict[str, str], bounds: Sequence[Bound] = ()) -> str:
     lines = ["parameter        start         tuned"]
-    edges = {b.name: b for b in bounds}
+    # the file's own values kept, no candidate beating them: no bound was met (a start within
+    # 1% of the width of 20 to 1e7 said "at its lower bound: widen it")
+    kept = result["best"]["values"] == result["start"]["values"]
+    edges = {} if kept else {b.name: b for b in bounds}
     for name, value in result["best"]["values"].items():
         start = result["start"]["values"][name]
         line = f"{name:<12} {start:>10.4g}    {value:>10.4g} {units.get(name, '')}"
         lines.append(line + _at_bound(value, edges.get(name)))
+    if kept and result.get("history"):
+        lines.append("  (the file's own values are kept: no candidate beat them)")
     lines.append(
         f"objective    {result['start']['objective']:>10.4g}    {result['best']['objective']:>10.4g}"
     )
@@ -452,10 +457,13 @@ def _at_bound(value: float, bound: Bound | None) -> str:
 
 
 def _energy(row: dict[str, Any]) -> str:
-    """A run's positive actuator work per metre and its cost of transport."""
+    """A run's positive actuator work per metre and its cost of transport; n/a, as its speed
+    is, for a run that did not last or lasted without a whole stride in its window (they were
+    printed beside "no whole stride" and "n/a (fell ...)")."""
     per_metre = float(row.get("energy_per_metre", math.nan))
     cot = float(row.get("cost_of_transport", math.nan))
-    return "n/a" if not math.isfinite(per_metre) else f"{per_metre:.4g}, {cot:.3g}"
+    measured = row["outcome"] == "ok" and math.isfinite(float(row.get("running_speed", math.nan)))
+    return f"{per_metre:.4g}, {cot:.3g}" if measured and math.isfinite(per_metre) else "n/a"
 
 
 def tune_speed(row: dict[str, Any]) -> str:

@@ -341,10 +341,12 @@ def _did(speed: float, row: dict[str, Any], command: float, where: bool) -> str:
 
 def _ran(speed: float, row: dict[str, Any], command: float = 0.0) -> str:
     """A run's speed, off a ``command`` by how much (as the report's speeds are, relative to
-    it; none for 0), or why it has none: it fell or diverged, or lasted without a whole stride
-    in the window (it was said to have fallen, and a scored one's speed was 'nan')."""
+    it; none for 0): + faster than the command, - slower, whichever way it runs (-1.115 at -1
+    said -11.5%, 11.5% too fast backwards, where 0.9611 at 1 said -3.9%, too slow), or why it
+    has none: it fell or diverged, or lasted without a whole stride in the window (it was said
+    to have fallen, and a scored one's speed was 'nan')."""
     if math.isfinite(speed):
-        return f"{speed:.4g}" + (f" ({(speed - command) / abs(command):+.1%})" if command else "")
+        return f"{speed:.4g}" + (f" ({(speed - command) / command:+.1%})" if command else "")
     outcome = str(row["outcome"])
     return NO_STRIDE if outcome == "ok" else outcome.partition(" at ")[0]
 
