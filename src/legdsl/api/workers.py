@@ -82,6 +82,9 @@ class Workers:
                     threads_per_worker=1,
                     processes=True,
                     dashboard_address=None,
+                    # no dashboard, but its HTTP server (health, metrics) took port 8787, and one
+                    # in use let distributed's "Port 8787 is already in use" into the output
+                    scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
                     silence_logs=logging.CRITICAL,  # its workers' lost scheduler, as it closes
                 )
                 self._client = distributed.Client(self._cluster)
