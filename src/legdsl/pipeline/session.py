@@ -37,6 +37,7 @@ from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics
 from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
 from legdsl.pipeline.report import path_summary, run_path_reports, summary
+from legdsl.pipeline.run_notes import run_notes
 from legdsl.pipeline.scenes import (
     followed_paths,
     parse_switch,
@@ -356,9 +357,12 @@ class RunSession:
             self.tell("note", note)
 
     def tell_after(self, run: Run) -> None:
-        """Tell the switches of ``run`` that never took over (``legdsl run``: after its table)."""
+        """Tell the switches of ``run`` that never took over, and what an ``ok`` run visibly
+        did not do (``legdsl.pipeline.run_notes``): ``legdsl run``, after its table."""
         for notice in switches_not_made(run):
             self.tell("", notice)
+        for note in run_notes(run):
+            self.tell("note", note)
 
     def tell(self, kind: str, text: str) -> None:
         """A note or warning about a run: printed to the log (``legdsl run``'s stderr), or
@@ -455,7 +459,10 @@ class Run:
                     entry = extra["switches"][m.switches.index(gone)]
                     entry["superseded_by"] = {"t": by.t, "controller": by.controller}
                 extra["segments"] = m.segment_info(self.result.sim_time)
-        result = self.result
+        result, at = self.result, self.result.diverged_at
+        ended = (
+            {"ended_at": round(result.sim_time, 9), "cause": result.cause} if result.cause else {}
+        )
         return {
             "legdsl": __version__,
             "source": self.model.source,
@@ -470,16 +477,8 @@ class Run:
             **extra,
             "status": result.status,
             "message": result.message,
-            **(
-                {"ended_at": round(result.sim_time, 9), "cause": result.cause}
-                if result.cause
-                else {}
-            ),
-            **(
-                {"diverged_at": round(result.diverged_at, 9)}
-                if result.diverged_at is not None
-                else {}
-            ),
+            **ended,
+            **({"diverged_at": round(at, 9)} if at is not None else {}),
             **({"time_on_stops": result.stop_time} if result.stop_time else {}),
             "steps": result.steps,
             "sim_time": round(result.sim_time, 9),
@@ -487,6 +486,7 @@ class Run:
             "time_unit": round(self.time_unit, 9),
             **intervals_as_run(self.options),
             "events": result.events,
+            **({"notes": notes} if (notes := run_notes(self)) else {}),
         }
 
     def write(self, out: str | Path) -> Path:

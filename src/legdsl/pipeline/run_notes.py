@@ -1,0 +1,126 @@
+"""Notes on an ``ok`` run that visibly did not do what was asked (``legdsl run``: after its table).
+
+A run that ends ``ok`` has only not fallen: a controller whose table waited in one state for an
+event that never came (a longer leg never reaching the length its table waits for) stood still
+to the end, and a speed command the controller could not follow (a gallop told to run backwards)
+ran another speed, both with the same quiet ``ok``. Two checks read what the run recorded (its
+events and its trajectory), whatever the creature:
+
+* **stuck**: the controller entered its last state (or took over) ``STUCK`` s or more before the
+  end, and a quarter of the run or more: the note names the state, since when, and the event it
+  waits for (the next row's, as the table is written);
+* **speed**: the forward speed (the centre of mass's along the heading) averaged from ``SETTLE``
+  after the last change of the speed command or of the controller to the end (a window of
+  ``SHORTEST`` or more: ``legdsl.analysis.segments``) differs from the command by more than
+  ``SPEED_SHARE`` of it and more than ``SPEED_MARGIN``; only where the controller has a
+  ``speed`` input;
+* **path**: a path the run followed, its lateral deviation RMS (its path report's, from the
+  report's start) more than ``PATH_MARGIN``.
+
+The times, ``SPEED_MARGIN`` and ``PATH_MARGIN`` are for a creature standing 0.81 m, and follow
+the run's size (its ``time_unit``, √(height / 0.81 m): a speed scales as a time does, a length
+as its square, Table 1).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from legdsl.analysis.segments import segment_report
+
+STUCK = 2.0  # s: a gait's states last tenths of a second; a state held this long is waiting
+STUCK_SHARE = 0.25  # ... and for this share of the run or more (a short run is told nothing)
+SPEED_SHARE = 0.25  # the measured speed off the command by more than this share of it
+SPEED_MARGIN = 0.5  # m/s, and by more than this (a command of 0 has no share)
+PATH_MARGIN = 1.0  # m: a path followed this far off, RMS (the shipped runs: 0.01 to 0.4 m)
+
+
+def run_notes(run: Any) -> list[str]:
+    """The notes on ``run`` (a ``legdsl.pipeline.session.Run``), none unless it ended ``ok``."""
+    result = run.result
+    if result.status != "ok" or not len(result.trajectory):
+        return []
+    unit = float(run.time_unit or 1.0)
+    notes = [
+        _stuck(run, unit),
+        _off_speed(run, unit),
+        *(_off_path(r, unit) for r in run.path_reports),
+    ]
+    return [n for n in notes if n]
+
+
+def _controller_at_end(run: Any) -> str | None:
+    switched = [e["controller"] for e in run.result.events if e["kind"] == "switch"]
+    return switched[-1] if switched else run.controller
+
+
+def _stuck(run: Any, unit: float) -> str:
+    events = run.result.events
+    entered = [e for e in events if e["kind"] == "state"]
+    if not entered:
+        return ""  # a passive run, or no table
+    marks = [e["t"] for e in events if e["kind"] in ("state", "switch")]
+    since, end = max(marks), run.result.sim_time
+    held = end - since
+    if held < STUCK * unit - 1e-9 or held < STUCK_SHARE * end:
+        return ""
+    state = entered[-1]["state"]
+    return (
+        f"the controller sat in {state} from {since:.3f} s to the end of the run "
+        f"({held:.3f} s, {100 * held / end:.0f}% of it){_waiting_for(run, state)}: the run is "
+        "ok only in not having fallen; the table's event never came (see the state and the "
+        "signals it reads in trajectory.csv, and the table's numbers against this creature's)"
+    )
+
+
+def _waiting_for(run: Any, state: str) -> str:
+    """The event the table waits for in ``state`` (its next row's), as a clause, else ""."""
+    name = _controller_at_end(run)
+    table = next((c for c in run.model.controllers if c.name == name), None)
+    names = [s.name for s in table.states] if table is not None else []
+    if table is None or state not in names or len(names) < 2:
+        return ""
+    nxt = table.states[(names.index(state) + 1) % len(names)]
+    return f", waiting for the event of its next row, {nxt.name}'s '{nxt.event_text}'"
+
+
+def _off_speed(run: Any, unit: float) -> str:
+    tr = run.result.trajectory
+    command = tr.speed_command
+    if not np.isfinite(command).any():
+        return ""  # the controller has no speed input (or there is none)
+    same = (command[1:] == command[:-1]) | (np.isnan(command[1:]) & np.isnan(command[:-1]))
+    changed = [float(tr.t[i + 1]) for i in np.flatnonzero(~same)]
+    switched = [e["t"] for e in run.result.events if e["kind"] == "switch"]
+    start = max([float(tr.t[0]), *changed, *switched])
+    report = segment_report(tr, [{"from": start, "to": run.result.sim_time}], unit)[0]
+    speed, asked = report["speed"], report["command"]
+    if speed is None or asked is None:
+        return ""  # too short a window since the last change, or no command in it
+    off = abs(speed - asked)
+    if off <= SPEED_SHARE * abs(asked) or off <= SPEED_MARGIN * unit:
+        return ""
+    way = ", the other way" if speed * asked < 0 and abs(speed) > SPEED_MARGIN * unit else ""
+    since = report["measured_from"]
+    return (
+        f"the speed command was {_speed(asked)} m/s and the forward speed {_speed(speed)} m/s "
+        f"(mean from {since:g} s to the end){way}: the run is ok only in not having fallen; "
+        "the controller did not follow this command (try another command, or another controller)"
+    )
+
+
+def _speed(x: float) -> str:
+    return f"{round(x, 2) + 0.0:.2f}"  # -2e-19 (standing still) is 0.00
+
+
+def _off_path(report: dict[str, Any], unit: float) -> str:
+    rms, most = report.get("lateral_rms"), report.get("lateral_max")
+    if rms is None or rms <= PATH_MARGIN * unit**2:  # a length: the creature's size, unit**2
+        return ""
+    return (
+        f"the run kept {rms:.2f} m off the path {report.get('path')} (RMS from "
+        f"{float(report.get('from') or 0.0):g} s to the end, {float(most or rms):.2f} m at most): "
+        "the run is ok only in not having fallen; the controller did not follow this path"
+    )

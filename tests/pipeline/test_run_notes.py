@@ -1,0 +1,88 @@
+"""Notes on an ``ok`` run that visibly did not do what was asked (``legdsl.pipeline.run_notes``):
+a controller stuck in one state, a speed command not followed, a path not followed."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+from conftest import CREATURES
+
+from legdsl.pipeline.run_notes import run_notes
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import RunOptions
+
+
+def test_a_stuck_controller_and_an_unfollowed_command_are_told(
+    generated: Path, tmp_path: Path
+) -> None:
+    """A trot whose thrust waits for a leg length the leg never reaches (its `full` too short
+    for it, as a user's 20% longer legs were for the shipped 0.80 m) stood in UNLOADING from
+    0.2 s to the end and said only "status ok"; it is told now, with the state, since when
+    and the event the table waits for, in the log and in run.json."""
+    log = io.StringIO()
+    session = RunSession.from_file(CREATURES / "quadruped.leg", generated=generated, log=log)
+    run = session.run("trot", ["speed=2m/s", "full=0.6m"], options=RunOptions(duration=5.0))
+    assert run.status == "ok"
+    told = log.getvalue()
+    assert "legdsl: note: the controller sat in UNLOADING from 0.216 s to the end" in told
+    assert "waiting for the event of its next row, FLIGHT's 'liftoff(active)'" in told
+    assert "the speed command was 2.00 m/s and the forward speed 0.00 m/s" in told
+    notes = json.loads((run.write(tmp_path / "stuck") / "run.json").read_text())["notes"]
+    assert len(notes) == 2 and notes[0].startswith("the controller sat in UNLOADING")
+
+
+def test_a_shipped_run_that_does_as_asked_gets_no_note(generated: Path, tmp_path: Path) -> None:
+    log = io.StringIO()
+    session = RunSession.from_file(CREATURES / "quadruped.leg", generated=generated, log=log)
+    run = session.run("trot", ["speed=2m/s"], options=RunOptions(duration=5.0))
+    assert run.status == "ok" and run_notes(run) == [] and "note" not in log.getvalue()
+    assert "notes" not in json.loads((run.write(tmp_path / "trot") / "run.json").read_text())
+
+
+class _Recording(SimpleNamespace):
+    def __len__(self) -> int:
+        return len(self.t)
+
+
+def _run(speed: np.ndarray, command: np.ndarray, events: list[dict], **more: object) -> object:
+    """A run's record for the notes: ``speed`` along x, ``command`` every 10 ms."""
+    zero = np.zeros(len(speed))
+    tr = _Recording(t=np.arange(len(speed)) * 0.01, speed_command=command,
+                    com_vel=np.stack([speed, zero, zero], axis=1), root_rpy=np.zeros((len(speed), 3)))  # fmt: skip
+    result = SimpleNamespace(status="ok", trajectory=tr, events=events, sim_time=float(tr.t[-1]))
+    base = dict(result=result, time_unit=1.0, controller="c", path_reports=[],
+                model=SimpleNamespace(controllers=[]))  # fmt: skip
+    return SimpleNamespace(**(base | more))
+
+
+def test_the_speed_note_wants_a_clear_miss_and_says_the_other_way() -> None:
+    """A gallop told -3 m/s ran forwards at +1.2 m/s, "ok" and no word: a miss of more than a
+    quarter of the command and 0.5 m/s is told, the other way said so; a near miss is not, and
+    the window starts 3 s after the last change of the command."""
+    n, states = 1001, [{"t": 0.1 * k, "kind": "state", "state": "A"} for k in range(100)]
+    backwards = _run(np.full(n, 1.2), np.full(n, -3.0), states)
+    (note,) = run_notes(backwards)
+    assert (
+        "-3.00 m/s and the forward speed 1.20 m/s (mean from 3 s to the end), the other way" in note
+    )
+    assert run_notes(_run(np.full(n, 2.3), np.full(n, 2.0), states)) == []  # 15% off: a trim
+    changed = np.where(np.arange(n) < 800, 2.0, 0.0)  # a command at 8 s: 2 s since, no window
+    assert run_notes(_run(np.full(n, 2.0), changed, states)) == []
+    assert run_notes(_run(np.full(n, 2.0), np.full(n, np.nan), states)) == []  # no speed input
+
+
+def test_the_stuck_note_wants_a_long_share_of_the_run() -> None:
+    n = 1001  # 10 s
+    speed, command = np.zeros(n), np.full(n, np.nan)
+    early = [{"t": 0.0, "kind": "state", "state": "A"}, {"t": 7.5, "kind": "state", "state": "B"}]
+    (note,) = run_notes(_run(speed, command, early))  # 2.5 s, a quarter of the run
+    assert note.startswith("the controller sat in B from 7.500 s to the end of the run (2.500 s")
+    early[-1]["t"] = 8.5  # 1.5 s: a pause, not told
+    assert run_notes(_run(speed, command, early)) == []
+    early[-1]["t"] = 7.0
+    late_switch = [*early, {"t": 9.0, "kind": "switch", "controller": "d"}]  # a takeover: moving
+    assert run_notes(_run(speed, command, late_switch)) == []
