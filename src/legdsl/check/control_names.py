@@ -351,7 +351,7 @@ class NameResolver:
                 )
                 return None
             read = self.read(base, name, members[name], attr.span)
-            if read is None or name not in ir.CONSTANTS or isinstance(base, ir.Alias):
+            if read is None or isinstance(base, ir.Alias) or name not in ir.CONSTANTS.get(kind, {}):
                 return read
             return self.constant(base, name, read.type, attr.span)
         self.err(attr.span, f"a number has no member '{name}'")

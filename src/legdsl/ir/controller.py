@@ -87,7 +87,9 @@ BODY_CONSTANTS: dict[str, Dim] = {
 }  # fmt: skip
 COORD_CONSTANTS: dict[str, Dim] = {"at_x": LENGTH, "at_y": LENGTH, "at_z": LENGTH}
 LEG_CONSTANTS: dict[str, Dim] = {"hip_at_x": LENGTH, "hip_at_y": LENGTH, "hip_at_z": LENGTH}
-CONSTANTS = frozenset([*BODY_CONSTANTS, *COORD_CONSTANTS, *LEG_CONSTANTS])
+# A kind of part -> its constants: only a body's `length` is its length (a path's `length`
+# is a reading of the path, as a leg's is of the leg).
+CONSTANTS: dict[str, dict[str, Dim]] = {"body": BODY_CONSTANTS, "coord": COORD_CONSTANTS}
 # Members that only a 3D creature has: out of the sagittal plane, or turning out of it.
 SPATIAL_MEMBERS = frozenset(
     {"y", "vy", "roll", "yaw", "roll_rate", "yaw_rate", "foot_y", "foot_vy", "hip_y",
