@@ -50,6 +50,7 @@ from legdsl.analysis.plot import pyplot
 from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
+from legdsl.api.tune_pace import time_left
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_same_name, write_atomic
 from legdsl.pipeline.optional import import_whole
@@ -225,7 +226,8 @@ def tune(
     tune_began = time.perf_counter()  # the elapsed time told counts the start's runs too
     try:
         # never more processes than a generation's runs (--jobs 100000 forked them all)
-        with Workers(min(workers, es.popsize * len(objective.speeds)), dask) as pool:
+        lanes = min(workers, es.popsize * len(objective.speeds))
+        with Workers(lanes, dask) as pool:
             if journal is not None and journal.start is not None:
                 start_rows = journal.start
             else:
@@ -240,7 +242,7 @@ def tune(
             if journal is not None:
                 journal.start = start_rows
                 journal.save()
-            began, replayed = time.perf_counter(), len(history)
+            began, simulated = time.perf_counter(), 0.0  # this process's generations' runs
             while not es.stop():
                 xs = es.ask()
                 results = runs(pool, [values_of(x) for x in xs], objective.speeds)
@@ -253,7 +255,10 @@ def tune(
                     journal.add(xs, scores, best_runs)
                 assert best is not None
                 done, spent = len(history), time.perf_counter() - began
-                left = spent / (done - replayed) * (generations - done)
+                simulated += sum(float(row["simulated"]) for rows in results for row in rows)
+                left = time_left(spent, simulated, generations - done, len(xs) * len(objective.speeds),
+                                 lanes, objective.duration, objective.speeds,
+                                 halfway_speeds(objective.speeds))  # fmt: skip
                 elapsed = time.perf_counter() - tune_began
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
                     f"{best[0]:.4g} ({elapsed:.0f} s, about {left:.0f} s left)")  # fmt: skip
