@@ -263,8 +263,11 @@ def tune(
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
                     f"{best[0]:.4g} ({elapsed:.0f} s, about {left:.0f} s left)")  # fmt: skip
             if len(history) < generations:  # else the report's few generations are unexplained
+                alike = {begun[0]} | {h[k] for h in history for k in ("best", "mean")}
+                if any(row["outcome"] != "ok" for row in begun[1]):  # falls alike: said so
+                    alike.add(math.nan)
                 say(f"CMA-ES stopped after generation {len(history)} of {generations}: "
-                    f"{why_stopped(es.stop())}")  # fmt: skip
+                    f"{why_stopped(es.stop(), alike.pop() if len(alike) == 1 else None)}")  # fmt: skip
             # a tune fits the speeds it is given, and a gait may still fall between them (the
             # flat-footed biped tuned at 0, 1, 1.5, 2 and 2.5 m/s fell at 1.75): the values
             # kept run once more halfway between each two (not scored)
@@ -376,8 +379,16 @@ def halfway_speeds(speeds: Sequence[float]) -> list[float]:
 FLAT = ("tolfun", "tolflatfitness", "tolfunhist", "tolstagnation")
 
 
-def why_stopped(conditions: dict[str, Any]) -> str:
-    """CMA-ES's termination conditions in words."""
+def why_stopped(conditions: dict[str, Any], alike: float | None = None) -> str:
+    """CMA-ES's termination conditions in words; ``alike``, the one objective every candidate
+    and the file's own values scored, if they all did (the tuned parameters changed nothing)."""
+    if alike is not None and any(c in conditions for c in FLAT):
+        return (
+            f"every candidate scored {alike:.4g}, as the file's own values did: the tuned "
+            "parameters changed nothing in these runs (the controller reads them only where "
+            "these runs never go, a limit they never reach or a state they never enter: see "
+            "which with legdsl sweep, or tune other parameters)"
+        )
     if any(c in conditions for c in FLAT):
         return (
             "the candidates' objectives no longer differ (if every run falls alike, what "

@@ -31,6 +31,7 @@ from legdsl.api.tune import (
 from legdsl.api.tune_journal import Journal
 from legdsl.api.tune_options import (  # checked options; tests import them from here too
     _bounds,
+    _check_read,
     _check_search,
     _speed_input,
     _speeds,
@@ -120,6 +121,7 @@ def _cmd_tune(args: argparse.Namespace, measured: list[bool]) -> int:
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
     bounds = _bounds(args, controller, source, actuator_settings(model))
+    _check_read(bounds, model, controller)
     speeds = _speeds(args.speeds, _speed_input(args.controller, controller, model).dim)
     _check_search(args)
     if args.table2 is not None:  # before --out is made: a row this creature cannot be measured as

@@ -87,6 +87,33 @@ def _bounds(
     return bounds
 
 
+def _check_read(bounds: list[Bound], model: Model, controller: Controller) -> None:
+    """Refuses a parameter nothing in the compiled controller depends on: no event, record,
+    actuator setting or foot placement of any state reads it (declared and left unused, or
+    read only where it cancels out), so no value of it changes a run. A tune of one ended
+    after its generations with "the candidates' objectives no longer differ", unexplained."""
+    from legdsl.lower.control import lower_controller
+
+    lowered = lower_controller(model, controller)
+    exprs: list[Any] = list(lowered.events.values())
+    for body in lowered.bodies.values():
+        exprs += [value for _, value in body.records]
+        exprs += [setting.value for setting in body.settings]
+        exprs += [goal for place in body.places for goal in place.goals]
+    read = {str(s) for e in exprs for s in getattr(e, "free_symbols", ())}
+    unread = [b.name for b in bounds if f"param_{b.name}" not in read]
+    if unread:
+        names = " and ".join(", ".join(unread).rsplit(", ", 1))
+        them = "them" if len(unread) > 1 else "it"
+        others = [c.name for c in controller.params if f"param_{c.name}" in read]
+        raise UsageError(
+            f"--param {unread[0]}: controller '{controller.name}' never reads {names} (compiled, "
+            f"no event, record, actuator setting or foot placement of its states depends on "
+            f"{them}), so no value can change a run and the tune would find nothing; tune "
+            f"parameters it reads ({', '.join(others) or 'it reads none'})"
+        )
+
+
 def _table2_legs(row: str, model: Model, source: Path) -> dict[str, list[str]]:
     """The virtual legs ``--table2 ROW`` is measured on, found from the creature's hips; a row
     whose pairs this creature has not (a trot's diagonal pairs of a one-legged creature) is
