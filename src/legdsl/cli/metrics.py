@@ -128,7 +128,8 @@ def add_metrics_parser(sub: Any) -> Command:
         "without its unit is seconds)",
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
-    m.add_argument("--generated", default="generated", metavar="DIR",
+    m.add_argument("--generated", default=None, metavar="DIR",
                    help="where the run's generated modules live, for the foot clearance at the apex "
-                   "(default generated/; never compiled here)")  # fmt: skip
+                   "(default: the folder the run was made with, which run.json records, found from "
+                   "the run directory or where it was; else generated/; never compiled here)")  # fmt: skip
     return cmd_metrics

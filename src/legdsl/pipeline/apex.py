@@ -13,6 +13,7 @@ measured as the scaled creature: its coordinates are scaled back, and the height
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -24,7 +25,7 @@ from legdsl.analysis.results import Flight, Summary
 from legdsl.analysis.rows import stat
 from legdsl.codegen.fingerprints import model_fingerprint
 from legdsl.lang.errors import LegError, UsageError
-from legdsl.pipeline.generated import import_module_file
+from legdsl.pipeline.generated import import_module_file, recorded_candidates
 from legdsl.pipeline.scaled import q_factors
 from legdsl.sim.contact import GroundContact
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -50,11 +51,13 @@ ROWS = (
 HERE = "run legdsl metrics from the folder the run was made in"
 
 
-def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics | str:
+def kinematics_or_why(run: Path, tr: Trajectory, generated: Path | None) -> Kinematics | str:
     """The kinematics of a run's creature, or a note saying why they are not at hand and how
     to have them: each case left the rows out without a word, and copying the .leg file as
     advised did not bring them back (its generated modules, or the files it uses, were not
-    found). "" for a trajectory without run.json, which names no creature."""
+    found). "" for a trajectory without run.json, which names no creature. The modules are
+    ``generated``'s (``--generated``), else those of the folder run.json records
+    (``recorded_candidates``) that has them, else ``generated/`` here."""
     try:
         info = load_run_info(run)
     except UsageError:
@@ -64,10 +67,11 @@ def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics 
     if source is None:
         if Path(named).is_absolute():
             return f"the file {named!r} that {run}/run.json names is gone, so {ROWS}; put it back"
+        give = ("" if recorded_candidates(run, info) else " and give --generated the folder "
+                "of its generated modules (generated/ where the run was made)")  # fmt: skip
         return (
             f"the file {named!r} that {run}/run.json names is not found from here, so {ROWS}; "
-            f"{HERE}, or copy the file (and the files it uses) into {run} and give --generated "
-            "the folder of its generated modules (generated/ where the run was made)"
+            f"{HERE}, or copy the file (and the files it uses) into {run}{give}"
         )
     try:
         _, model = recorded_model(run, info, source)  # a creature changed since: a UsageError
@@ -77,6 +81,9 @@ def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics 
             f"({e.render().splitlines()[0]}), so {ROWS}; {HERE}, or copy the files it uses "
             "to where its use lines name them"
         )
+    recorded = recorded_candidates(run, info) if generated is None else []
+    found = [g for g in recorded if (g / model.name / "dynamics.py").is_file()]
+    generated = generated or next(iter(found), Path("generated"))
     path = generated / model.name / "dynamics.py"
     if model.nq != tr.q.shape[1]:
         return (
@@ -86,7 +93,7 @@ def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics 
     if not path.is_file():
         return (
             f"{path}, the creature's generated kinematics, is not there (legdsl metrics never "
-            f"compiles it), so {ROWS}; give --generated the "
+            f"compiles it){_recorded(recorded)}, so {ROWS}; give --generated the "
             f"folder of the run's generated modules (generated/ where the run was made), or "
             f"make them with legdsl compile {source} --out {generated}"
         )
@@ -99,6 +106,12 @@ def kinematics_or_why(run: Path, tr: Trajectory, generated: Path) -> Kinematics 
         )
     scale = float(info.get("scale") or 1.0)
     return Kinematics(model, dyn, q_factors(model, scale), scale)
+
+
+def _recorded(folders: list[Path]) -> str:
+    """Where else the modules were looked for: the folder run.json records."""
+    named = dict.fromkeys(os.path.normpath(f) for f in folders)  # often one folder, twice
+    return f", nor under {' or '.join(named)}, the folder run.json records" if named else ""
 
 
 def clearance_row(found: Kinematics, tr: Trajectory, flights: Sequence[Flight]) -> Summary:

@@ -348,3 +348,28 @@ def write_module_dir(root: Path, name: str, files: Sequence[tuple[str, str]]) ->
 
 def _why(e: OSError) -> str:
     return e.strerror or str(e)
+
+
+def recorded_folder(generated: Path | None, out: Path) -> dict[str, Any]:
+    """run.json's ``generated``: the folder of the run's generated modules, from the run
+    directory ``out`` (found again where the two were moved together) and absolute (found
+    again where the run directory alone was moved); {} for a run made without one."""
+    if generated is None:
+        return {}
+    folder = os.path.abspath(generated)
+    try:
+        from_run = os.path.relpath(folder, os.path.abspath(out))
+    except ValueError:  # another drive (Windows): no way from one to the other
+        return {"generated": {"absolute": folder}}
+    return {"generated": {"from_run": Path(from_run).as_posix(), "absolute": folder}}
+
+
+def recorded_candidates(run: Path, info: dict[str, Any]) -> list[Path]:
+    """Where run.json's ``generated`` (``recorded_folder``) says the run's modules are: from
+    the run directory first, then the absolute path; [] for a run.json without it."""
+    folder = info.get("generated")
+    if not isinstance(folder, dict):
+        return []
+    from_run, absolute = folder.get("from_run"), folder.get("absolute")
+    return [p for p in (run / from_run if isinstance(from_run, str) else None,
+                        Path(absolute) if isinstance(absolute, str) else None) if p]  # fmt: skip

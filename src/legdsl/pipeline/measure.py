@@ -33,7 +33,7 @@ def measure_run(
     groups: Sequence[str] = (),
     joint: str | None = None,
     against: str | None = None,
-    generated: str | Path = "generated",
+    generated: str | Path | None = None,
     table2: str | None = None,
     min_stance: float | None = None,
     friction_edge: float = FRICTION_EDGE,
@@ -42,7 +42,8 @@ def measure_run(
     lateral deviation from each path the run followed (from ``t_from``, else from 3 s scaled by
     the run's ``time_unit``). The
     foot clearance at the apex and the foot's speed over the ground at touchdown are measured
-    with ``generated/NAME/dynamics.py`` when it is there and fresh (``legdsl.pipeline.apex``,
+    with ``GENERATED/NAME/dynamics.py`` when it is there and fresh, GENERATED being
+    ``generated``, else the folder run.json records, else generated/ (``legdsl.pipeline.apex``,
     ``legdsl.pipeline.touchdown``).
 
     ``groups`` are virtual legs, ``NAME=LEG,LEG``. With ``table2`` (a gait of Table 2 measured
@@ -73,7 +74,7 @@ def measure_run(
         raise UsageError(str(e)) from None
     metrics = measure(
         trajectory,
-        kinematics_or_why(run, trajectory, Path(generated)),
+        kinematics_or_why(run, trajectory, None if generated is None else Path(generated)),
         t_from=t_from,
         t_to=t_to,
         leg=leg,

@@ -34,7 +34,7 @@ from legdsl.lang.errors import Diagnostic, LegError, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
-from legdsl.pipeline.generated import load_controller, load_dynamics
+from legdsl.pipeline.generated import load_controller, load_dynamics, recorded_folder
 from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
 from legdsl.pipeline.report import path_summary, run_path_reports, summary
 from legdsl.pipeline.run_notes import run_notes
@@ -281,7 +281,7 @@ class RunSession:
         self._check_stiffness(sim, controls, set(sorted_settings.actuators))
         shown = asked if scale is not None else options  # a scaled run reports the scaled
         return Plan(self.model, sim, controller, shown, sorted_settings, machine, scale,
-                    self.source_sha256, dict(sources or {}))  # fmt: skip
+                    self.source_sha256, dict(sources or {}), self.generated)  # fmt: skip
 
     def _check_start(self, sim: Simulation) -> None:
         """A contact that starts under the ground is refused at the line that places it."""
@@ -357,8 +357,7 @@ class RunSession:
             self.tell("note", note)
 
     def tell_after(self, run: Run) -> None:
-        """Tell the switches of ``run`` that never took over, and what an ``ok`` run visibly
-        did not do (``legdsl.pipeline.run_notes``): ``legdsl run``, after its table."""
+        """Tell a switch of ``run`` that never took over, and its ``run_notes`` (after its table)."""
         for notice in switches_not_made(run):
             self.tell("", notice)
         for note in run_notes(run):
@@ -396,6 +395,7 @@ class Plan:
     scale: float | None = None
     source_sha256: str | None = None  # the file's as checked (RunSession.source_sha256)
     sources: dict[str, str] = field(default_factory=dict)  # a scene's lines (scene_sources)
+    generated: Path | None = None  # the folder of its generated modules (RunSession.generated)
 
     def finish(
         self,
@@ -416,7 +416,7 @@ class Plan:
         reports = run_path_reports(machine, result, self.scale, unit)
         return Run(self.model, self.controller, self.options, settings or self.settings,
                    machine, result, reports, self.scale, self.source_sha256,
-                   time_unit=unit)  # fmt: skip
+                   time_unit=unit, generated=self.generated)  # fmt: skip
 
 
 @dataclass
@@ -435,6 +435,7 @@ class Run:
     scene: str | None = None  # the scene run (--scene), which run.json names
     start: dict[str, dict[str, float]] | None = None  # its own q and v (a batch copy's q0, v0)
     time_unit: float = 1.0  # its natural time over a 0.81 m creature's (path_report.time_unit)
+    generated: Path | None = None  # its generated modules' folder, which run.json records
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
@@ -498,7 +499,7 @@ class Run:
         run.json of an older run. Each file is replaced whole (``legdsl.files``).
         """
         out = Path(out)
-        info = self.info()
+        info = self.info() | recorded_folder(self.generated, out)  # from where it is written
         text = json.dumps(info, indent=2, allow_nan=False) + "\n"
         pending = dict(info, status="incomplete", message="the run directory is being written")
         out.mkdir(parents=True, exist_ok=True)
