@@ -8,7 +8,7 @@ The objective of a candidate is the mean, over the commanded ``--speeds``, of
 * the relative speed error ``|running speed - command| / command`` (from ``--from`` on),
 * plus ``--table2-weight`` times the mean relative distance of the run's metrics to the
   rows of ``--table2 ROW`` (the paper's animation column, where the run measured them); for
-  a gait of pairs (a trot, a pace, a bound) the runs are measured on its pairs, found from
+  a gait of pairs (Table 2's trot and bound) the runs are measured on its pairs, found from
   the hips as ``legdsl metrics --table2`` finds them, and the share of the pairs' stances
   whose members land more than 10 ms apart is added too, a pair that never touches down
   together landing apart every time (a trot that holds its speed with the diagonal feet
