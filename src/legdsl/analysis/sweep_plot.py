@@ -40,7 +40,7 @@ def plot_sweep(
     from legdsl.analysis.plot import pyplot
 
     plt = pyplot()
-    ok = [str(r["outcome"]) == "ok" for r in rows]
+    ok = [str(r.get("outcome")) == "ok" for r in rows]
     title = f"{metric} over {len(rows)} runs ({sum(ok)} ran to the end)"
     if len(names) == 1:
         fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=110, layout="constrained")
@@ -52,7 +52,7 @@ def plot_sweep(
             names = sorted(names, key=lambda n: n not in random_names)
         others = [n for n in names[2:] if n not in random_names]
         varying = [n for n in names[2:] if n in random_names]
-        groups = sorted({tuple(as_number(r[n]) for n in others) for r in rows})
+        groups = sorted({tuple(as_number(r.get(n)) for n in others) for r in rows})
         if len(groups) > MOST_PANELS:
             groups, others, varying = [()], [], list(names[2:])
         if varying:  # the title says what varies among the dots
@@ -64,12 +64,12 @@ def plot_sweep(
         rows_of = math.ceil(len(groups) / cols)
         fig, axes = plt.subplots(rows_of, cols, figsize=(4.2 * cols + 1.2, 3.6 * rows_of + 0.6),
                                  dpi=110, squeeze=False, layout="constrained")  # fmt: skip
-        values = [as_number(r[metric]) for r, good in zip(rows, ok, strict=True) if good]
+        values = [as_number(r.get(metric)) for r, good in zip(rows, ok, strict=True) if good]
         finite = [v for v in values if math.isfinite(v)] or [0.0]
         scale = {"vmin": min(finite), "vmax": max(finite), "cmap": "viridis"}
         image = None
         for ax, group in zip(axes.flat, groups, strict=False):
-            inside = [r for r in rows if tuple(as_number(r[n]) for n in others) == group]
+            inside = [r for r in rows if tuple(as_number(r.get(n)) for n in others) == group]
             image = _map(ax, inside, names[0], names[1], metric, scale, heat)
             ax.set_xlabel(label(names[0]))
             ax.set_ylabel(label(names[1]))
@@ -91,10 +91,10 @@ def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> N
     """The metric along one swept name; a run that fell as a cross at the foot of the axes."""
     import numpy as np
 
-    at = np.array([as_number(r[name]) for r in rows])
-    values = np.array([as_number(r[metric]) for r in rows])
+    at = np.array([as_number(r.get(name)) for r in rows])
+    values = np.array([as_number(r.get(metric)) for r in rows])
     order = np.argsort(at)
-    kept = np.array([str(r["outcome"]) == "ok" for r in rows])[order]
+    kept = np.array([str(r.get("outcome")) == "ok" for r in rows])[order]
     ax.plot(at[order][kept], values[order][kept], "o-", label="ran to the end")
     if (~kept).any():  # x in data, y in the axes: a fall has no metric to stand at
         ax.plot(at[order][~kept], [0.03] * int((~kept).sum()), "rx", clip_on=False,
@@ -118,14 +118,14 @@ def _map(
     beside drawn ones made a full grid of stripes, one draw each)."""
     import numpy as np
 
-    ok = [str(r["outcome"]) == "ok" for r in rows]
-    xs = sorted({as_number(r[a]) for r in rows})
-    ys = sorted({as_number(r[b]) for r in rows})
+    ok = [str(r.get("outcome")) == "ok" for r in rows]
+    xs = sorted({as_number(r.get(a)) for r in rows})
+    ys = sorted({as_number(r.get(b)) for r in rows})
     if heat and len(xs) * len(ys) == len(rows):  # a full grid: a heat map
         grid = np.full((len(ys), len(xs)), np.nan)
         for r, good in zip(rows, ok, strict=True):
-            grid[ys.index(as_number(r[b])), xs.index(as_number(r[a]))] = (
-                as_number(r[metric]) if good else np.nan
+            grid[ys.index(as_number(r.get(b))), xs.index(as_number(r.get(a)))] = (
+                as_number(r.get(metric)) if good else np.nan
             )
         image = ax.pcolormesh(_edges(xs), _edges(ys), grid, shading="flat", **scale)
         # each cell labelled with its swept value (matplotlib's own ticks, 0.06 and 0.08
@@ -134,10 +134,10 @@ def _map(
         ax.set_yticks(*_cell_ticks(ys, MOST_Y_TICKS))
     else:  # random or Latin-hypercube draws: a scatter of the runs that lasted
         lasted = [r for r, good in zip(rows, ok, strict=True) if good]
-        image = ax.scatter([as_number(r[a]) for r in lasted], [as_number(r[b]) for r in lasted],
-                           c=[as_number(r[metric]) for r in lasted], **scale)  # fmt: skip
+        image = ax.scatter([as_number(r.get(a)) for r in lasted], [as_number(r.get(b)) for r in lasted],
+                           c=[as_number(r.get(metric)) for r in lasted], **scale)  # fmt: skip
     fell = [r for r, good in zip(rows, ok, strict=True) if not good]
-    ax.plot([as_number(r[a]) for r in fell], [as_number(r[b]) for r in fell], "rx")
+    ax.plot([as_number(r.get(a)) for r in fell], [as_number(r.get(b)) for r in fell], "rx")
     return image
 
 

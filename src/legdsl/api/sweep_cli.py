@@ -330,6 +330,14 @@ def _say_unmeasured(
 ) -> None:
     """A note where no run measured the metric drawn: the picture has nothing to colour (a
     controller whose command is not called 'speed' drew an empty map, and said nothing)."""
+    lacking = sum(1 for r in rows if metric not in r)  # a table from before the column
+    if lacking:  # (or its header edited): plotted as far as it goes, said
+        which = "its rows have" if lacking == len(rows) else f"{lacking} of its rows have"
+        print(f"legdsl: note: {args.out}/sweep.csv has no column {metric} (written before "
+              f"legdsl measured it, or its header edited): {which} that cell empty, and "
+              f"{picture} shows{' none' if lacking == len(rows) else ' the others'}; to "
+              "measure it, sweep into another --out", file=sys.stderr)  # fmt: skip
+        return
     if any(math.isfinite(as_number(r.get(metric))) for r in rows):
         return
     if metric == "speed_error" and "speed" not in {c.name for c in controller.inputs}:
