@@ -72,7 +72,8 @@ def pair_groups(positions: Mapping[str, tuple[float, float]], pairing: str) -> d
     legs = list(positions)
     if len(legs) != 4:
         raise MetricsError(
-            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} legs "
+            f"the {pairing} pairs are those of a quadruped; this creature has {len(legs)} "
+            f"leg{'' if len(legs) == 1 else 's'} "
             f"({', '.join(legs)}): give its virtual legs with {group_hint(pairing)}"
         )
     mx = float(np.mean([p[0] for p in positions.values()]))
