@@ -100,3 +100,45 @@ def test_a_word_before_the_brace_on_its_line_is_told() -> None:
 def test_a_value_s_own_unit_is_not_a_word_too_many(line: str, after: str) -> None:
     message, at_line, _ = told(BODY.replace("STRAY", line).replace("NEXT", after))
     assert at_line == 7 and "word too many" not in message and "already" not in message
+
+
+def test_a_word_before_the_next_item_of_the_creature_is_told() -> None:
+    # 'foo' took 'body' and the parse failed at the body's '{'
+    text = BODY.replace("  gravity 9.81 m/s^2\n", "  gravity 9.81 m/s^2 foo\n").replace(
+        "STRAY\nNEXT\n", ""
+    )
+    message, line, col = told(text)
+    assert (line, col) == (3, 22) and "'foo' took the next line's 'body'" in message
+
+
+def test_a_word_before_a_block_s_next_call_is_told() -> None:
+    # 'tangent spring(k = ...)' read as the value 'tangent' and a vector '(k = ...'
+    ground = (
+        "  ground {\n    normal spring(k = 2e4 N/m, b = 200 N*s/m) foo\n"
+        "    tangent spring(k = 1e4 N/m, b = 100 N*s/m)\n  }\n}\n"
+    )
+    text = BODY.replace("STRAY\nNEXT\n", "").removesuffix("}\n") + ground
+    message, line, col = told(text)
+    assert (line, col) == (12, 47) and "'foo' took 'tangent'" in message
+
+
+@pytest.mark.parametrize(
+    "line",
+    [
+        '    shape cylinder(0.03 m)  color "#8b4513"',  # a string: blank to the slips' reading
+        "    com (0.1, 0) m  # a vector's unit",
+    ],
+)
+def test_a_line_that_ends_in_a_whole_value_is_not_blamed_for_the_next(line: str) -> None:
+    message, at_line, _ = told(
+        BODY.replace("STRAY", line).replace("NEXT", "    initial x = 0 m z = 1 m")
+    )
+    assert at_line == 7 and "word too many" not in message and "takes each value" not in message
+
+
+def test_a_gait_band_alone_after_a_value_is_not_a_word_too_many() -> None:
+    scene = (
+        "scene s {\n  gait by speed {\n    walk to 1 m/s  trot\n    gallop from = 2 m/s\n  }\n}\n"
+    )
+    message, line, _ = told(BODY.replace("STRAY\nNEXT\n", "") + scene)
+    assert line == 15 and "word too many" not in message

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 
 from legdsl.lang import ast
-from legdsl.lang.context import in_expression, opening
+from legdsl.lang.context import in_expression, innermost, opening
 from legdsl.lang.errors import Diagnostic, Span
 from legdsl.lang.expression_slips import NUMBER
 from legdsl.lang.spellings import mask, offset_span
@@ -67,9 +67,7 @@ def _last_on_its_line(text: str, masked: str, pos: int, kind: str) -> Found | No
         if found is None or not _after_value(text, masked, found.start(1), found.group(1)):
             return None
         return _why(text, masked, found.start(1), found.group(1), None)
-    words = masked[line_start:pos].split()
-    if len(words) > 2 or not all(re.fullmatch(r"[A-Za-z_]\w*", w) for w in words):
-        return None  # the next line's key and a name at most ('initial x', 'joints hip')
+    words = re.findall(r"[A-Za-z_]\w*|\S", masked[line_start:pos])  # the next line's, misread
     found = _LAST_WORD.search(masked, 0, line_start)
     if found is None or not masked[masked.rfind("\n", 0, found.start(1)) : found.start(1)].strip():
         return None  # alone on its line: the parse fails at its value ('}', '-'), as above
@@ -83,10 +81,15 @@ def _last_on_its_line(text: str, masked: str, pos: int, kind: str) -> Found | No
 def _after_value(text: str, masked: str, start: int, word: str) -> bool:
     """Whether ``word``, at ``start``, follows a whole value on its line (a number and its
     unit, a call, a vector with its unit, a string) rather than being its own part."""
+    rest = text[start + len(word) : (text.find("\n", start) + 1 or len(text) + 1) - 1].strip()
+    if rest and rest[0] not in "#}":
+        return False  # 'color "#406080"': its value is a string, blank in ``masked``
     before = masked[:start].rstrip(" \t")
     item = re.split(r"[{};]", before[before.rfind("\n") + 1 :])[-1].split()
     if word in _KEYWORDS or (item and item[0] in _KEYWORDS):
         return False  # 'instance fl = leg(S = fl) mirror': not among properties
+    if innermost(masked, start) in ("scene", "gait"):
+        return False  # 'walk to 1 m/s  trot': a gait band is a name alone
     if text[:start].rstrip(" \t").endswith('"'):
         return True
     if re.search(rf"(?<![\w.]){NUMBER}[ \t]*{unit_pattern()}$", before):
@@ -96,7 +99,7 @@ def _after_value(text: str, masked: str, start: int, word: str) -> bool:
     if re.search(rf"\)[ \t]*{unit_pattern()}$", before):
         return True
     if before.endswith(")"):  # a vector's unit is its own: '(0.1, 0) m'
-        return bool(_CALLED.search(before, 0, opening(before))) or not _is_unit(word)
+        return _called(before, opening(before)) is not None or not _is_unit(word)
     return False
 
 
@@ -158,6 +161,8 @@ def _why(text: str, masked: str, start: int, word: str, key: str | None) -> Foun
     if masked[line_start:start].strip() and after_value:
         took = (
             f"'{word}' took '{key}', the next property's key, as its value"
+            if key is not None and key not in _KEYWORDS
+            else f"'{word}' took the next line's '{key}' as its value"
             if key is not None
             else f"'{word}' is left a key with no value before the block's '}}'"
         )
@@ -176,10 +181,9 @@ def _unit_after_call(masked: str, before: str, word: str) -> str | None:
     if not before.endswith(")") or not _is_unit(word):
         return None
     start = opening(before)
-    called = _CALLED.search(before, 0, start)
-    if called is None:
+    name = _called(before, start)
+    if name is None:
         return None
-    name = called.group().strip()
     args = [a.strip() for a in _top_level_split(before[start + 1 : -1])]
     written = ", ".join(
         re.sub(rf"^((?:[A-Za-z_]\w*[ \t]*=[ \t]*)?-?{NUMBER})$", rf"\1 {word}", a) for a in args
@@ -188,6 +192,19 @@ def _unit_after_call(masked: str, before: str, word: str) -> str | None:
         f"{name}(...) takes each value with its own unit, and no unit after its ')': write "
         f"'{name}({written})' (a unit after the ')' is a vector's, as in '(0.1, 0) m')"
     )
+
+
+def _called(before: str, start: int) -> str | None:
+    """The function whose '(' is at ``start``: 'box' in 'shape box(0.4, 0.1)'; None for a
+    vector, whose '(' follows the key ('com (0.1, 0)')."""
+    called = _CALLED.search(before, 0, start)
+    if called is None:
+        return None
+    key = before[: called.start()].rstrip()
+    unit = re.search(rf"(?<![\w.]){NUMBER}[ \t]*{unit_pattern()}$", key)
+    if not re.search(r"(?<![\w.])[A-Za-z_]\w*$", key) or unit is not None:
+        return None
+    return called.group().strip()
 
 
 def _top_level_split(inside: str) -> list[str]:
