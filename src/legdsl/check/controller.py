@@ -20,6 +20,7 @@ from legdsl.check.control_shared import Extension, expand_includes, extend_bases
 from legdsl.check.control_stmts import Elaborator
 from legdsl.check.control_words import describe_type
 from legdsl.check.derived import check_derived
+from legdsl.check.local_names import builtin_message, check_local_names
 from legdsl.check.paths import check_path
 from legdsl.check.record_clash import tell_record_clashes
 from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
@@ -107,12 +108,9 @@ class ControllerChecker:
                     f"'{ident.name}' is defined twice in controller '{d.name.name}' (first at {own[ident.name]})",
                 )
                 return False
-            if ident.name in ir.BUILTIN_VALUES:
-                self.err(
-                    ident.span,
-                    f"'{ident.name}' is a built-in value of every controller "
-                    f"({', '.join(ir.BUILTIN_VALUES)}); choose another name",
-                )
+            builtin = builtin_message(ident.name)  # 'com' and 'terrain' too
+            if builtin is not None:
+                self.err(ident.span, builtin)
                 return False
             if ident.name in names:
                 self.err(
@@ -199,6 +197,12 @@ class ControllerChecker:
         called = [a for n, a in self.actions.items() if n in reachable]
         records = collect_records(tables, called)
         tell_record_clashes(records, names, declared, own, called, d.name.span, self.err)
+        mine = {id(item) for item in self.items if isinstance(item, ast.ActionDef)}
+        check_local_names(
+            d.name.name, self.model, names, signals, [r for t in tables for r in t.rows],
+            [a for a in [*shadowed, *self.actions.values()] if a.name.name in reachable or id(a) in mine],
+            d.span.file, self.err,
+        )  # fmt: skip
         for ident in owned:
             if ident.name not in records:
                 advice = did_you_mean(ident.name, records) or (
@@ -372,9 +376,7 @@ class ControllerChecker:
                 continue
             el = Elaborator(loose, self.diag)
             params: dict[str, Value] = {}
-            for p in action.params:
-                if p.name in params:
-                    self.err(p.span, f"parameter '{p.name}' is listed twice")
+            for p in action.params:  # one listed twice is told by check_local_names
                 params[p.name] = Opaque(p.name)
             el.stmts(action.body, params)
 
