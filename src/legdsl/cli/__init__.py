@@ -29,6 +29,7 @@ from legdsl.cli.common import (
 )
 from legdsl.cli.metrics import add_metrics_parser
 from legdsl.cli.outputs import cmd_export, cmd_plot
+from legdsl.cli.parser import LegParser
 from legdsl.cli.process import (
     THREAD_REFUSED,
     QuietErrors,
@@ -143,7 +144,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = LegParser(
         prog="legdsl",
         description="Compile and run physically simulated legged creatures described in .leg files.",
         epilog="Example: legdsl check creatures/kangaroo.leg && legdsl show creatures/kangaroo.leg",

@@ -63,7 +63,8 @@ def empty_argument(argv: Sequence[str], parser: argparse.ArgumentParser) -> str 
     return None
 
 
-_NEGATIVE = re.compile(r"-\.?\d")  # '-5s', '-1ms', '-.5': a negative value, not an option
+# '-5s', '-1ms', '-.5', '-inf': a negative value, not an option
+_NEGATIVE = re.compile(r"-(?:\.?\d|inf|nan)", re.IGNORECASE)
 
 
 def negative_values_joined(argv: Sequence[str], parser: argparse.ArgumentParser) -> list[str]:

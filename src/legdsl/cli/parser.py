@@ -1,0 +1,154 @@
+"""The parser of every ``legdsl`` command: argparse told to say a mistake in one line.
+
+argparse's own behaviour, changed in one place for every command (the subcommands' parsers
+are made by ``add_parser`` of this class, wherever they are defined):
+
+- an option that takes one value, given two values, is refused (``--time 0.1 --time 0.3`` ran
+  0.3 s, ``-o gen2 --generated gen3`` wrote gen3), as a repeated ``--path`` always was;
+- no abbreviations (``--tim 0.3`` ran 0.3 s): an unknown option is refused with the close
+  names it may have meant (``--tme``: did you mean --time?);
+- a value that is no number (``--jobs 2x``, ``--slow-motion 2s``) is told in a sentence
+  with the number to write, not as "invalid float value";
+- a mistake is one line, ``legdsl: what is wrong, and how to fix it``, exit status 2, with
+  no usage dump (``legdsl COMMAND --help`` shows it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import re
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+_GIVEN = "_legdsl_given"  # a parse's options given so far: dest -> (option, value)
+
+# what a plain number means, for the options whose number is a factor or a count
+_MEANS = {"slow_motion": "{n} (the video {n} times slower than real time)"}
+
+
+def _shown(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+class _Once(argparse._StoreAction):
+    """``store`` that refuses a second value, which silently replaced the first (the same
+    value again is no contradiction: a script's default given twice)."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given: dict[str, tuple[str, Any]] = namespace.__dict__.setdefault(_GIVEN, {})
+        if self.dest in given and given[self.dest][1] != values:
+            first, value = given[self.dest]
+            now = option_string or first
+            both = f"({_shown(value)} and {_shown(values)})"
+            said = (
+                f"{now} is given twice {both}"
+                if now == first
+                else f"{first} and {now} are one option, given twice {both}"
+            )
+            raise argparse.ArgumentError(None, f"{said}: give it once")
+        given[self.dest] = (option_string or self.dest, values)
+        setattr(namespace, self.dest, values)
+
+
+def _number_in(text: str) -> str | None:
+    found = re.match(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", text)
+    return found.group().strip() if found else None
+
+
+def not_a_number(action: argparse.Action, text: str) -> str:
+    """What to say of ``text`` given to an option of ``type=int`` or ``float``."""
+    flag = action.option_strings[-1] if action.option_strings else action.metavar or action.dest
+    number = _number_in(text)
+    if action.type is int:
+        whole = str(round(float(number))) if number is not None else "2"
+        if whole == "0" and number is not None and float(number) > 0:
+            whole = "1"
+        return (
+            f"{flag} {text}: {flag} takes a whole number, without a unit: write e.g. {flag} {whole}"
+        )
+    n = number if number is not None else "2"
+    meaning = _MEANS.get(action.dest, "{n}").format(n=n)
+    return (
+        f"{flag} {text}: {flag} takes a plain number, without a unit: write e.g. {flag} {meaning}"
+    )
+
+
+class LegParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` with legdsl's rules (the module's docstring)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
+        self.register("action", None, _Once)
+        self.register("action", "store", _Once)
+
+    def _get_value(self, action: argparse.Action, arg_string: str) -> Any:
+        try:
+            return super()._get_value(action, arg_string)
+        except argparse.ArgumentError:
+            if action.type in (int, float):
+                raise argparse.ArgumentError(None, not_a_number(action, arg_string)) from None
+            raise
+
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            self.error(self._not_taken(extras, parsed))
+        vars(parsed).pop(_GIVEN, None)
+        return parsed
+
+    def _command(self, parsed: argparse.Namespace) -> LegParser:
+        """The parser of the subcommand ``parsed`` is of, else this one."""
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                sub = action.choices.get(getattr(parsed, action.dest or "", None) or "")
+                if isinstance(sub, LegParser):
+                    return sub
+        return self
+
+    def _not_taken(self, extras: Sequence[str], parsed: argparse.Namespace) -> str:
+        """What to say of the first argument no option or place took."""
+        parser = self._command(parsed)
+        word = extras[0]
+        if word.startswith("-") and len(word) > 1 and _number_in(word) is None:
+            name = word.partition("=")[0]
+            options = [o for a in parser._actions for o in a.option_strings]
+            options += [o for a in self._actions for o in a.option_strings if o != "--version"]
+            started = [o for o in options if o.startswith(name) and name.startswith("--")]
+            close = started or difflib.get_close_matches(name, options, n=3, cutoff=0.6)
+            if close:
+                meant = " or ".join(dict.fromkeys(close))
+                return f"{name} is not an option of {parser.prog}: did you mean {meant}?"
+            return f"{name} is not an option of {parser.prog}; '{parser.prog} --help' lists them"
+        return (
+            f"{word!r} is one argument too many for {parser.prog} (a value given to an option "
+            f"that takes none, or a second file?); '{parser.prog} --help' shows what it takes"
+        )
+
+    def error(self, message: str) -> NoReturn:
+        """One line, what is wrong and how to fix it (argparse printed its usage first)."""
+        said = re.match(r"argument ([^:]+): (.*)", message, re.DOTALL)
+        if said:
+            flags, what = said.group(1).split("/")[-1], said.group(2)
+            if what.startswith("expected one argument"):
+                message = (
+                    f"{flags} needs a value after it ('{self.prog} --help' says what it takes)"
+                )
+            elif choice := re.match(r"invalid choice: '(.*)' \(choose from (.*)\)", what):
+                message = f"{flags} {choice.group(1)}: choose one of {choice.group(2)}"
+            else:
+                message = f"{flags}: {what}"
+        elif message.startswith("the following arguments are required"):
+            message += f" ('{self.prog} --help' shows how to give them)"
+        print(f"legdsl: {message}", file=sys.stderr)
+        sys.exit(2)
