@@ -556,24 +556,32 @@ def test_a_metric_no_run_measured_is_said(capsys: pytest.CaptureFixture[str]) ->
 
 
 def _time_left(monkeypatch: pytest.MonkeyPatch, out: Path, arrivals: list[float],
-               workers: int) -> list:  # fmt: skip
-    """The time left a sweep tells with each row, its rows coming back at ``arrivals`` (s)."""
+               workers: int, simulated: list[float]) -> list:  # fmt: skip
+    """(time, time left) as a sweep tells them, its rows coming back at ``arrivals`` (s) having
+    simulated ``simulated`` s each, the pool waiting (a call each 0.6 s) between them."""
     from legdsl.api import sweep
 
     jobs = [sweep.Job(k, "x.leg", None, "hop", {"speed": 1.0}, {"speed": "m/s"}, (), 1.0, 0.0,
                       "g", None) for k in range(len(arrivals))]  # fmt: skip
-    times, now = iter(arrivals), {"t": 0.0}
+    now = {"t": 0.0}
+    from types import SimpleNamespace
 
-    def rows(todo: list, pool: object) -> Iterator[dict]:
-        for job in todo:
-            now["t"] = next(times)
-            yield {"run": job.index, "speed": 1.0, "outcome": "ok"}
+    pool = SimpleNamespace(waiting=None)
+
+    def rows(todo: list, _: object) -> Iterator[dict]:
+        for job, t, sim in zip(todo, arrivals, simulated, strict=True):
+            while now["t"] + 0.6 < t:
+                now["t"] += 0.6
+                pool.waiting()
+            now["t"] = t
+            yield {"run": job.index, "speed": 1.0, "outcome": "ok", "simulated": sim}
 
     monkeypatch.setattr(sweep, "run_jobs", rows)
-    monkeypatch.setattr(sweep, "Workers", lambda *a: contextlib.nullcontext())
+    monkeypatch.setattr(sweep, "Workers", lambda *a: contextlib.nullcontext(pool))
     monkeypatch.setattr(sweep.time, "monotonic", lambda: now["t"])
     told: list = []
-    sweep.run_sweep(jobs, out / "sweep.csv", workers, lambda d, n, left: told.append(left))
+    sweep.run_sweep(jobs, out / "sweep.csv", workers,
+                    lambda d, n, left: told.append((now["t"], left)))  # fmt: skip
     return told
 
 
@@ -581,13 +589,14 @@ def test_the_time_left_is_reckoned_from_the_first_row(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Before the first row the workers start and compile, and rows come back in waves: a
-    sweep of 75 s said '24m08s left' at its first row. The pace is taken from the first row
-    on, once a second has gone by since it."""
-    arrivals = [14.8] + [14.9] * 7 + [16.0] * 8 + [17.1] * 4  # waves of 8 rows
-    told = _time_left(monkeypatch, tmp_path, arrivals, 2)
-    assert told[:8] == [None] * 8  # the first wave: no pace yet
-    assert told[8] == pytest.approx((16.0 - 14.8) / 8 * 11)  # 0.15 s a row, 11 to go
-    assert all(left is None or left < 60 for left in told)
+    sweep of 75 s said '24m08s left' at its first row. The pace is taken from the first wave's
+    rows on, once the second has come back."""
+    arrivals = [14.8] + [14.9] * 7 + [16.0] * 8 + [17.1] * 8 + [18.2] * 8 + [19.3] * 8
+    told = _time_left(monkeypatch, tmp_path, arrivals, 2, [1.0] * len(arrivals))
+    assert all(left is None for t, left in told if t <= 16.0)  # no pace before the second
+    first = next((t, left) for t, left in told if left is not None)
+    assert first[1] == pytest.approx(19.3 - first[0], rel=0.1)  # 1.1 s a wave, 3 to come
+    assert all(left is None or left < 60 for _, left in told)
 
 
 def test_the_time_left_follows_the_last_rows_not_the_mean_since_the_first(
@@ -597,5 +606,7 @@ def test_the_time_left_follows_the_last_rows_not_the_mean_since_the_first(
     row said 'about 0m02s left' with 18 s to go. Here 72 runs fall at once, then batches of 8
     take 1 s a run: two waves in, 12 runs (12 s) are left."""
     arrivals = [10 + 0.01 * i for i in range(72)] + [10.72 + 8.0 * (1 + i // 8) for i in range(28)]
-    told = _time_left(monkeypatch, tmp_path, arrivals, 1)
-    assert told[87] == pytest.approx(12.0, rel=0.1)
+    simulated = [0.01] * 72 + [8.0] * 28
+    told = _time_left(monkeypatch, tmp_path, arrivals, 1, simulated)
+    after = next(left for t, left in told if t > 26.72 + 0.1)
+    assert after == pytest.approx(12.0 - 0.6, rel=0.1)

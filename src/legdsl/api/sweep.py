@@ -26,7 +26,6 @@ import math
 import os
 import re
 import time
-from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.sweep_plot import as_number
+from legdsl.api.sweep_pace import SweepPace
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
@@ -334,33 +334,26 @@ def run_sweep(
                 _append(fresh, columns, row)
     # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
     workers = min(workers, len(todo))
-    # when the last rows came back: two waves of batches
-    recent: deque[float] = deque(maxlen=2 * batch_size(len(todo), workers) * workers + 1)
-    first = math.nan  # when the first row came back
+    pace = SweepPace(len(todo), workers)
+    count = 0
+
+    def report() -> None:  # at the start, at each row, and about every second between
+        if progress is not None:
+            progress(len(done) + count, len(jobs), pace.left(time.monotonic()))
+
+    report()  # a bar at once, and a log's lines from the start (a stall says so too)
     with Workers(workers, dask) as pool:
-        for count, row in enumerate(run_jobs(todo, pool), 1):
+        if pool is not None:
+            pool.waiting = report
+        for row in run_jobs(todo, pool):
             if str(row["outcome"]).startswith("interrupted"):
                 # not a result: the run is left out of the table, for the resume to run it
                 raise KeyboardInterrupt
             _append(table, columns, row)
-            if progress is not None:
-                recent.append(time.monotonic())
-                first = recent[0] if count == 1 else first
-                left = _pace(recent, first, count) * (len(todo) - count)
-                progress(len(done) + count, len(jobs), None if math.isnan(left) else left)
+            count += 1
+            pace.row(as_number(row.get("simulated")), time.monotonic())
+            report()
     return read_table(table)
-
-
-def _pace(recent: deque[float], first: float, count: int) -> float:
-    """Seconds a row, from when the last rows came back (``recent``; the ``count`` rows since
-    the ``first`` where they came within a second): NaN until a second has gone by since the
-    first row. Not before it: the workers start and compile (a sweep of 75 s said '24m08s
-    left' at its first row). Over the last two waves: the mean since the first row, pulled
-    down by runs that fell at once, said '0m02s left' with 18 s to go."""
-    now, rows = recent[-1], len(recent) - 1
-    if rows and now - recent[0] >= 1.0:
-        return (now - recent[0]) / rows
-    return (now - first) / (count - 1) if now - first >= 1.0 else math.nan
 
 
 def _append(table: Path, columns: list[str], row: dict[str, Any]) -> None:

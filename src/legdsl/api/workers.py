@@ -20,6 +20,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -68,6 +69,8 @@ class Workers:
         self._cluster: Any = None
         self._started: set[Any] = set()  # the local processes, to read how one ended
         self._hook = threading.excepthook
+        # called about every second while no result comes (a progress log's lines go on)
+        self.waiting: Callable[[], None] | None = None
 
     def __enter__(self) -> Workers:
         if self.dask is None:
@@ -151,6 +154,8 @@ class Workers:
                 ready, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
                 if not ready:
                     self._check_manager()
+                    if self.waiting is not None:
+                        self.waiting()
                 # those done by one wake in the order given (a set's order put a table's rows
                 # 0, 2, 1 on a loaded machine, and a resume test cut the wrong row)
                 for future in sorted(ready, key=order.__getitem__):
@@ -161,14 +166,36 @@ class Workers:
                         raise
                     yield result
             return
-        from distributed import as_completed
+        distributed = import_held("distributed")
 
         # a Ctrl-C inside map left a Future half made, whose __del__ then printed its
         # AttributeError as "Exception ignored"; it comes once the futures are whole
         with signals_held():
             futures = self._client.map(fn, list(items), pure=False)
-        for future in as_completed(futures):
-            yield future.result()
+        order = {f: k for k, f in enumerate(futures)}
+        pending = set(futures)
+        idle = _NoWorkers(str(self.dask))
+        while pending:
+            try:
+                done = distributed.wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+                ready, pending = set(done.done), set(done.not_done)
+            except TimeoutError:
+                ready = set()
+            if not ready:
+                idle.check(
+                    len(self._client.scheduler_info()["workers"]) if self.dask != "local" else 1
+                )
+                if self.waiting is not None:
+                    self.waiting()
+            for future in sorted(ready, key=order.__getitem__):
+                try:
+                    result = future.result()
+                except distributed.KilledWorker as e:
+                    raise UsageError(
+                        f"the Dask workers running a batch died ({e}; killed, out of memory?); "
+                        "what was done is kept, and the same command again goes on from there"
+                    ) from None
+                yield result
 
     def _check_manager(self) -> None:
         """The executor feeds its processes from a thread that dies, its futures never to end,
@@ -194,6 +221,41 @@ class Workers:
                 f"and the same command again goes on from there: give fewer --jobs than "
                 f"{self.workers}, or free memory"
             ) from None
+
+
+NO_WORKERS_SAID = 10.0  # s without a worker before a Dask scheduler's emptiness is said
+NO_WORKERS_STOP = 300.0  # s without a worker before the work stops (exit status 2)
+
+
+class _NoWorkers:
+    """A Dask scheduler with no worker (none started, or the only one killed) takes the work
+    and waits for one: a sweep sat silent for ever. Said after ``NO_WORKERS_SAID`` s, and after
+    ``NO_WORKERS_STOP`` s a ``UsageError`` (what was done is kept)."""
+
+    def __init__(self, address: str) -> None:
+        self.address = address
+        self.since: float | None = None  # when the workers were last seen gone
+        self.said = False
+
+    def check(self, workers: int) -> None:
+        now = time.monotonic()
+        if workers:
+            self.since, self.said = None, False
+            return
+        self.since = now if self.since is None else self.since
+        gone = now - self.since
+        if gone >= NO_WORKERS_STOP:
+            raise UsageError(
+                f"the Dask scheduler at {self.address} has had no workers for "
+                f"{NO_WORKERS_STOP:g} s; what was done is kept, and the same command again "
+                f"goes on from there: start some with `dask worker {self.address}` first"
+            )
+        if gone >= NO_WORKERS_SAID and not self.said:
+            self.said = True
+            clear = "\r\033[K" if sys.stderr.isatty() else ""  # a progress bar's line
+            print(f"{clear}legdsl: the scheduler at {self.address} has no workers: start some "
+                  f"with `dask worker {self.address}`; waiting for them ({NO_WORKERS_STOP:g} s "
+                  "at most, then it stops with what was done kept)", file=sys.stderr, flush=True)  # fmt: skip
 
 
 @contextlib.contextmanager

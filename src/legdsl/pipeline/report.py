@@ -51,9 +51,10 @@ def progress_line(
 
 class ProgressLog:
     """``progress(done, total, left)`` where standard error is no terminal (a log, a pipe):
-    a line every ``every`` s (and one at the end, after those) instead of a bar written over
-    itself, so long work in a log still says how far it is and the time left; work shorter
-    than ``every`` says nothing."""
+    a line every ``every`` s from the first call (and one at the end, after those) instead
+    of a bar written over itself, so long work in a log still says how far it is and the
+    time left, a stall included, if it is called while it waits (a sweep's lines came only
+    with its rows, the first 20 s in); work shorter than ``every`` says nothing."""
 
     def __init__(self, what: str, unit: str, every: float = 10.0) -> None:
         self.what, self.unit, self.every = what, unit, every
@@ -68,7 +69,12 @@ class ProgressLog:
         if not (due and done < total) and not (self.said and done >= total):
             return
         self.last, self.said = now, True
-        eta = f", about {time_left(left)} left" if left and done < total else ""
+        if done >= total:
+            eta = ""
+        elif left is None:
+            eta = ", time left not yet known"
+        else:
+            eta = f", about {time_left(left)} left"
         print(f"legdsl: {self.what}: {done:g} of {total:g} {self.unit}{eta}", file=sys.stderr,
               flush=True)  # fmt: skip
 
