@@ -295,8 +295,10 @@ def _row(job: Job, run: Any) -> dict[str, Any]:
             row["run_stride_duration"] = whole_run_stride(run, pairs)
     except UsageError:
         row["strides"] = 0
-    for name in METRICS:
-        row[name] = values.get(name, math.nan)
+    for name in METRICS:  # a run that fell or diverged measured none: its strides until
+        # then (a fall at 1.044 s kept 'running_speed 2.73') were averaged with the runs that
+        # lasted by a reader of the table; `legdsl metrics` of its kept directory measures them
+        row[name] = values.get(name, math.nan) if run.status == "ok" else math.nan
     if job.keep is not None:
         run.save(job.keep)
     return row
@@ -330,8 +332,9 @@ def run_sweep(
     if table.exists():  # drop a line a kill left half-written before appending to it
         with atomic_path(table) as fresh:
             fresh.touch()
-            for row in done:
-                _append(fresh, columns, row)
+            for row in done:  # a fall's metrics, from a table written before, left out
+                fell = str(row.get("outcome")) != "ok"
+                _append(fresh, columns, {**row, **dict.fromkeys(METRICS if fell else (), math.nan)})
     # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
     workers = min(workers, len(todo))
     pace = SweepPace(len(todo), workers)
