@@ -27,7 +27,7 @@ from legdsl.lang.units import KINDS, UNITS, a_kind
 from legdsl.pipeline.settings import parse_given, written
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.recorder import recording_budget, sample_bytes
-from legdsl.sim.run_loop import RunOptions, run_samples
+from legdsl.sim.run_loop import INITIAL_ROWS, RunOptions, run_samples
 from legdsl.sim.stability import where_step
 
 
@@ -213,8 +213,29 @@ def notes_before_run(
     from legdsl.pipeline.scenes import too_late
 
     check_run_options(options)
-    falling = fall_note(options, model)
-    return [*too_late(settings, options, sources), *([falling] if falling else [])]
+    said = [fall_note(options, model), recording_note(options, model)]
+    return [*too_late(settings, options, sources), *(note for note in said if note)]
+
+
+def recording_note(options: RunOptions, model: Model) -> str | None:
+    """The note of a run whose recording cannot grow to all its samples within
+    ``recording_budget`` (the old arrays and the new while it doubles): it will stop early,
+    as interrupted (None: it fits, or the system does not say how much memory it has)."""
+    budget, per = recording_budget(), sample_bytes(model)
+    samples = run_samples(options)
+    rows = INITIAL_ROWS
+    while budget is not None and rows < samples and (rows + min(samples, 2 * rows)) * per <= budget:
+        rows = min(samples, 2 * rows)
+    if budget is None or rows >= samples:
+        return None
+    ends = options.duration * rows / samples
+    return (
+        f"this run would record {samples:.3g} samples ({samples * per / 1e6:.3g} MB), and its "
+        f"recording may take {budget / 1e6:.3g} MB of memory (half of what the run may use: "
+        f"the rest is for writing it): it will stop as interrupted (exit 130) near "
+        f"t = {ends:.3g} s with {rows} samples; to run it all, record fewer samples (a lower "
+        "--record-rate, or a shorter --time)"
+    )
 
 
 def fall_note(options: RunOptions, model: Model) -> str | None:

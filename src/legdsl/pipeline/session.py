@@ -494,10 +494,9 @@ class Run:
         """Write trajectory.npz, trajectory.csv and run.json into ``out`` (made if missing).
 
         run.json is made (in memory) before anything is written, then written first with the
-        status ``incomplete``, then the trajectory, then run.json as it is: a run killed while
-        writing leaves a directory whose run.json says so, never a new trajectory beside the
-        run.json of an older run. Each file is replaced whole (``legdsl.files``).
-        """
+        status ``incomplete``, an older run's trajectory files removed, then the trajectory,
+        then run.json as it is: a run killed while writing leaves a run.json that says so and
+        no file of another run. Each file is replaced whole (``legdsl.files``)."""
         out = Path(out)
         info = self.info() | recorded_folder(self.generated, out)  # from where it is written
         text = json.dumps(info, indent=2, allow_nan=False) + "\n"
@@ -509,6 +508,8 @@ class Run:
                 if (out / name).is_file():
                     remove(out / name)
             write_atomic(out / "run.json", json.dumps(pending, indent=2, allow_nan=False) + "\n")
+            for name in (n for n in RUN_FILES[1:] if (out / n).is_file()):  # an older run's
+                remove(out / name)
             self.result.trajectory.save(out)
             write_atomic(out / "run.json", text)
         return out

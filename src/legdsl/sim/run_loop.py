@@ -126,16 +126,17 @@ INITIAL_ROWS = 1024  # samples the recorder holds before it first grows
 
 
 def grow_recording(loop: RunLoop) -> None:
-    """Double the recording (to the run's samples at most), unless it would take more than
-    ``recording_budget`` or the system refuses the memory: then the run stops, keeping what it
-    recorded, where the system would have killed it later with nothing written (``--time
-    1e9`` runs until stopped)."""
+    """Double the recording (to the run's samples at most), unless the old arrays and the new
+    ones together (while it is copied) would take more than ``recording_budget``, or the
+    system refuses the memory: then the run stops, keeping what it recorded, where the system
+    would have killed it later with nothing written (``--time 1e9`` runs until stopped). The
+    rest of the memory is left to the writing of the run directory, and to what else runs."""
     rows = min(loop.capacity, 2 * len(loop.traj))
     budget = recording_budget()
     size = f"{budget / 2**30:.3g} GiB; " if budget is not None else ""
     full = f"its recording filling half of the memory the run may take ({size}a lower "
     full += "--record-rate runs longer)"
-    if budget is not None and rows * loop.traj.row_bytes() > budget:
+    if budget is not None and (len(loop.traj) + rows) * loop.traj.row_bytes() > budget:
         raise Interrupted(full)
     try:
         loop.traj = loop.traj.grown(rows)

@@ -16,17 +16,16 @@ difference of two rows.
 from __future__ import annotations
 
 import csv
-import io
 import json
 import math
 import os
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, BinaryIO, TextIO
 
 import numpy as np
 
-from legdsl.files import atomic_path, write_atomic
+from legdsl.files import atomic_path
 from legdsl.lang.errors import UsageError
 
 ARRAYS = (
@@ -104,11 +103,15 @@ class Trajectory:
         """The same samples in arrays of ``capacity`` rows (the recorder grows as it goes,
         never sized by the duration asked for); new rows hold ``empty``'s fill values."""
         n = len(self)
-        more = empty(capacity - n, self.q.shape[1], self.v.shape[1], self.contact.shape[1],
+        fill = empty(1, self.q.shape[1], self.v.shape[1], self.contact.shape[1],
                      self.leg_length.shape[1], self.work_positive.shape[1])  # fmt: skip
-        cut: dict[str, Any] = {
-            name: np.concatenate([getattr(self, name), getattr(more, name)]) for name in ARRAYS
-        }
+        cut: dict[str, Any] = {}
+        for name in ARRAYS:  # an array at a time: the old rows and the new arrays at most
+            old = getattr(self, name)
+            new = np.empty((capacity, *old.shape[1:]), dtype=old.dtype)
+            new[:n] = old
+            new[n:] = getattr(fill, name)[0]
+            cut[name] = new
         meta = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ARRAYS}
         return Trajectory(**cut, **meta)
 
@@ -132,7 +135,10 @@ class Trajectory:
         if any(len(soles) > 1 for soles in self.leg_soles):  # else each leg's foot alone
             meta["leg_soles"] = [list(soles) for soles in self.leg_soles]
         arrays["meta"] = np.frombuffer(json.dumps(meta, sort_keys=True).encode(), dtype=np.uint8)
-        write_atomic(directory / "trajectory.npz", _npz_bytes(arrays))
+        with atomic_path(directory / "trajectory.npz") as tmp, open(tmp, "wb") as f:
+            _write_npz(f, arrays)  # into the file: its bytes whole in memory took as much again
+            f.flush()
+            os.fsync(f.fileno())
         with (
             atomic_path(directory / "trajectory.csv") as tmp,
             open(tmp, "w", encoding="utf-8", newline="") as f,
@@ -404,12 +410,10 @@ def _fmt(value: Any) -> str:
     return repr(int(x)) if x.is_integer() and abs(x) < 1e15 else f"{x:.9g}"
 
 
-def _npz_bytes(arrays: dict[str, np.ndarray]) -> bytes:
-    buf = io.BytesIO()
-    # deflated (a 20 s run's samples shrink to about a third); the zip entries carry a fixed
-    # 1980 date and zlib is deterministic: equal data, equal bytes
-    np.savez_compressed(buf, **arrays)  # type: ignore[arg-type]
-    return buf.getvalue()
+def _write_npz(f: BinaryIO, arrays: dict[str, np.ndarray]) -> None:
+    # deflated (a 20 s run's samples shrink to about a third), a chunk at a time; the zip
+    # entries carry a fixed 1980 date and zlib is deterministic: equal data, equal bytes
+    np.savez_compressed(f, **arrays)  # type: ignore[arg-type]
 
 
 def empty(n: int, nq: int, nv: int, nc: int, nl: int, na: int = 0, **meta: Any) -> Trajectory:
