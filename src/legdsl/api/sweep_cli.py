@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import fcntl
 import json
 import math
@@ -35,7 +36,7 @@ from legdsl.api.sweep import (
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
-from legdsl.files import atomic_same_name, write_atomic
+from legdsl.files import REFUSED_WRITES, atomic_same_name, write_atomic
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import Dim
 from legdsl.pipeline.backend import python_backend_note
@@ -72,8 +73,8 @@ def add_sweep_parser(sub: Any) -> Command:
                    help="--samples uniform draws from LO to HI")  # fmt: skip
     p.add_argument("--lhs", action="append", default=[], metavar="NAME=LO:HI",
                    help="--samples Latin-hypercube draws from LO to HI")  # fmt: skip
-    p.add_argument("--samples", type=int, default=10, help="draws for --random/--lhs (10)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the draws (0)")
+    p.add_argument("--samples", type=int, default=None, help="draws for --random/--lhs (10)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the draws (0)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="a fixed setting for every run, as legdsl run --set")  # fmt: skip
     p.add_argument("--time", default=10.0, help="simulated time per run (s, 10; or with a unit)")
@@ -106,6 +107,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             if note := bare_in_si(text, name, dims[name]):
                 print(f"legdsl: note: --{kind} {text}: {note.removeprefix('; ')}", file=sys.stderr)
     check_not_negative(axes)
+    unused = [f"--{n}" for n in ("samples", "seed") if getattr(args, n) is not None]
+    if unused and not args.random and not args.lhs:  # they were taken and unused, unsaid
+        print(f"legdsl: note: {' and '.join(unused)} {'are' if len(unused) > 1 else 'is'} for "
+              "--random and --lhs draws, and this sweep has none (its --grid values are "
+              "every one run): not used", file=sys.stderr)  # fmt: skip
+    args.samples = 10 if args.samples is None else args.samples
+    args.seed = 0 if args.seed is None else args.seed
     if not axes:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")
     if len({a.name for a in axes}) != len(axes):
@@ -284,6 +292,17 @@ def _sweep_into(
         if not planned_before and not read_table(out / "sweep.csv"):
             plan_file.unlink(missing_ok=True)
         raise
+    except OSError as e:  # a full disk, a quota, ulimit -f: what is kept, and the resume
+        if e.errno not in REFUSED_WRITES:
+            raise
+        done = len(read_table(out / "sweep.csv"))
+        fix = ("raise the file-size limit (ulimit -f)" if e.errno == errno.EFBIG else
+               "free some space" if e.errno in (errno.ENOSPC, errno.EDQUOT) else "check the disk")  # fmt: skip
+        raise UsageError(
+            f"sweep stopped: cannot write {e.filename}: {e.strerror}; {done} of {len(jobs)} runs "
+            f"are in {out / 'sweep.csv'}: {fix}, and the same command again runs the other "
+            f"{len(jobs) - done}"
+        ) from None
     except (KeyboardInterrupt, Interrupted):
         done = len(read_table(out / "sweep.csv"))
         kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
@@ -313,7 +332,8 @@ def _sweep_into(
     fell = sum(1 for r in rows if r["outcome"] != "ok")
     resumed = f", {before} of them from before" if before else ""
     wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
-    print(f"{len(rows)} runs{resumed} ({fell} fell or diverged): {wrote}")
+    print(f"{len(rows)} run{'' if len(rows) == 1 else 's'}{resumed} ({fell} fell or diverged): "
+          f"{wrote}")  # fmt: skip
     if not_drawn:  # the table is whole; the same command again draws the map from it
         print(f"legdsl: sweep: its table is whole, its heat map not drawn: {not_drawn} "
               "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip

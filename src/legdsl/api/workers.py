@@ -51,7 +51,9 @@ def dask_address(text: str | None) -> str | None:
     if text == "local":
         return text
     try:
-        get_address_host_port(text)
+        _, port = get_address_host_port(text)
+        if not 0 < int(port) < 65536:  # waited its 10 s to connect, and said it could not
+            raise ValueError(f"port {port} is not one from 1 to 65535")
     except ValueError as e:
         raise UsageError(
             f"--dask {text}: not the address of a Dask scheduler ({e}); give tcp://HOST:PORT, "
