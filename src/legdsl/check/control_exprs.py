@@ -35,7 +35,7 @@ from legdsl.check.control_names import (
 )
 from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.plain_declared import plain_declared
-from legdsl.check.values import did_you_mean
+from legdsl.check.values import article, did_you_mean
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.lang import ast
@@ -83,10 +83,10 @@ class ExprChecker(NameResolver):
             return ir.Named("opaque", value.name, None)
         if isinstance(value, ir.Legs | ir.Part | ir.Alias):
             kind = thing_kind(value)
-            text = expression_text(e)
+            text, word = expression_text(e), KIND_WORDS.get(kind, kind)
             self.err(
                 e.span,
-                f"'{text}' is a {KIND_WORDS.get(kind, kind)}, not a number: use one of its "
+                f"'{text}' is {article(word)} {word}, not a number: use one of its "
                 f"members, as in '{text}.{MEMBER_EXAMPLES[kind]}'",
             )
             return None
@@ -361,10 +361,16 @@ class ExprChecker(NameResolver):
             inputs = [n for n, v in self.scope.names.items()
                       if isinstance(v, ir.Named) and v.kind == "input"]  # fmt: skip
             example = f"integral({inputs[0]})" if inputs else "integral(turn_rate)"
+            written = isinstance(e.args[0], ast.EName | ast.EAttr)  # else 'this', unsaid
             self.err(
                 e.args[0].span,
                 f"integral() takes one of the controller's inputs, as in {example}; "
-                f"'{expression_text(e.args[0])}' is not an input",
+                f"'{expression_text(e.args[0])}' is not an input"
+                if written
+                else f"integral() takes the name of one of the controller's inputs, as in "
+                f"{example}, not an expression: write what scales it outside, as in "
+                f"'2 * {example}' (an input alone is integrated, its commands being known "
+                "between ticks)",
             )
         return None
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from legdsl.check.always_zero import ZeroTest
 from legdsl.check.control_words import PLANAR_COUNTERPARTS, SPATIAL_ALIASES, no_alias_message
-from legdsl.check.values import TRUTHS, did_you_mean, place_of, stdlib_name
+from legdsl.check.values import TRUTHS, article, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import Type
@@ -513,5 +513,5 @@ def thing_kind(value: ir.Thing) -> str:
 
 def what_it_is(value: Value) -> str:
     if isinstance(value, ir.Legs | ir.Part | ir.Alias):
-        return f"a {KIND_WORDS.get(thing_kind(value), thing_kind(value))}"
+        return f"{article(word := KIND_WORDS.get(thing_kind(value), thing_kind(value)))} {word}"
     return "a number"

@@ -22,7 +22,7 @@ from legdsl.check.control_words import describe_type
 from legdsl.check.derived import check_derived
 from legdsl.check.local_names import builtin_message, check_local_names
 from legdsl.check.paths import check_path
-from legdsl.check.record_clash import tell_record_clashes
+from legdsl.check.record_clash import tell_record_clashes, tell_unrecorded_own
 from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
@@ -203,17 +203,7 @@ class ControllerChecker:
             [a for a in [*shadowed, *self.actions.values()] if a.name.name in reachable or id(a) in mine],
             d.span.file, self.err,
         )  # fmt: skip
-        for ident in owned:
-            if ident.name not in records:
-                advice = did_you_mean(ident.name, records) or (
-                    f"; record it in the table ('record {ident.name} = ...') or leave it out "
-                    "of 'own'"
-                )
-                self.err(
-                    ident.span,
-                    f"'own {ident.name}': controller '{d.name.name}' records no '{ident.name}' "
-                    f"(its records: {', '.join(records) or 'none'}){advice}",
-                )
+        tell_unrecorded_own(owned, records, declared, d.name.name, self.err)
 
         if len(d.name.name) > MAX_NAME:
             self.err(d.name.span, too_long("controller", d.name.name))

@@ -27,7 +27,7 @@ from legdsl.check.control_words import describe_type
 from legdsl.check.values import did_you_mean, place_of
 from legdsl.ir import controller as ir
 from legdsl.lang import ast
-from legdsl.lang.errors import Diagnostic, Diagnostics
+from legdsl.lang.errors import Diagnostic, Diagnostics, Span
 from legdsl.lang.units import Dim
 
 # Checks a controller declaration into the IR, its mistakes to the diagnostics given.
@@ -81,12 +81,38 @@ def _other_unit(
     assert given is not None and want is not None
     name = own.name.name
     advice = unit_advice(want).removeprefix("; ") or "give it no unit"
+    used_at = use.span
+    if used_at in (own.value.span, own.name.span):  # told at the declaration: say where read
+        used_at = _first_read(decl, name) or used_at
     return (
         f"{_WORDS[type(own)]} '{name}' is {describe_type(given)}, but controller '{ext.base}', "
         f"which this one extends, declares it {describe_type(want)} "
         f"('{_written(base.value)}', {place_of(base.name.span)}) and uses it as one "
-        f"({place_of(use.span)}); {advice}"
+        f"({place_of(used_at)}); {advice}"
     )
+
+
+def _first_read(decl: ast.ControllerDecl, name: str) -> Span | None:
+    """Where the controller (its base's lines with it) first reads ``name``: in its table,
+    else in its actions, signals or the parts it includes."""
+    tables = [i for i in decl.items if isinstance(i, ast.TableDecl)]
+    rest = [
+        i for i in decl.items if not isinstance(i, ast.TableDecl | ast.InputDecl | ast.ParamDecl)
+    ]
+    for items in (tables, rest):
+        found: list[Span] = []
+        stack: list[object] = list(items)
+        while stack:
+            item = stack.pop()
+            if isinstance(item, ast.EName) and item.ident.name == name:
+                found.append(item.span)
+            elif dataclasses.is_dataclass(item) and not isinstance(item, type):
+                stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
+            elif isinstance(item, tuple | list):
+                stack.extend(item)
+        if found:
+            return min(found, key=lambda at: (at.file != decl.span.file, at.line, at.col))
+    return None
 
 
 def _unread(

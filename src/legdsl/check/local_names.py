@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 
 from legdsl.check.control_names import KIND_WORDS, Opaque, Value
+from legdsl.check.values import article
 from legdsl.ir import controller as ir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
@@ -44,7 +45,7 @@ def builtin_message(name: str) -> str | None:
 
 
 def with_article(word: str) -> str:
-    return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
+    return f"{article(word)} {word}"
 
 
 def what_is(value: Value) -> str:

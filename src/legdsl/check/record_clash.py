@@ -12,7 +12,7 @@ from collections.abc import Callable, Iterable
 
 from legdsl.check.control_names import Value
 from legdsl.check.control_scan import collect_records
-from legdsl.check.values import place_of
+from legdsl.check.values import did_you_mean, place_of
 from legdsl.ir import controller as ir
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
@@ -61,3 +61,45 @@ def kind_word(value: Value) -> str:
     if isinstance(value, ir.Named):
         return "value"
     return "name"
+
+
+# What 'own' would do to each kind of declaration, which is no record: nothing.
+_NOT_CARRIED = {
+    "input": "it starts from its latest command when a controller takes over; '--set "
+    "{controller}.{name}=VALUE' gives this controller its own default",
+    "parameter": "it is each controller's own already",
+    "signal": "it is computed anew every tick from what it reads",
+}
+
+
+def tell_unrecorded_own(
+    owned: Iterable[ast.Ident],
+    records: dict[str, Span],
+    declared: dict[str, str],
+    controller: str,
+    err: Callable[[Span, str], None],
+) -> None:
+    """Each name of ``own`` (records that start at 0 when the controller takes over) that
+    ``controller`` does not record; ``declared``: its inputs, parameters and signals."""
+    for ident in owned:
+        name = ident.name
+        if name in records:
+            continue
+        kind = declared.get(name)
+        if kind is not None:  # recording it would hide it ('record w' is refused)
+            why = _NOT_CARRIED[kind].format(controller=controller, name=name)
+            err(
+                ident.span,
+                f"'own {name}': 'own' lists records, and '{name}' is "
+                f"{'an' if kind == 'input' else 'a'} {kind} of controller '{controller}': "
+                f"{why}; leave it out of 'own'",
+            )
+            continue
+        advice = did_you_mean(name, records) or (
+            f"; record it in the table ('record {name} = ...') or leave it out of 'own'"
+        )
+        err(
+            ident.span,
+            f"'own {name}': controller '{controller}' records no '{name}' "
+            f"(its records: {', '.join(records) or 'none'}){advice}",
+        )
