@@ -65,6 +65,7 @@ class Axis:
     name: str
     kind: str  # grid, random, lhs
     values: tuple[float, ...] = ()  # grid: the values; random and lhs: (low, high)
+    written: str = ""  # the unit its values were given in (the picture shows them in it)
 
 
 def bare_in_si(text: str, name: str, dim: Dim, written: str | None = None) -> str:
@@ -95,6 +96,13 @@ def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
         what = "a parameter" if kind == "param" else "an input or parameter"  # tune: parameters
         raise UsageError(f"--{kind} {name}: not {what} of the controller ({known}){also}")
     want = dims[name]
+    axis = _parse_values(kind, text, name, spec, want)
+    units = [m[2] for m in map(NUMBER_AND_UNIT.fullmatch, re.split("[:,]", spec)) if m and m[2]]
+    return Axis(axis.name, axis.kind, axis.values, units[0] if units else "")
+
+
+def _parse_values(kind: str, text: str, name: str, spec: str, want: Dim) -> Axis:
+    """``parse_axis``'s values in SI units."""
     if kind == "grid" and ("," in spec or ":" not in spec):
         return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
     parts = spec.split(":")

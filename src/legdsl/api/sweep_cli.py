@@ -315,8 +315,9 @@ def _sweep_into(
     picture = out / "sweep.png"
 
     def draw() -> None:
+        shown, labels = in_written_units(rows, axes, units)
         with atomic_same_name(picture) as drawn:  # matplotlib writes in place: no half PNG
-            plot_sweep(rows, [a.name for a in axes], metric, drawn, units,
+            plot_sweep(shown, [a.name for a in axes], metric, drawn, labels,
                        [a.name for a in axes if a.kind != "grid"])  # fmt: skip
 
     try:
@@ -339,6 +340,23 @@ def _sweep_into(
               "(the table is kept: that draws it)", file=sys.stderr)  # fmt: skip
         return 2  # as for any out-of-memory line
     return 0
+
+
+def in_written_units(
+    rows: list[dict[str, Any]], axes: list[Any], units: dict[str, str]
+) -> tuple[list[dict[str, Any]], dict[str, str]]:
+    """The rows and units to draw: each swept name in the unit its values were given in
+    (``--grid heading=0deg:90deg:3``: a panel was titled 'heading = 1.5708 rad'), the table's
+    own cells in SI units."""
+    factors = {}
+    for a in axes:
+        if a.written and a.written != units.get(a.name):
+            with contextlib.suppress(UsageError):  # a unit the axis read: it reads again
+                factors[a.name] = (a.written, parse_given(f"1{a.written}", "--grid").value)
+    if not factors:
+        return rows, units
+    shown = [{**r, **{n: as_number(r.get(n)) / f for n, (_, f) in factors.items()}} for r in rows]
+    return shown, {**units, **{n: u for n, (u, _) in factors.items()}}
 
 
 def _say_unmeasured(
