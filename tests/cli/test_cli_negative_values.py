@@ -22,7 +22,7 @@ def test_a_negative_value_is_refused_by_legdsl_not_argparse(
 ) -> None:
     assert main(["run", HOPPER, flag, value, "--out", str(tmp_path / "run")]) == 2
     err = capsys.readouterr().err
-    assert err.strip() == f"legdsl: {flag} {value}: {flag} must be more than zero"
+    assert err.splitlines()[0] == f"legdsl: {flag} {value}: {flag} must be more than zero"
     assert not (tmp_path / "run").exists()
 
 

@@ -73,7 +73,7 @@ def test_a_value_in_the_wrong_unit_exits_2_naming_the_unit(
     assert main(_run(["--set", setting], generated, tmp_path / "run")) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"legdsl: --set {setting}: {says}")
-    assert err.count("\n") == 1  # one line, no traceback
+    assert err.count("\n") == 3  # the line, the option echoed and its caret; no traceback
     assert not (tmp_path / "run").exists()  # nothing simulated, nothing written
 
 

@@ -25,11 +25,13 @@ from legdsl.cli.common import (
     file_read_as_option,
     interrupted,
     negative_values_joined,
+    options_with_a_value,
     os_refusal,
 )
 from legdsl.cli.metrics import add_metrics_parser
 from legdsl.cli.outputs import cmd_export, cmd_plot
 from legdsl.cli.parser import LegParser
+from legdsl.cli.pointed import pointed
 from legdsl.cli.process import (
     THREAD_REFUSED,
     QuietErrors,
@@ -372,8 +374,9 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
     except LegError as e:
         print(_render(e), file=sys.stderr)
         return EXIT_USER_ERROR
-    except UsageError as e:
-        print(f"legdsl: {e}", file=sys.stderr)
+    except UsageError as e:  # a quantity's mistake with a caret under its fault
+        said = pointed(str(e), given, options_with_a_value(parser, short=True))
+        print(f"legdsl: {said}", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         return interrupted(process_ends)

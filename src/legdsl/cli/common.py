@@ -51,7 +51,7 @@ def empty_argument(argv: Sequence[str], parser: argparse.ArgumentParser) -> str 
     """What to say of an empty argument, mostly an unset shell variable (``--out "$DIR"``):
     ``--out ''`` wrote into the default directory, a sweep's into the current one, and
     ``legdsl run ''`` said "cannot read .: Is a directory"; or None if there is none."""
-    takes_value = _options_with_a_value(parser, short=True)
+    takes_value = options_with_a_value(parser, short=True)
     for i, arg in enumerate(argv):
         option = arg[:-1] if arg.startswith("--") and arg.endswith("=") else None
         if arg == "" and i and argv[i - 1] in takes_value:
@@ -71,7 +71,7 @@ def negative_values_joined(argv: Sequence[str], parser: argparse.ArgumentParser)
     """``argv`` with each negative value given to an option that takes one written as
     ``--time=-5s``: argparse reads a '-5s' after ``--time`` as another option ("expected
     one argument"), where legdsl's own check of the value says what is wrong with it."""
-    takes_value = _options_with_a_value(parser)
+    takes_value = options_with_a_value(parser)
     out: list[str] = []
     for i, arg in enumerate(argv):
         if arg == "--":
@@ -113,14 +113,14 @@ def _unit_apart(out: Sequence[str], arg: str, takes_value: set[str]) -> bool:
     return True
 
 
-def _options_with_a_value(parser: argparse.ArgumentParser, short: bool = False) -> set[str]:
+def options_with_a_value(parser: argparse.ArgumentParser, short: bool = False) -> set[str]:
     """The long options (and the short ones too) of ``parser`` and its subcommands that take
     exactly one value."""
     found: set[str] = set()
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for sub in action.choices.values():
-                found |= _options_with_a_value(sub, short)
+                found |= options_with_a_value(sub, short)
         elif action.nargs is None:
             found.update(o for o in action.option_strings if short or o.startswith("--"))
     return found

@@ -84,6 +84,9 @@ def not_a_number(action: argparse.Action, text: str) -> str:
 class LegParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` with legdsl's rules (the module's docstring)."""
 
+    # the command line being read and the parser of all commands, for a caret in a mistake
+    reading: tuple[Sequence[str], argparse.ArgumentParser] | None = None
+
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
@@ -101,6 +104,7 @@ class LegParser(argparse.ArgumentParser):
     def parse_args(  # type: ignore[override]
         self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
     ) -> argparse.Namespace:
+        LegParser.reading = (list(sys.argv[1:] if args is None else args), self)
         parsed, extras = self.parse_known_args(args, namespace)
         if extras:
             self.error(self._not_taken(extras, parsed))
@@ -150,5 +154,11 @@ class LegParser(argparse.ArgumentParser):
                 message = f"{flags}: {what}"
         elif message.startswith("the following arguments are required"):
             message += f" ('{self.prog} --help' shows how to give them)"
+        if LegParser.reading is not None:
+            from legdsl.cli.common import options_with_a_value
+            from legdsl.cli.pointed import pointed
+
+            argv, top = LegParser.reading
+            message = pointed(message, argv, options_with_a_value(top, short=True))
         print(f"legdsl: {message}", file=sys.stderr)
         sys.exit(2)
