@@ -60,7 +60,7 @@ def test_two_servos_of_a_ball_near_gimbal_lock_are_refused_together(
             "(their coordinates share a mode lighter than any of them alone): kv = 1 N*m*s/rad "
             f"with dt = 0.4 ms diverges at once; use kv below 0.611 N*m*s/rad (and the kv of "
             f"'{other}' by as much), or a step below 0.246 ms (--dt, or dt in the simulation "
-            f"block), or give it a 'max'; {LOCK}"
+            f"block), or a 'max' for it in the .leg file (--set cannot give one); {LOCK}"
         ) in err
     assert "'sy'" not in err  # the middle coordinate's servo is no part of it
     # what it advises runs

@@ -117,7 +117,10 @@ def test_a_stiffness_no_step_can_hold_is_told_to_be_lowered(
             "--generated", str(generated)]  # fmt: skip
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert "use k below 7.27e+06 N/m, or give it a 'max'" in err
+    assert (
+        "use k below 7.27e+06 N/m, or a 'max' for it in the .leg file (--set cannot give one)"
+        in err
+    )
     assert "step below" not in err and "nan" not in err
 
 

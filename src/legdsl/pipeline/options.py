@@ -119,6 +119,13 @@ def check_run_options(options: RunOptions, flags: bool = True) -> None:
     for flag, value in checks.values():
         if value is not None and not (_real(value) and math.isfinite(value) and value >= 0):
             raise UsageError(f"{flag} {value!r}: must be a finite number, zero or more")
+    if options.dt > options.duration:  # first: the advice below would lead to it
+        shorter = f", or a --dt of {options.duration:g}s or less" if options.duration**2 > 0 else ""
+        raise UsageError(
+            f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s); give "
+            f"--time {options.dt:g}s or more{shorter}"
+        )
+    _check_step_counts(options, flags)
     rate = options.record_rate
     if rate is not None and rate > 0 and rate * options.duration < 1.0 - 1e-9:
         # one sample, the start: its summary's end would be its start, its exports one frame
@@ -129,11 +136,6 @@ def check_run_options(options: RunOptions, flags: bool = True) -> None:
     check_fall_tilt(options.fall_tilt)
     if options.integrator not in ("euler", "rk4"):
         raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
-    _check_step_counts(options, flags)
-    if options.dt > options.duration:
-        raise UsageError(
-            f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s)"
-        )
     # the controller runs on steps: once a step at most (a shorter interval ran every step)
     if options.control_dt < options.dt * (1.0 - 1e-9):
         raise UsageError(
@@ -148,9 +150,14 @@ def _check_step_counts(options: RunOptions, flags: bool) -> None:
     control interval of more steps than ``MOST_STEPS``: refused."""
     dt = options.dt
     step = "--dt" if flags else "dt"
-    if not dt * dt > 0:
+    if not dt * dt > 0:  # the smallest that passes: its square the least double above 0
+        least = 10.0 ** math.ceil(
+            math.log10(math.sqrt(sys.float_info.min * sys.float_info.epsilon))
+        )
         raise UsageError(
-            f"--dt {dt:g}s is too small to compute with; give --dt {SMALLEST_STEP:g}s or more"
+            f"--dt {dt:g}s is too small to compute with (its square is 0 in doubles); give "
+            f"--dt {least:g}s or more (below {SMALLEST_STEP:g}s, a second of motion is more "
+            "than a billion steps)"
         )
     for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
         if seconds / dt > MOST_STEPS:

@@ -94,7 +94,7 @@ class TooStiff:
         what = "stiff" if self.setting in ("k", "kp") else "damped"
         outcome = ("only its 'max' holds it: it will chatter between -max and max every step"
                    if saturating else "diverges at once")  # fmt: skip
-        fix = "" if saturating else "give it a 'max'"
+        fix = "" if saturating else "a 'max' for it in the .leg file (--set cannot give one)"
         return (
             f"actuator '{self.actuator}' is too {what} for the integration step"
             f"{self.with_whom()}: {self.setting} = {self.value:.4g} {unit} with dt = "
