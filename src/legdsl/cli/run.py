@@ -106,6 +106,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     options = run_options(model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values)
     controller, settings, switches = args.controller, list(args.set), list(args.switch)
     unreached: list[str] = []  # --set texts for gait bands the run never reaches
+    repeated = None  # the note on a --controller that repeats the scene's
     refuse_repeated(settings)
     if args.scene is not None:  # the scene's lines first: the command line's options add to them
         from legdsl.pipeline.scenes import find_scene, scene_plan
@@ -116,13 +117,15 @@ def cmd_run(args: argparse.Namespace) -> int:
 
             scene = scale_scene(scene, model, args.scale)
         controller, settings, switches = scene_plan(scene, model, settings, switches, unreached)
+        chosen = (" (its gait table's band for the first command)" if scene.starts_by_band
+                  else " (its 'controller' line)" if scene.bands else "")  # fmt: skip
         if args.controller not in (None, controller):  # a gait table's start is its first band's
-            chosen = (" (its gait table's band for the first command)" if scene.starts_by_band
-                      else " (its 'controller' line)" if scene.bands else "")  # fmt: skip
             raise UsageError(
                 f"--scene {scene.name} starts with controller {controller}{chosen}; "
                 "leave out --controller (or change the scene)"
             )
+        if args.controller is not None:  # repeated: the scene still chooses the others
+            repeated = _controller_repeated(scene.name, controller, chosen, switches)
         if args.scale is not None and switches:
             raise UsageError(
                 f"--scene {scene.name} switches controllers, which --scale does not support: "
@@ -152,8 +155,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         # notes on a run it will make: a refused one is told its mistake alone (the notes
         # advised a longer --time for a run refused for another reason)
         session.tell_before(controller, settings, options, unreached, sources)
-        if (cramped := space_note(out, "--out", options, model)) is not None:
-            print(f"legdsl: note: {cramped}", file=sys.stderr)
+        for note in (repeated, space_note(out, "--out", options, model)):
+            if note is not None:
+                print(f"legdsl: note: {note}", file=sys.stderr)
         try:
             simulated = plan.sim.run(progress)
         finally:  # a run stopped short (a fall, Ctrl-C, an error): its bar's line ended first
@@ -189,6 +193,18 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
+
+
+def _controller_repeated(scene: str, controller: str, chosen: str, switches: list[str]) -> str:
+    """The note on ``--controller`` given with a ``--scene`` that starts with it: it only
+    repeats the scene's choice (a gait table's still changes controllers: the run recorded
+    'controller gallop' with the scene's run from 6 s, and nothing said so)."""
+    said = f"--controller {controller} repeats the controller --scene {scene} starts with{chosen}"
+    if not switches:
+        return f"{said}; it may be left out"
+    changes = ", ".join(f"{w.partition('=')[2]} at {w.partition('=')[0].removesuffix('s')} s"
+                        for w in switches)  # fmt: skip
+    return f"{said}; the scene still changes controllers ({changes}): --controller chooses only the first"
 
 
 # What writing a run's files takes, measured (the CSV's text most of it): 10 to 18 MB/s, and
