@@ -185,24 +185,16 @@ class Creature:
         at once (default: one per core; ``legdsl.pipeline.batch``); ``progress(done, n,
         seconds_left)`` is called about every 0.2 s. ``copies[k]`` is copy k's ``Run``; at
         Ctrl-C the copies stop and the ones cut short say ``interrupted``."""
+        from legdsl.api.copies_words import check_copies, copies_words
         from legdsl.pipeline.batch import Batch
 
         asked = controller is not notes.NOT_GIVEN
-        plan = session_args(self.model, controller if asked else None, set, time, **options)
-        if plan["switches"]:  # a batch runs one controller: a switch would be left out
-            raise UsageError(
-                "run_copies(): the copies run one controller, and this run switches "
-                f"({', '.join(plan['switches'])}); run them with run_many() instead"
-            )
-        if progress is not None and not callable(progress):
-            raise UsageError(f"run_copies(): progress= is a function called with (done, n, "
-                             f"seconds_left), or None; not {progress!r}")  # fmt: skip
-        if vary is not None and not isinstance(vary, Mapping):
-            raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
-                             f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
-        check_vary(set, vary or {}, plan["controller"])
-        batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
-                      plan["paths"], plan["options"])  # fmt: skip
+        with copies_words(vary):  # a refusal in the words of set= and vary=, not --set's
+            plan = session_args(self.model, controller if asked else None, set, time, **options)
+            check_copies(plan, progress, vary)
+            check_vary(set, vary or {}, plan["controller"])
+            batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
+                          plan["paths"], plan["options"])  # fmt: skip
         self._before(plan, asked)  # once nothing is refused: a refusal is told alone, as run()'s
         return Copies(self, batch.run(thread_count(threads), progress))
 
