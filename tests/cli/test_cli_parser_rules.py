@@ -41,6 +41,8 @@ def _refused(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
         (["run", HOPPER, "--scene", "A", "--scene", "B"], "--scene is given twice (A and B)"),
         (["metrics", "r", "--from", "1", "--from", "2"], "--from is given twice (1 and 2)"),
         (["scale", HOPPER, "--by", "2", "--by", "3"], "--by is given twice (2 and 3)"),
+        (["export", HOPPER, "--format", "mjcf", "--anchor-pads", "--no-anchor-pads"],
+         "--anchor-pads and --no-anchor-pads say the opposite: give one of them"),
         (["compile", HOPPER, "-o", "gen2", "--generated", "gen3"],
          "-o and --generated are one option, given twice (gen2 and gen3): give it once"),
     ],

@@ -4,7 +4,8 @@ argparse's own behaviour, changed in one place for every command (the subcommand
 are made by ``add_parser`` of this class, wherever they are defined):
 
 - an option that takes one value, given two values, is refused (``--time 0.1 --time 0.3`` ran
-  0.3 s, ``-o gen2 --generated gen3`` wrote gen3), as a repeated ``--path`` always was;
+  0.3 s, ``-o gen2 --generated gen3`` wrote gen3), as a repeated ``--path`` always was, and
+  so is a flag given with its opposite (``--anchor-pads --no-anchor-pads``);
 - no abbreviations (``--tim 0.3`` ran 0.3 s): an unknown option is refused with the close
   names it may have meant (``--tme``: did you mean --time?);
 - a value that is no number (``--jobs 2x``, ``--slow-motion 2s``) is told in a sentence
@@ -58,6 +59,25 @@ class _Once(argparse._StoreAction):
         setattr(namespace, self.dest, values)
 
 
+class _OnceEither(argparse.BooleanOptionalAction):
+    """``--anchor-pads`` and ``--no-anchor-pads`` together: the later won silently."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given: dict[str, tuple[str, Any]] = namespace.__dict__.setdefault(_GIVEN, {})
+        first = given.setdefault(self.dest, (option_string or self.dest, None))[0]
+        if option_string is not None and first != option_string:
+            raise argparse.ArgumentError(
+                None, f"{first} and {option_string} say the opposite: give one of them"
+            )
+        super().__call__(parser, namespace, values, option_string)
+
+
 def _number_in(text: str) -> str | None:
     found = re.match(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", text)
     return found.group().strip() if found else None
@@ -92,6 +112,11 @@ class LegParser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.register("action", None, _Once)
         self.register("action", "store", _Once)
+
+    def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
+        if kwargs.get("action") is argparse.BooleanOptionalAction:
+            kwargs["action"] = _OnceEither
+        return super().add_argument(*args, **kwargs)
 
     def _get_value(self, action: argparse.Action, arg_string: str) -> Any:
         try:
