@@ -38,7 +38,8 @@ def test_a_record_that_reads_itself_is_checked_in_its_own_definition(tmp_path: P
             4,
             59,
             "both sides of '<' must have one dimension, but they are a velocity (m/s) and "
-            "a mass (kg)",
+            "a mass (kg); write like with like, both in m/s or both in kg: one of them is not "
+            "the value meant",
         )
     ]
 
@@ -58,7 +59,8 @@ def test_a_record_read_through_a_signal_that_feeds_it_is_checked(tmp_path: Path)
         (
             4,
             "both sides of '<' must have one dimension, but they are a velocity (m/s) and "
-            "a length (m)",
+            "a length (m); a length (m) times a frequency (Hz) (as '1 Hz') makes a velocity "
+            "(m/s): multiply by what relates them, or write like with like",
         )
     ]
 

@@ -48,7 +48,9 @@ def test_two_arguments_whose_swap_does_not_help_are_not_told_as_swapped(tmp_path
     )
     assert {m for _, _, m in messages} == {
         "both sides of '+' must have one dimension, but they are a quantity in N*m*s and a "
-        "quantity in N*m*rad/s (in action 'servo_pitch', stdlib/raibert.leg:86:25, called here)"
+        "quantity in N*m*rad/s; write like with like, both in N*m*s or both in N*m*rad/s: one "
+        "of them is not the value meant (in action 'servo_pitch', stdlib/raibert.leg:86:25, "
+        "called here)"
     }
 
 

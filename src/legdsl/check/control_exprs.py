@@ -35,12 +35,13 @@ from legdsl.check.control_names import (
 )
 from legdsl.check.control_words import describe_type, expression_text
 from legdsl.check.plain_declared import plain_declared
+from legdsl.check.unit_hints import mismatch_hint, sqrt_hint, want_hint
 from legdsl.check.values import article, did_you_mean
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE, Type
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import KINDS, Dim, describe, out_of_range
+from legdsl.lang.units import Dim, describe, out_of_range
 
 # name -> number of arguments (None: any number, at least one)
 BUILTIN_FUNCTIONS: dict[str, int | None] = {
@@ -262,7 +263,7 @@ class ExprChecker(NameResolver):
                 dims = " and ".join(
                     dict.fromkeys(describe_type(v.type) for v in values if v.type is not None)
                 )
-                hint = gram_for_gravity(exprs) or _unit_left_out(values, exprs)
+                hint = gram_for_gravity(exprs) or mismatch_hint(values, exprs)
                 self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH
         for value in values:
@@ -286,6 +287,9 @@ class ExprChecker(NameResolver):
                 if name in self.scope.actions
                 else did_you_mean(name, BUILTIN_FUNCTIONS)
             )
+            if name in self.scope.names or name in self.scope.signals or name in local:
+                value = "a built-in value" if name in ir.BUILTIN_VALUES else "a value"
+                hint = f": '{name}' is {value}, not a function; to multiply by it, write '{name} * (...)'"
             self.err(e.func.span, f"unknown function '{name}'{hint}")
             return None
         arity = BUILTIN_FUNCTIONS[name]
@@ -377,7 +381,10 @@ class ExprChecker(NameResolver):
     def want(self, e: ast.ECall, args: list[ir.Expr], dims: tuple[Type, ...], what: str) -> bool:
         for arg, node in zip(args, e.args, strict=True):
             if arg.type is not None and arg.type not in dims:
-                self.err(node.span, f"{e.func.name}() takes {what}, not {describe_type(arg.type)}")
+                hint = want_hint(e.func.name, node, what, arg.type)
+                self.err(
+                    node.span, f"{e.func.name}() takes {what}, not {describe_type(arg.type)}{hint}"
+                )
                 return False
         return True
 
@@ -412,7 +419,9 @@ def _sqrt(el: ExprChecker, e: ast.ECall, args: list[ir.Expr]) -> Type | Mismatch
         return t
     if any(d % 2 for d in t):
         el.err(
-            e.args[0].span, f"sqrt() of {describe_type(t)} has no unit: its powers are not all even"
+            e.args[0].span,
+            f"sqrt() of {describe_type(t)} has no unit: its powers are not all even"
+            + sqrt_hint(e.args[0], t),
         )
         return MISMATCH
     return (t[0] // 2, t[1] // 2, t[2] // 2, t[3] // 2)
@@ -502,15 +511,3 @@ def gram_for_gravity(exprs: list[ast.Expr]) -> str:
         elif isinstance(node, list | tuple):
             stack.extend(node)
     return ""
-
-
-def _unit_left_out(values: list[ir.Expr], exprs: list[ast.Expr]) -> str:
-    """A hint where one side is a number written without its unit (``time > 1``): the unit
-    the other side's dimension is written in."""
-    bare = [e for e in exprs if isinstance(e, ast.EQuantity) and e.quantity.unitless]
-    others = {v.type for v, e in zip(values, exprs, strict=True) if e not in bare and v.type}
-    if len(bare) != 1 or len(others) != 1:
-        return ""
-    (dim,) = others
-    unit = next((u for d, u in KINDS.values() if d == dim), None)
-    return f"; write the number with its unit, as in '{bare[0].text} {unit}'" if unit else ""

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 from legdsl.check.always_zero import ZeroTest
 from legdsl.check.control_words import PLANAR_COUNTERPARTS, SPATIAL_ALIASES, no_alias_message
+from legdsl.check.unit_hints import number_member
 from legdsl.check.values import TRUTHS, article, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
 from legdsl.ir.constants import body_constant, coord_constant, leg_constant
@@ -354,7 +355,7 @@ class NameResolver:
             if read is None or isinstance(base, ir.Alias) or name not in ir.CONSTANTS.get(kind, {}):
                 return read
             return self.constant(base, name, read.type, attr.span)
-        self.err(attr.span, f"a number has no member '{name}'")
+        self.err(attr.span, number_member(name))
         return None
 
     def no_actuator_member(self, base: ir.Part | ir.Alias, name: str, members: list[str]) -> str:

@@ -152,8 +152,13 @@ class ValueChecker:
         while isinstance(node, ast.Neg):
             sign, node = -sign, node.value
         if not isinstance(node, ast.Number):
-            unit = "" if kind == "dimensionless" else f" with a unit of {unit_hint(kind)}"
-            self.err(value.span, f"{what} must be a number{unit}")  # not "a unit of no unit"
+            unit = (  # not "a unit of no unit"; a name or a list is no number here
+                ""
+                if kind == "dimensionless"
+                else f" with a unit of {unit_hint(kind)}: write the one number itself, as in "
+                f"'0.5 {unit_hint(kind)}'"
+            )
+            self.err(value.span, f"{what} must be a number{unit}")
             return None
         q = node.quantity
         trouble = out_of_range(node.text, q.value)
