@@ -315,10 +315,25 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
-        f"{motion.frames} keyframes over {seconds_text(motion.duration)}{_rate_kept(motion, args.fps)})",
+        f"{motion.frames} keyframes over {seconds_text(motion.duration)}{_rate_kept(motion, args.fps)})"
+        f"{_end_left(motion, args.fps)}",
         file=messages_for(args.output),
     )
     return 0
+
+
+def _end_left(motion: Any, fps: float) -> str:
+    """What the keyframes leave out of the run's end, where it is more than 5% of the run: a
+    frame every 1/fps from the start stops at the last whole one (2 keyframes over 2.00 s of
+    a 2.995 s run at --fps 0.5 said nothing of the last second)."""
+    end, start = motion.last_sample, float(motion.times[0])
+    if end is None or motion.frames < 2 or end - motion.duration <= 0.05 * (end - start):
+        return ""  # a few percent short (2.98 s of a 2.995 s run at 60 per second): as usual
+    rate = math.ceil((end - start) * fps - 1e-9) / (end - start)  # a whole number of frames
+    return (
+        f"; the run's last {seconds_text(end - motion.duration)} (to {seconds_text(end)}) falls "
+        f"short of a whole frame and is left out: --fps {rate:.10g} ends at it"
+    )
 
 
 def _rate_kept(motion: Any, fps: float) -> str:

@@ -90,6 +90,7 @@ class Motion:
     # for each path, the spans (from, to) s of ``times`` a controller followed it in (run.json's
     # ``followed``: a run that changed controllers), None when the whole run followed it
     path_spans: tuple[tuple[tuple[float, float], ...] | None, ...] = ()
+    last_sample: float | None = None  # s: the run's end, which the last frame may fall short of
 
     @property
     def duration(self) -> float:
@@ -375,6 +376,7 @@ def motion_from(
     names = [b.name for b in model.bodies]
     joints = {j.child: j for j in model.joints}
     return Motion(
+        last_sample=float(tr.t[-1]),
         creature=model.name,
         planar=model.planar,
         bodies=model.bodies,

@@ -1,0 +1,49 @@
+"""export-motion --fps 0.5 of a 2.995 s run said '2 keyframes over 2.00 s' and nothing of the
+last second: the frames, every 1/fps from the start, stop at the last whole one. Where that
+leaves out more than 5% of the run it is said, with the --fps that ends at the last sample."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from conftest import CREATURES
+
+from legdsl.cli import main
+from legdsl.pipeline.session import RunSession
+from legdsl.sim.run_loop import RunOptions
+
+
+@pytest.fixture(scope="module")
+def run_dir(generated: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    session = RunSession.from_file(CREATURES / "hopper.leg", generated=generated)
+    out = tmp_path_factory.mktemp("runs") / "h"
+    session.run("hop", ["speed=1m/s"], options=RunOptions(duration=1.3)).write(out)
+    return out
+
+
+def export(run_dir: Path, generated: Path, out: Path, capsys: pytest.CaptureFixture[str],
+           *fps: str) -> str:  # fmt: skip
+    argv = ["export-motion", str(run_dir), "--generated", str(generated), "-o", str(out), *fps]
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    return captured.out + captured.err
+
+
+def test_the_run_end_a_low_rate_leaves_out_is_said(
+    run_dir: Path, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    said = export(run_dir, generated, tmp_path / "m.glb", capsys, "--fps", "1")
+    assert "2 keyframes over 1.00 s" in said
+    assert "the run's last 0.30 s (to 1.30 s) falls short of a whole frame and is left out" in said
+    rate = re.search(r"--fps (\S+) ends at it", said).group(1)  # type: ignore[union-attr]
+    said = export(run_dir, generated, tmp_path / "m.glb", capsys, "--fps", rate)
+    assert "keyframes over 1.30 s" in said and "left out" not in said
+
+
+def test_less_than_a_few_percent_short_is_not_said(
+    run_dir: Path, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    said = export(run_dir, generated, tmp_path / "m.glb", capsys)
+    assert "left out" not in said
