@@ -24,10 +24,19 @@ pytestmark = pytest.mark.usefixtures("hopper_modules")
 
 
 def sweep(out: Path, generated: Path, *extra: str) -> int:
+    """The hopper's sweep, a one-value option in ``extra`` in place of its own (a second
+    value is refused)."""
+    given = {"--time": "3", "--from": "0.5", "--jobs": "2"}
+    for flag, value in zip(extra, extra[1:], strict=False):
+        if flag in given:
+            given[flag] = value
+    rest = [
+        x for k, x in enumerate(extra) if x not in given and (k == 0 or extra[k - 1] not in given)
+    ]
     return main([
         "sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=0.5m/s:1.5m/s:2",
-        "--grid", "k_speed=0.04,0.06", "--time", "3", "--from", "0.5", "--jobs", "2",
-        "--out", str(out), "--generated", str(generated), *extra,
+        "--grid", "k_speed=0.04,0.06", *(p for kv in given.items() for p in kv),
+        "--out", str(out), "--generated", str(generated), *rest,
     ])  # fmt: skip
 
 
