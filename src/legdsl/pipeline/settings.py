@@ -17,7 +17,7 @@ import argparse
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -396,6 +396,9 @@ def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -
     a = by_name[actuator]
     if key not in SETTABLE[a.kind]:
         fixed = f"'{key}' is the .leg file's alone (change it there); " if key == "max" else ""
+        if a.kind == "force" and a.rotary:  # a torque(...) actuator: its torque is its 'force'
+            raise UsageError(f"--set {name}: {fixed}a torque actuator's one setting is its "
+                             f"torque, named 'force': write --set {actuator}.force=VALUE (N*m)")  # fmt: skip
         raise UsageError(
             f"--set {name}: {fixed}a {a.kind}'s settings are {', '.join(SETTABLE[a.kind])}"
         )
@@ -414,7 +417,7 @@ def parse_path_option(text: str) -> PathSpec:
     """
     from legdsl.check.paths import check_path
     from legdsl.ir.paths import read_waypoints
-    from legdsl.lang.errors import Diagnostics
+    from legdsl.lang.errors import Diagnostics, LegError
     from legdsl.lang.parser import parse_value
 
     match = re.match(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)", text)
@@ -422,10 +425,11 @@ def parse_path_option(text: str) -> PathSpec:
     # a waypoints file: named .csv or .txt (W.CSV too), or any file there without a shape's '('
     file = Path(shape.strip())
     named = re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape, re.IGNORECASE)
-    if named or ("(" not in shape and shape.strip() and file.is_file()):
+    if named or ("(" not in shape and shape.strip() and file.exists()):  # a directory: told
         if not file.is_file():
             there = f"{file} is a directory" if file.is_dir() else f"no such file {file}"
-            raise UsageError(f"--path {text}: {there}; give a file of 'x,y' lines")
+            raise UsageError(f"--path {text}: {there}; give a file of 'x,y' lines, or a shape, "
+                             "as in --path 'circle(center = (0, 5) m, radius = 5 m)'")  # fmt: skip
         return read_waypoints(file, name)
     if not shape.strip():
         raise UsageError(
@@ -434,7 +438,12 @@ def parse_path_option(text: str) -> PathSpec:
         )
     # parse the shape where it stands in the option, so the caret points into it
     padded = " " * (len(text) - len(shape)) + shape
-    value = parse_value(padded, "--path")
+    try:
+        value = parse_value(padded, "--path")
+    except LegError as e:  # the option's text, not a file, ends: said so ('circle(')
+        said = [replace(d, message=d.message.replace("end of the file", "end of the --path value"))
+                for d in e.diagnostics]  # fmt: skip
+        raise LegError(said, e.sources) from None
     diag = Diagnostics({"--path": text})
     spec = check_path(name, value, diag)
     diag.raise_if_any()
