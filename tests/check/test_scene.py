@@ -294,3 +294,25 @@ def test_a_set_no_controller_has_is_told_beside_a_switch_time_without_unit(
     text = caught.value.render()
     assert "the time after 'at' is a time (s)" in text
     assert "no controller of this scene has an input or parameter 'k_sped'" in text
+
+
+def test_a_negative_value_of_the_wrong_kind_keeps_its_sign_and_a_frequency_its_turns(
+    tmp_path: Path,
+) -> None:
+    """'at 1 s set turn_rate = -1 rad' was echoed '1 rad' with the caret after the minus and the
+    advice 'write e.g. 1 rad/s'; '1 Hz' for a turning rate in deg/s was told 'write e.g. 1
+    deg/s', 360 times slower than the turn a second most likely meant."""
+    from legdsl.lang.errors import LegError
+
+    path = tmp_path / "biped.leg"
+    path.write_text(
+        BIPED.read_text() + "scene turns {\n  controller run\n"
+        "  at 1 s set turn_rate = -1 rad\n  at 2 s set turn_rate = 1 Hz\n}\n"
+    )
+    with pytest.raises(LegError) as err:
+        check_model(path)
+    text = err.value.render()
+    assert "but -1 rad is an angle (deg); write e.g. -1 rad/s" in text
+    line = "      at 1 s set turn_rate = -1 rad\n"
+    assert line + " " * line.index("-") + "^~~~~~\n" in text  # under the minus
+    assert "1 Hz is one turn a second: write 360 deg/s (or 1 rev/s)" in text

@@ -39,6 +39,7 @@ from legdsl.ir.scene import (
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS
+from legdsl.lang.turning import as_turning
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, a_kind, out_of_range
 
 _TIME: Dim = KINDS["time"][0]
@@ -65,7 +66,7 @@ def _number(
     declared = declared if measures(declared, want) else ""
     if doubled_minus(value, diag.error):
         return None
-    sign = 1.0
+    sign, written = 1.0, value  # the value as written, its minus too ('-1 rad')
     while isinstance(value, ast.Neg):
         sign, value = -sign, value.value
     if not isinstance(value, ast.Number):
@@ -73,30 +74,32 @@ def _number(
         return None
     q = value.quantity
     number = sign * q.value
+    text = ("-" if sign < 0 else "") + value.text
     trouble = out_of_range(value.text, q.value)
     if trouble is not None:  # it read as inf (or 0), and the run would refuse it placeless
         diag.error(value.span, trouble)
         return None
     if want == DIMENSIONLESS:
         if not q.unitless and q.dim != DIMENSIONLESS:
-            diag.error(value.span, f"{what} is dimensionless, but {value.text} is {a_kind(q.dim)}")
+            diag.error(written.span, f"{what} is dimensionless, but {text} is {a_kind(q.dim)}")
             return None
         return number
     if q.unitless:
         if number != 0:
             diag.error(
-                value.span,
-                f"{what} is {a_kind(want, declared)}: give its unit, e.g. {value.text} "
+                written.span,
+                f"{what} is {a_kind(want, declared)}: give its unit, e.g. {text} "
                 f"{declared or _example(want)}",
             )
             return None
         return 0.0
     if q.dim != want:
         unit = unit_to_write(written_unit(value.text), want, declared) or _example(want)
+        fix = as_turning(text, number, q.dim, want, unit)  # '1 Hz' for deg/s: 360 deg/s
         diag.error(
-            value.span,
-            f"{what} is {a_kind(want, declared)}, but {value.text} is {a_kind(q.dim)}; write e.g. "
-            f"{_digits(value.text)} {unit}".rstrip(),
+            written.span,
+            f"{what} is {a_kind(want, declared)}, but {text} is {a_kind(q.dim)}; "
+            + (fix or f"write e.g. {_digits(text)} {unit}".rstrip()),
         )
         return None
     return number
