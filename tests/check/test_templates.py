@@ -248,3 +248,31 @@ def test_parameters_named_like_words_of_the_language_leave_the_words(tmp_path: P
     ]
     assert model.joint("hip_a").kind == "revolute"
     assert model.stops[0].k == 100.0
+
+
+def test_a_whole_number_stands_in_a_name_after_its_first_part(tmp_path: Path) -> None:
+    """`instance a1 = arm(S = 1)` with `body a_S` was refused 18 times ("given a value, not a
+    name") though `a_1` is a name, and the controller's `s_1` was then told unknown with
+    "did you mean 's_S'", the template's own text. A whole number after a name's first part
+    makes the name as written by hand; a number that cannot is refused, with the fix."""
+    text = """creature arms {
+  planar
+  gravity 0 m/s^2
+  body base fixed at (0 m, 2 m) { mass 1 kg  inertia 0.1 kg*m^2 }
+  template arm(S) {
+    body a_S on base via revolute j_S { length 0.5 m  com 0.25 m  mass 1 kg  inertia 0.02 kg*m^2 }
+    actuator s_S on j_S servo(kp = 2000 N*m/rad, kv = 60 N*m*s/rad)
+  }
+  instance a1 = arm(S = 1)
+  instance a2 = arm(S = 2)
+}
+controller c { table { state A on time >= 0 s: s_1.setpoint = 30 deg; s_2.setpoint = 0 deg } }
+"""
+    path = tmp_path / "arms.leg"
+    path.write_text(text)
+    model = check_model(path)
+    assert [b.name for b in model.bodies] == ["base", "a_1", "a_2"]
+    assert [j.name for j in model.joints][-2:] == ["j_1", "j_2"]
+    path.write_text(text.replace("S = 2", "S = 2.5"))
+    with pytest.raises(Exception, match=r"cannot stand in the name 'a_S': give it a name"):
+        check_model(path)

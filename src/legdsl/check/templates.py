@@ -351,17 +351,20 @@ class _Substitution:
     def name(self, ident: ast.Ident) -> str:
         parts = ident.name.split("_")
         out = []
-        for part in parts:
+        for k, part in enumerate(parts):
             arg = self.args.get(part)
             if arg is None:
                 out.append(part)
             elif isinstance(arg, ast.NameValue):
                 out.append(arg.ident.name)
+            elif k > 0 and isinstance(arg, ast.Number) and arg.text.isdigit():
+                out.append(arg.text)  # 'a_S' with S = 1 is 'a_1', a name as written by hand
             else:
                 self.diag.error(
                     replace(ident.span, within=self.within),
                     f"parameter '{part}' {GIVEN_A_VALUE}, so it cannot stand in the name "
-                    f"'{ident.name}'",
+                    f"'{ident.name}': give it a name (or, after the name's first part, a whole "
+                    f"number: '{parts[0]}_1')",
                 )
                 out.append(part)
         return "_".join(out)
