@@ -128,6 +128,8 @@ def compute_metrics(
             raise MetricsError(f"the window {side} at {at:g} s; give a time of 0 s or more")
     if t_to < t_from:
         raise MetricsError(f"the window ends ({t_to:g} s) before it starts ({t_from:g} s)")
+    past = f"--to {t_to:g}s is after the run's end: measured to its end, {end:.3f} s"
+    past, t_to = (past, end) if t_to > end and len(tr) else ("", t_to)  # the header said 10 s
     if min_stance is not None and not (math.isfinite(min_stance) and min_stance > 0):
         raise MetricsError(f"--min-stance {min_stance!r}: give a time more than zero, e.g. 20ms")
     if not (math.isfinite(edge) and edge >= 0):
@@ -165,6 +167,7 @@ def compute_metrics(
     notes = {
         "--min-stance": min_stance_note(raw, units, t_from, t_to, min_stance),
         "--friction-edge": friction_edge_note(tr, friction, t_from, t_to),
+        "--to": past,
     }
     options = {
         "leg": leg,

@@ -30,7 +30,8 @@ def cmd_metrics(args: argparse.Namespace) -> int:
     )  # fmt: skip
     segments = run_segments(args.dir)
     given = {"--min-stance": args.min_stance, "--friction-edge": args.friction_edge}
-    told = [_bare_seconds(note, flag, given[flag]) for flag, note in metrics.option_notes.items()]
+    told = [_bare_seconds(note, flag, given[flag]) if flag in given else note
+            for flag, note in metrics.option_notes.items()]  # fmt: skip
     for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
