@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "cd7572b894e1ae4b";
+const char legdsl_control_fingerprint[] = "84db65741458c9cf";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -58,7 +58,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:340:5 */
+/*   event: creatures/quadruped.leg:353:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -68,7 +68,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:356:5 */
+/*   event: creatures/quadruped.leg:369:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[18];
@@ -78,7 +78,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:367:5 */
+/*   event: creatures/quadruped.leg:380:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
@@ -88,7 +88,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:370:5 */
+/*   event: creatures/quadruped.leg:383:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[17];
@@ -99,7 +99,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:374:5 */
+/*   event: creatures/quadruped.leg:387:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[16];
@@ -114,7 +114,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:340:5 */
+/*   event: creatures/quadruped.leg:353:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[30];
@@ -124,7 +124,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:356:5 */
+/*   event: creatures/quadruped.leg:369:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[30];
@@ -134,7 +134,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:367:5 */
+/*   event: creatures/quadruped.leg:380:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[29];
@@ -144,7 +144,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:370:5 */
+/*   event: creatures/quadruped.leg:383:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[29];
@@ -155,7 +155,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:374:5 */
+/*   event: creatures/quadruped.leg:387:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[28];
@@ -169,24 +169,28 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:342:7 */
-/*   record ramped_speed: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:353:7 */
+/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:355:7 */
+/*   record ramped_speed: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:366:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[37];
@@ -201,6 +205,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double aim_rate_most = p[5];
     const double stance_guess = p[6];
     const double accel = p[27];
+    const double entry_fast = p[35];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -228,6 +233,8 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double stride_y0 = r[25];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -245,6 +252,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < com_vx*t3 + com_vy*t5)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -274,51 +282,53 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[26] = new_aim_rate;
     out[27] = path_route_ahead_heading;
     out[28] = time;
+    out[29] = new_entered_fast;
+    out[30] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:344:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:344:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:345:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:345:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:346:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:346:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:347:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:347:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:357:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:357:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:358:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:358:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:359:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:359:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:360:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:360:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -353,7 +363,7 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double leg_b = p[31];
     const double leg_k = p[32];
-    const double lift_slew = p[43];
+    const double lift_slew = p[44];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -429,21 +439,21 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:357:7 */
-/*   record pitch_mean: creatures/quadruped.leg:358:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:359:7 */
-/*   record pitch_trim: creatures/quadruped.leg:360:7 */
-/*   record stride_speed: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_t1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3 */
-/*   record stride_t0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3 */
-/*   record stride_x0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3 */
-/*   record stride_y0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3 */
-/*   record flight_apex: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:370:7 */
+/*   record pitch_mean: creatures/quadruped.leg:371:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:372:7 */
+/*   record pitch_trim: creatures/quadruped.leg:373:7 */
+/*   record stride_speed: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -461,8 +471,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double k_height_trim = p[22];
     const double stroke_max = p[23];
     const double stroke_min = p[24];
-    const double k_pitch_i = p[39];
-    const double trim_most = p[40];
+    const double k_pitch_i = p[40];
+    const double trim_most = p[41];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -489,6 +499,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
@@ -532,53 +544,55 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -621,10 +635,11 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double short_ = p[26];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -634,6 +649,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -647,7 +663,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t10 = leg_fl_touching*t9;
     const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
     const double t12 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t12;
@@ -746,6 +762,8 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -775,39 +793,41 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -850,10 +870,11 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double short_ = p[26];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -863,6 +884,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -876,7 +898,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double t9 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t10 = leg_fl_touching*t9;
     const double hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11);
     const double t12 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t12;
@@ -961,6 +983,8 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -990,41 +1014,43 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1068,12 +1094,13 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
-    const double k_pitch_thrust = p[41];
-    const double idle_delay = p[42];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double k_pitch_thrust = p[42];
+    const double idle_delay = p[43];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1084,6 +1111,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double t2 = 1.0 - leg_fl_touching;
@@ -1099,7 +1127,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t11 = leg_fl_touching*t10;
     const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
     const double t13 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t13;
@@ -1186,6 +1214,8 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1215,41 +1245,43 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1326,24 +1358,28 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     (void)err;
 }
 
-/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:342:7 */
-/*   record ramped_speed: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3 */
-/*   record ramped_at: creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3 */
-/*   record step_side: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:353:7 */
+/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:355:7 */
+/*   record ramped_speed: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:300:3 */
+/*   record ramped_at: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:301:3 */
+/*   record step_side: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:364:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:365:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:366:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
+    const double com_vx = s[6];
+    const double com_vy = s[7];
     const double com_x = s[9];
     const double com_y = s[10];
     const double path_route_ahead_heading = s[37];
@@ -1358,6 +1394,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double aim_rate_most = p[5];
     const double stance_guess = p[6];
     const double accel = p[27];
+    const double entry_fast = p[35];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -1385,6 +1422,8 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double stride_y0 = r[25];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1402,6 +1441,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t8 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t8), leg_cos(t8)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < com_vx*t3 + com_vy*t5)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1431,51 +1471,53 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[26] = new_aim_rate;
     out[27] = path_route_ahead_heading;
     out[28] = time;
+    out[29] = new_entered_fast;
+    out[30] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:344:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:344:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:345:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:345:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:346:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:346:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:347:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:347:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:357:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:357:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:358:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:358:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:359:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:359:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:360:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:360:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1510,7 +1552,7 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double leg_b = p[31];
     const double leg_k = p[32];
-    const double lift_slew = p[43];
+    const double lift_slew = p[44];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -1586,21 +1628,21 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:357:7 */
-/*   record pitch_mean: creatures/quadruped.leg:358:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:359:7 */
-/*   record pitch_trim: creatures/quadruped.leg:360:7 */
-/*   record stride_speed: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3 */
-/*   record stride_t1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3 */
-/*   record stride_x1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3 */
-/*   record stride_y1: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3 */
-/*   record stride_t0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3 */
-/*   record stride_x0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3 */
-/*   record stride_y0: creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3 */
-/*   record flight_apex: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:370:7 */
+/*   record pitch_mean: creatures/quadruped.leg:371:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:372:7 */
+/*   record pitch_trim: creatures/quadruped.leg:373:7 */
+/*   record stride_speed: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:429:3 */
+/*   record stride_t1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:432:3 */
+/*   record stride_x1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:433:3 */
+/*   record stride_y1: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:434:3 */
+/*   record stride_t0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:435:3 */
+/*   record stride_x0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:436:3 */
+/*   record stride_y0: creatures/quadruped.leg:374:7 > stdlib/raibert.leg:437:3 */
+/*   record flight_apex: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1618,8 +1660,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double k_height_trim = p[22];
     const double stroke_max = p[23];
     const double stroke_min = p[24];
-    const double k_pitch_i = p[39];
-    const double trim_most = p[40];
+    const double k_pitch_i = p[40];
+    const double trim_most = p[41];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1646,6 +1688,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
@@ -1689,53 +1733,55 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1778,10 +1824,11 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double short_ = p[26];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1791,6 +1838,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -1804,7 +1852,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t10 = leg_rl_touching*t9;
     const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
     const double t12 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t12;
@@ -1903,6 +1951,8 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1932,39 +1982,41 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2007,10 +2059,11 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double short_ = p[26];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2020,6 +2073,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -2033,7 +2087,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double t9 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t10 = leg_rl_touching*t9;
     const double hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2);
-    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11);
     const double t12 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t12;
@@ -2118,6 +2172,8 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2147,41 +2203,43 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2225,12 +2283,13 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double k_stride_speed = p[33];
     const double stride_most = p[34];
-    const double kv_rate = p[35];
-    const double omega_f = p[36];
-    const double omega_r = p[37];
-    const double k_center = p[38];
-    const double k_pitch_thrust = p[41];
-    const double idle_delay = p[42];
+    const double kv_rate = p[36];
+    const double omega_f = p[37];
+    const double omega_r = p[38];
+    const double k_center = p[39];
+    const double k_pitch_thrust = p[42];
+    const double idle_delay = p[43];
+    const double kv_roll_entry = p[45];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2241,6 +2300,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double side_trim = r[18];
     const double stride_speed = r[19];
     const double aim_rate = r[26];
+    const double entered_fast = r[29];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
     const double t2 = 1.0 - leg_rl_touching;
@@ -2256,7 +2316,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t11 = leg_rl_touching*t10;
     const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
     const double t13 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t13;
@@ -2343,6 +2403,8 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double aim_rate = r[26];
     const double ahead_then = r[27];
     const double ahead_at = r[28];
+    const double entered_fast = r[29];
+    const double entered = r[30];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2372,41 +2434,43 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     out[26] = aim_rate;
     out[27] = ahead_then;
     out[28] = ahead_at;
+    out[29] = entered_fast;
+    out[30] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2555,7 +2619,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 41, 4, 29, 44,
+    5, 2, 41, 4, 31, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "bound"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "cd7572b894e1ae4b"
+FINGERPRINT = "84db65741458c9cf"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -79,6 +79,7 @@ PARAMS = {
     "leg_k": 4800.0,
     "k_stride_speed": 6.04,
     "stride_most": 1.75,
+    "entry_fast": 3.0,
     "kv_rate": 25.4,
     "omega_f": 2.77,
     "omega_r": 4.0,
@@ -88,8 +89,9 @@ PARAMS = {
     "k_pitch_thrust": 0.0445,
     "idle_delay": 0.0684,
     "lift_slew": 5.0,
+    "kv_roll_entry": 125.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'stride_speed', 'stride_t1', 'stride_x1', 'stride_y1', 'stride_t0', 'stride_x0', 'stride_y0', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'ramped_speed', 'ramped_at', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'stride_speed', 'stride_t1', 'stride_x1', 'stride_y1', 'stride_t0', 'stride_x0', 'stride_y0', 'aim_rate', 'ahead_then', 'ahead_at', 'entered_fast', 'entered')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -109,7 +111,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:340:5
+        event  creatures/quadruped.leg:353:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[24]
@@ -120,7 +122,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:356:5
+        event  creatures/quadruped.leg:369:5
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[24]
@@ -131,7 +133,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:367:5
+        event  creatures/quadruped.leg:380:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[23]
@@ -142,7 +144,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:370:5
+        event  creatures/quadruped.leg:383:5
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[23]
@@ -154,7 +156,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:374:5
+        event  creatures/quadruped.leg:387:5
     """
     leg_fl_length = s[16]
     leg_fl_touching = s[18]
@@ -170,7 +172,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:340:5
+        event  creatures/quadruped.leg:353:5
     """
     leg_rl_touching = s[30]
     leg_rr_touching = s[36]
@@ -181,7 +183,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:356:5
+        event  creatures/quadruped.leg:369:5
     """
     leg_rl_touching = s[30]
     leg_rr_touching = s[36]
@@ -192,7 +194,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:367:5
+        event  creatures/quadruped.leg:380:5
     """
     leg_rl_rate = s[29]
     leg_rr_rate = s[35]
@@ -203,7 +205,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:370:5
+        event  creatures/quadruped.leg:383:5
     """
     leg_rl_rate = s[29]
     leg_rr_rate = s[35]
@@ -215,7 +217,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:374:5
+        event  creatures/quadruped.leg:387:5
     """
     leg_rl_length = s[28]
     leg_rl_touching = s[30]
@@ -228,25 +230,29 @@ def event_UNLOADING_1(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:342:7
-        record ramped_speed  creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:353:7
+        record steps         creatures/quadruped.leg:355:7
+        record ramped_speed  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:364:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:364:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:364:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:365:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:365:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:365:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:365:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:365:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:366:7
     """
     body_trunk_yaw = s[4]
+    com_vx = s[6]
+    com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
     path_route_ahead_heading = s[37]
@@ -261,6 +267,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     aim_rate_most = p[5]
     stance_guess = p[6]
     accel = p[27]
+    entry_fast = p[35]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -288,6 +295,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     stride_y0 = r[25]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -305,6 +314,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < com_vx*t3 + com_vy*t5) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -335,6 +345,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -342,46 +354,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:344:7
-        leg_fr_spring.k          creatures/quadruped.leg:344:7
-        leg_rl_spring.k          creatures/quadruped.leg:345:7
-        leg_rr_spring.k          creatures/quadruped.leg:345:7
-        leg_fl_spring.b          creatures/quadruped.leg:346:7
-        leg_fr_spring.b          creatures/quadruped.leg:346:7
-        leg_rl_spring.b          creatures/quadruped.leg:347:7
-        leg_rr_spring.b          creatures/quadruped.leg:347:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
-        leg_rr_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.rest       creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:357:7
+        leg_fr_spring.k          creatures/quadruped.leg:357:7
+        leg_rl_spring.k          creatures/quadruped.leg:358:7
+        leg_rr_spring.k          creatures/quadruped.leg:358:7
+        leg_fl_spring.b          creatures/quadruped.leg:359:7
+        leg_fr_spring.b          creatures/quadruped.leg:359:7
+        leg_rl_spring.b          creatures/quadruped.leg:360:7
+        leg_rr_spring.b          creatures/quadruped.leg:360:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5
+        leg_rr_spring.rest       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -415,7 +427,7 @@ def action_FLIGHT_0(s, u, p, r, tis):
     slew = p[28]
     leg_b = p[31]
     leg_k = p[32]
-    lift_slew = p[43]
+    lift_slew = p[44]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -494,21 +506,21 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:357:7
-        record pitch_mean      creatures/quadruped.leg:358:7
-        record pitch_last_td   creatures/quadruped.leg:359:7
-        record pitch_trim      creatures/quadruped.leg:360:7
-        record stride_speed    creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3
-        record stride_t1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3
-        record stride_x1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3
-        record stride_y1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3
-        record stride_t0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3
-        record stride_x0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3
-        record stride_y0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3
-        record flight_apex     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:370:7
+        record pitch_mean      creatures/quadruped.leg:371:7
+        record pitch_last_td   creatures/quadruped.leg:372:7
+        record pitch_trim      creatures/quadruped.leg:373:7
+        record stride_speed    creatures/quadruped.leg:374:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:375:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:375:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -525,8 +537,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     k_height_trim = p[22]
     stroke_max = p[23]
     stroke_min = p[24]
-    k_pitch_i = p[39]
-    trim_most = p[40]
+    k_pitch_i = p[40]
+    trim_most = p[41]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -553,6 +565,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
@@ -597,6 +611,8 @@ def entry_LOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -604,48 +620,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
-        leg_rr_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5
+        leg_rr_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -687,10 +703,11 @@ def action_LOADING_0(s, u, p, r, tis):
     short = p[26]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -700,6 +717,7 @@ def action_LOADING_0(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -713,7 +731,7 @@ def action_LOADING_0(s, u, p, r, tis):
     t9 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t10 = leg_fl_touching*t9
     hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
     t12 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t12
@@ -811,6 +829,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -841,6 +861,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -848,34 +870,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
-        leg_rr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5
+        leg_rr_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -917,10 +939,11 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     short = p[26]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -930,6 +953,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -943,7 +967,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t9 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t10 = leg_fl_touching*t9
     hip_fl_motor_force = t10*(-leg_fl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t10*(-leg_fl_hip_x*t8 + t11)
     t12 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t12
@@ -1027,6 +1051,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -1057,6 +1083,8 @@ def entry_THRUST_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1064,36 +1092,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
-        leg_rr_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5
+        leg_rr_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1136,12 +1164,13 @@ def action_THRUST_0(s, u, p, r, tis):
     slew = p[28]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
-    k_pitch_thrust = p[41]
-    idle_delay = p[42]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    k_pitch_thrust = p[42]
+    idle_delay = p[43]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1152,6 +1181,7 @@ def action_THRUST_0(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_fl_touching
@@ -1167,7 +1197,7 @@ def action_THRUST_0(s, u, p, r, tis):
     t10 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t11 = leg_fl_touching*t10
     hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
     t13 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t13
@@ -1253,6 +1283,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -1283,6 +1315,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1290,36 +1324,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
-        leg_rr_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5
+        leg_rr_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1396,25 +1430,29 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:342:7
-        record ramped_speed  creatures/quadruped.leg:349:7 > stdlib/raibert.leg:300:3
-        record ramped_at     creatures/quadruped.leg:349:7 > stdlib/raibert.leg:301:3
-        record step_side     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:350:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:351:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:351:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:352:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:352:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:352:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:353:7
+        record steps         creatures/quadruped.leg:355:7
+        record ramped_speed  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:300:3
+        record ramped_at     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:301:3
+        record step_side     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:363:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:364:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:364:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:364:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:364:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:364:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:365:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:365:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:365:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:365:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:365:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:366:7
     """
     body_trunk_yaw = s[4]
+    com_vx = s[6]
+    com_vy = s[7]
     com_x = s[9]
     com_y = s[10]
     path_route_ahead_heading = s[37]
@@ -1429,6 +1467,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     aim_rate_most = p[5]
     stance_guess = p[6]
     accel = p[27]
+    entry_fast = p[35]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -1456,6 +1495,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     stride_y0 = r[25]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1473,6 +1514,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t8 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t8), math.cos(t8))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < com_vx*t3 + com_vy*t5) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -1503,6 +1545,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -1510,46 +1554,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:343:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.k          creatures/quadruped.leg:344:7
-        leg_rr_spring.k          creatures/quadruped.leg:344:7
-        leg_fl_spring.k          creatures/quadruped.leg:345:7
-        leg_fr_spring.k          creatures/quadruped.leg:345:7
-        leg_rl_spring.b          creatures/quadruped.leg:346:7
-        leg_rr_spring.b          creatures/quadruped.leg:346:7
-        leg_fl_spring.b          creatures/quadruped.leg:347:7
-        leg_fr_spring.b          creatures/quadruped.leg:347:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:348:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:348:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:348:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
-        leg_fr_spring.rest       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:279:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:355:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:354:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:355:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:356:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.k          creatures/quadruped.leg:357:7
+        leg_rr_spring.k          creatures/quadruped.leg:357:7
+        leg_fl_spring.k          creatures/quadruped.leg:358:7
+        leg_fr_spring.k          creatures/quadruped.leg:358:7
+        leg_rl_spring.b          creatures/quadruped.leg:359:7
+        leg_rr_spring.b          creatures/quadruped.leg:359:7
+        leg_fl_spring.b          creatures/quadruped.leg:360:7
+        leg_fr_spring.b          creatures/quadruped.leg:360:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:361:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:361:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5
+        leg_fr_spring.rest       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:285:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:367:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1583,7 +1627,7 @@ def action_FLIGHT_1(s, u, p, r, tis):
     slew = p[28]
     leg_b = p[31]
     leg_k = p[32]
-    lift_slew = p[43]
+    lift_slew = p[44]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -1662,21 +1706,21 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, stride_speed, stride_t1, stride_x1, stride_y1, stride_t0, stride_x0, stride_y0, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:357:7
-        record pitch_mean      creatures/quadruped.leg:358:7
-        record pitch_last_td   creatures/quadruped.leg:359:7
-        record pitch_trim      creatures/quadruped.leg:360:7
-        record stride_speed    creatures/quadruped.leg:361:7 > stdlib/raibert.leg:429:3
-        record stride_t1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:432:3
-        record stride_x1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:433:3
-        record stride_y1       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:434:3
-        record stride_t0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:435:3
-        record stride_x0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:436:3
-        record stride_y0       creatures/quadruped.leg:361:7 > stdlib/raibert.leg:437:3
-        record flight_apex     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:362:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:362:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:362:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:370:7
+        record pitch_mean      creatures/quadruped.leg:371:7
+        record pitch_last_td   creatures/quadruped.leg:372:7
+        record pitch_trim      creatures/quadruped.leg:373:7
+        record stride_speed    creatures/quadruped.leg:374:7 > stdlib/raibert.leg:429:3
+        record stride_t1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:432:3
+        record stride_x1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:433:3
+        record stride_y1       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:434:3
+        record stride_t0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:435:3
+        record stride_x0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:436:3
+        record stride_y0       creatures/quadruped.leg:374:7 > stdlib/raibert.leg:437:3
+        record flight_apex     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:375:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:375:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:375:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     body_trunk_yaw = s[4]
@@ -1693,8 +1737,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     k_height_trim = p[22]
     stroke_max = p[23]
     stroke_min = p[24]
-    k_pitch_i = p[39]
-    trim_most = p[40]
+    k_pitch_i = p[40]
+    trim_most = p[41]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1721,6 +1765,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
@@ -1765,6 +1811,8 @@ def entry_LOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1772,48 +1820,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:363:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:364:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:364:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:364:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:365:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
-        leg_fr_spring.rest       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:279:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:366:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:366:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:376:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:377:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:377:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:377:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:378:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5
+        leg_fr_spring.rest       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:285:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:379:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:379:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1855,10 +1903,11 @@ def action_LOADING_1(s, u, p, r, tis):
     short = p[26]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1868,6 +1917,7 @@ def action_LOADING_1(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -1881,7 +1931,7 @@ def action_LOADING_1(s, u, p, r, tis):
     t9 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t10 = leg_rl_touching*t9
     hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
     t12 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t12
@@ -1979,6 +2029,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -2009,6 +2061,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2016,34 +2070,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:368:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
-        leg_fr_spring.rest       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:279:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:369:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:369:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:381:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5
+        leg_fr_spring.rest       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:285:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:382:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:382:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2085,10 +2139,11 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     short = p[26]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2098,6 +2153,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -2111,7 +2167,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t9 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t10 = leg_rl_touching*t9
     hip_rl_motor_force = t10*(-leg_rl_hip_y*t8 + t2)
-    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t11 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t10*(-leg_rl_hip_x*t8 + t11)
     t12 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t12
@@ -2195,6 +2251,8 @@ def entry_THRUST_1(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -2225,6 +2283,8 @@ def entry_THRUST_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2232,36 +2292,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:371:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:372:7 > creatures/quadruped.leg:332:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
-        leg_fr_spring.rest       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:279:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:373:7 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:373:7 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:384:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:385:7 > creatures/quadruped.leg:345:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5
+        leg_fr_spring.rest       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:285:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:386:7 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:386:7 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2304,12 +2364,13 @@ def action_THRUST_1(s, u, p, r, tis):
     slew = p[28]
     k_stride_speed = p[33]
     stride_most = p[34]
-    kv_rate = p[35]
-    omega_f = p[36]
-    omega_r = p[37]
-    k_center = p[38]
-    k_pitch_thrust = p[41]
-    idle_delay = p[42]
+    kv_rate = p[36]
+    omega_f = p[37]
+    omega_r = p[38]
+    k_center = p[39]
+    k_pitch_thrust = p[42]
+    idle_delay = p[43]
+    kv_roll_entry = p[45]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2320,6 +2381,7 @@ def action_THRUST_1(s, u, p, r, tis):
     side_trim = r[18]
     stride_speed = r[19]
     aim_rate = r[26]
+    entered_fast = r[29]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = k_pitch_thrust*pitch_mean*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
     t2 = 1.0 - leg_rl_touching
@@ -2335,7 +2397,7 @@ def action_THRUST_1(s, u, p, r, tis):
     t10 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t11 = leg_rl_touching*t10
     hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 + t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
     t13 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t13
@@ -2421,6 +2483,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     aim_rate = r[26]
     ahead_then = r[27]
     ahead_at = r[28]
+    entered_fast = r[29]
+    entered = r[30]
     return [
         steps,
         stance,
@@ -2451,6 +2515,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2458,36 +2524,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:375:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:375:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:375:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:375:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
-        leg_fr_spring.rest       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:279:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:375:50 > creatures/quadruped.leg:280:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:375:50 > creatures/quadruped.leg:281:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:388:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:388:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:388:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:388:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5
+        leg_fr_spring.rest       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:285:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:388:50 > creatures/quadruped.leg:286:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:388:50 > creatures/quadruped.leg:287:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]

@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "aa7e538ae9d5fc3d";
+const char legdsl_control_fingerprint[] = "44f22da005a34a05";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -63,7 +63,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:471:5 */
+/*   event: creatures/quadruped.leg:484:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[19];
@@ -73,7 +73,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:487:5 */
+/*   event: creatures/quadruped.leg:500:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[19];
@@ -83,7 +83,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:497:5 */
+/*   event: creatures/quadruped.leg:510:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[18];
@@ -93,7 +93,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:500:5 */
+/*   event: creatures/quadruped.leg:513:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[18];
@@ -104,7 +104,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:504:5 */
+/*   event: creatures/quadruped.leg:517:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[17];
@@ -119,7 +119,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:471:5 */
+/*   event: creatures/quadruped.leg:484:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[33];
@@ -129,7 +129,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:487:5 */
+/*   event: creatures/quadruped.leg:500:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_touching = s[33];
@@ -139,7 +139,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:497:5 */
+/*   event: creatures/quadruped.leg:510:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[32];
@@ -149,7 +149,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:500:5 */
+/*   event: creatures/quadruped.leg:513:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_rate = s[32];
@@ -160,7 +160,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:504:5 */
+/*   event: creatures/quadruped.leg:517:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_rl_length = s[31];
@@ -174,21 +174,23 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     return (((((leg_rl_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_rl_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:473:7 */
-/*   record ramped_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:484:7 */
+/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:486:7 */
+/*   record ramped_speed: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:497:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -208,10 +210,11 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double aim_rate_most = p[5];
     const double stance_guess = p[6];
     const double accel = p[27];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_trim = p[55];
-    const double fast_trim_band = p[56];
+    const double entry_fast = p[33];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_trim = p[57];
+    const double fast_trim_band = p[58];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -232,6 +235,8 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double ramped_at = r[18];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -247,10 +252,12 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t9 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
+    const double t10 = com_vx*t3 + com_vy*t5;
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (t10));
     const double new_ramped_at = leg_max(0.001, time);
-    const double t10 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t11 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t11), leg_cos(t11)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < t10)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -273,51 +280,53 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[19] = new_aim_rate;
     out[20] = path_route_ahead_heading;
     out[21] = time;
+    out[22] = new_entered_fast;
+    out[23] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:475:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:475:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:476:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:476:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:477:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:477:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:478:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:478:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:488:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:488:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:489:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:489:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:490:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:490:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:491:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:491:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -361,17 +370,17 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double leg_b = p[31];
     const double leg_k = p[32];
-    const double lift_slew = p[41];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double lift_slew = p[42];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -460,14 +469,14 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:488:7 */
-/*   record pitch_mean: creatures/quadruped.leg:489:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:490:7 */
-/*   record pitch_trim: creatures/quadruped.leg:491:7 */
-/*   record flight_apex: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:501:7 */
+/*   record pitch_mean: creatures/quadruped.leg:502:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:503:7 */
+/*   record pitch_trim: creatures/quadruped.leg:504:7 */
+/*   record flight_apex: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -480,12 +489,12 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double k_height_trim = p[22];
     const double stroke_max = p[23];
     const double stroke_min = p[24];
-    const double k_pitch_i = p[37];
-    const double trim_most = p[38];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_height = p[57];
-    const double fast_stroke_max = p[58];
+    const double k_pitch_i = p[38];
+    const double trim_most = p[39];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_height = p[59];
+    const double fast_stroke_max = p[60];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -506,6 +515,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
@@ -536,53 +547,55 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -632,25 +645,26 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double swing_kv = p[19];
     const double stand = p[25];
     const double short_ = p[26];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double stance_lead = p[45];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double stance_lead = p[47];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -659,6 +673,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fl_hip_y > 0.0)) : ((lead_rear*leg_fl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
     const double leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((((t1) ? ((lead_front*leg_fr_hip_y > 0.0)) : ((lead_rear*leg_fr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -676,7 +691,7 @@ static void action_LOADING_0(const double *s, const double *u, const double *p, 
     const double t11 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t12 = leg_fl_touching*t11;
     const double hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 - t4);
-    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13);
     const double t14 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t14;
@@ -773,6 +788,8 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -795,39 +812,41 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -875,24 +894,25 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double swing_kv = p[19];
     const double stand = p[25];
     const double short_ = p[26];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -901,6 +921,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = 1.0 - leg_fl_touching;
     const double hip_fl_pitch_kp = swing_kp*t1;
     const double hip_fl_pitch_kv = swing_kv*t1;
@@ -915,7 +936,7 @@ static void action_COMPRESSION_0(const double *s, const double *u, const double 
     const double t10 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t11 = leg_fl_touching*t10;
     const double hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 - t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12);
     const double t13 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t13;
@@ -998,6 +1019,8 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1020,41 +1043,43 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1105,28 +1130,29 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double stand = p[25];
     const double short_ = p[26];
     const double slew = p[28];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double k_pitch_thrust = p[39];
-    const double idle_delay = p[40];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double stance_lead = p[45];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_pitch_thrust = p[59];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double k_pitch_thrust = p[40];
+    const double idle_delay = p[41];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double stance_lead = p[47];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_pitch_thrust = p[61];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1136,6 +1162,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0);
     const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
@@ -1154,7 +1181,7 @@ static void action_THRUST_0(const double *s, const double *u, const double *p, c
     const double t12 = leg_div(1.0, leg_max(1.0, leg_fl_touching + leg_fr_touching));
     const double t13 = leg_fl_touching*t12;
     const double hip_fl_motor_force = t13*(-leg_fl_hip_y*t11 - t5);
-    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_fl_roll_motor_force = t13*(-leg_fl_hip_x*t11 + t14);
     const double t15 = 1.0 - leg_fr_touching;
     const double hip_fr_pitch_kp = swing_kp*t15;
@@ -1239,6 +1266,8 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1261,41 +1290,43 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1327,16 +1358,16 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     const double swing_kp = p[18];
     const double swing_kv = p[19];
     const double stand = p[25];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];
@@ -1395,21 +1426,23 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     (void)err;
 }
 
-/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:473:7 */
-/*   record ramped_speed: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3 */
-/*   record speed_trim: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3 */
-/*   record lifted: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3 */
-/*   record lifted_x: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3 */
-/*   record lifted_y: creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3 */
-/*   record stance: creatures/quadruped.leg:484:7 */
+/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:486:7 */
+/*   record ramped_speed: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:72:3 */
+/*   record speed_trim: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:73:3 */
+/*   record lifted: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:74:3 */
+/*   record lifted_x: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:75:3 */
+/*   record lifted_y: creatures/quadruped.leg:496:7 > stdlib/raibert.leg:76:3 */
+/*   record stance: creatures/quadruped.leg:497:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1429,10 +1462,11 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double aim_rate_most = p[5];
     const double stance_guess = p[6];
     const double accel = p[27];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_trim = p[55];
-    const double fast_trim_band = p[56];
+    const double entry_fast = p[33];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_trim = p[57];
+    const double fast_trim_band = p[58];
     const double steps = r[0];
     const double landed = r[2];
     const double pitch_mean = r[3];
@@ -1453,6 +1487,8 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double ramped_at = r[18];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1468,10 +1504,12 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_step_side = ((t6) ? (leg_div((-t2*t5 + t3*t4), leg_max(0.001, t1))) : (0.0));
     const double new_side_trim = -k_side_trim*leg_min(trim_band, leg_max(step_side, -trim_band)) + side_trim;
     const double t9 = accel*(-ramped_at + time);
-    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (com_vx*t3 + com_vy*t5));
+    const double t10 = com_vx*t3 + com_vy*t5;
+    const double new_ramped_speed = (((ramped_at > 0.0)) ? (leg_min(ramped_speed + t9, leg_max(speed, ramped_speed - t9))) : (t10));
     const double new_ramped_at = leg_max(0.001, time);
-    const double t10 = ahead_then - path_route_ahead_heading;
-    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t10), leg_cos(t10)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double t11 = ahead_then - path_route_ahead_heading;
+    const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t11), leg_cos(t11)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < t10)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1494,51 +1532,53 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[19] = new_aim_rate;
     out[20] = path_route_ahead_heading;
     out[21] = time;
+    out[22] = new_entered_fast;
+    out[23] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:475:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:475:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:476:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:476:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:477:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:477:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:478:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:478:7 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place rl (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fl (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:488:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:488:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:489:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:489:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:490:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:490:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:491:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:491:7 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place rl (x, y): creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1582,17 +1622,17 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
     const double slew = p[28];
     const double leg_b = p[31];
     const double leg_k = p[32];
-    const double lift_slew = p[41];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double lift_slew = p[42];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double speed_trim = r[7];
@@ -1681,14 +1721,14 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:488:7 */
-/*   record pitch_mean: creatures/quadruped.leg:489:7 */
-/*   record pitch_last_td: creatures/quadruped.leg:490:7 */
-/*   record pitch_trim: creatures/quadruped.leg:491:7 */
-/*   record flight_apex: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:501:7 */
+/*   record pitch_mean: creatures/quadruped.leg:502:7 */
+/*   record pitch_last_td: creatures/quadruped.leg:503:7 */
+/*   record pitch_trim: creatures/quadruped.leg:504:7 */
+/*   record flight_apex: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1701,12 +1741,12 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double k_height_trim = p[22];
     const double stroke_max = p[23];
     const double stroke_min = p[24];
-    const double k_pitch_i = p[37];
-    const double trim_most = p[38];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_height = p[57];
-    const double fast_stroke_max = p[58];
+    const double k_pitch_i = p[38];
+    const double trim_most = p[39];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_height = p[59];
+    const double fast_stroke_max = p[60];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1727,6 +1767,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     const double new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td;
     const double new_pitch_trim = leg_min(trim_most, leg_max(-trim_most, k_pitch_i*pitch_mean + pitch_trim));
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
@@ -1757,53 +1799,55 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -1853,25 +1897,26 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double swing_kv = p[19];
     const double stand = p[25];
     const double short_ = p[26];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double stance_lead = p[45];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double stance_lead = p[47];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -1880,6 +1925,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rl_hip_y > 0.0)) : ((lead_rear*leg_rl_hip_y > 0.0)))) ? (stance_lead) : (0.0));
     const double leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((((t1) ? ((lead_front*leg_rr_hip_y > 0.0)) : ((lead_rear*leg_rr_hip_y > 0.0)))) ? (stance_lead) : (0.0));
@@ -1897,7 +1943,7 @@ static void action_LOADING_1(const double *s, const double *u, const double *p, 
     const double t11 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t12 = leg_rl_touching*t11;
     const double hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 - t4);
-    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13);
     const double t14 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t14;
@@ -1994,6 +2040,8 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2016,39 +2064,41 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2096,24 +2146,25 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double swing_kv = p[19];
     const double stand = p[25];
     const double short_ = p[26];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2122,6 +2173,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = 1.0 - leg_rl_touching;
     const double hip_rl_pitch_kp = swing_kp*t1;
     const double hip_rl_pitch_kv = swing_kv*t1;
@@ -2136,7 +2188,7 @@ static void action_COMPRESSION_1(const double *s, const double *u, const double 
     const double t10 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t11 = leg_rl_touching*t10;
     const double hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 - t3);
-    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12);
     const double t13 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t13;
@@ -2219,6 +2271,8 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2241,41 +2295,43 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch_rate = s[1];
@@ -2326,28 +2382,29 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double stand = p[25];
     const double short_ = p[26];
     const double slew = p[28];
-    const double kv_rate = p[33];
-    const double omega_f = p[34];
-    const double omega_r = p[35];
-    const double k_center = p[36];
-    const double k_pitch_thrust = p[39];
-    const double idle_delay = p[40];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double stance_lead = p[45];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_omega_f = p[51];
-    const double fast_omega_r = p[52];
-    const double fast_kv_rate = p[53];
-    const double fast_k_center = p[54];
-    const double fast_pitch_thrust = p[59];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double kv_rate = p[34];
+    const double omega_f = p[35];
+    const double omega_r = p[36];
+    const double k_center = p[37];
+    const double k_pitch_thrust = p[40];
+    const double idle_delay = p[41];
+    const double kv_roll_entry = p[43];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double stance_lead = p[47];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_omega_f = p[53];
+    const double fast_omega_r = p[54];
+    const double fast_kv_rate = p[55];
+    const double fast_k_center = p[56];
+    const double fast_pitch_thrust = p[61];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double steps = r[0];
     const double stance = r[1];
     const double pitch_mean = r[3];
@@ -2357,6 +2414,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double side_trim = r[16];
     const double ramped_speed = r[17];
     const double aim_rate = r[19];
+    const double entered_fast = r[22];
     const double t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0);
     const double t2 = leg_min(1.0, leg_max(0.0, leg_div((-fast_from + ramped_speed), fast_span)));
     const double t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((t1) ? (1.0) : (-1.0)) + stand + thrust_stroke;
@@ -2375,7 +2433,7 @@ static void action_THRUST_1(const double *s, const double *u, const double *p, c
     const double t12 = leg_div(1.0, leg_max(1.0, leg_rl_touching + leg_rr_touching));
     const double t13 = leg_rl_touching*t12;
     const double hip_rl_motor_force = t13*(-leg_rl_hip_y*t11 - t5);
-    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll;
+    const double t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + (((entered_fast > 0.0)) ? (kv_roll_entry) : (0.0)));
     const double hip_rl_roll_motor_force = t13*(-leg_rl_hip_x*t11 + t14);
     const double t15 = 1.0 - leg_rr_touching;
     const double hip_rr_pitch_kp = swing_kp*t15;
@@ -2460,6 +2518,8 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double aim_rate = r[19];
     const double ahead_then = r[20];
     const double ahead_at = r[21];
+    const double entered_fast = r[22];
+    const double entered = r[23];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -2482,41 +2542,43 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     out[19] = aim_rate;
     out[20] = ahead_then;
     out[21] = ahead_at;
+    out[22] = entered_fast;
+    out[23] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y). */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3 */
-/*   place fl (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place fr (x, y): creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3 */
+/*   place fl (x, y): creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place fr (x, y): creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -2548,16 +2610,16 @@ static void action_UNLOADING_1(const double *s, const double *u, const double *p
     const double swing_kp = p[18];
     const double swing_kv = p[19];
     const double stand = p[25];
-    const double stagger = p[42];
-    const double lead_front = p[43];
-    const double lead_rear = p[44];
-    const double fast_from = p[46];
-    const double fast_span = p[47];
-    const double fast_k_speed = p[48];
-    const double fast_stance_f = p[49];
-    const double fast_stance_r = p[50];
-    const double fast_window = p[60];
-    const double fast_lag = p[61];
+    const double stagger = p[44];
+    const double lead_front = p[45];
+    const double lead_rear = p[46];
+    const double fast_from = p[48];
+    const double fast_span = p[49];
+    const double fast_k_speed = p[50];
+    const double fast_stance_f = p[51];
+    const double fast_stance_r = p[52];
+    const double fast_window = p[62];
+    const double fast_lag = p[63];
     const double stance = r[1];
     const double speed_trim = r[7];
     const double side_trim = r[16];
@@ -2688,7 +2750,7 @@ static const int64_t *const places_i[] = {places_0_0_i, places_0_1_i, places_0_2
 static const double *const places_d[] = {places_0_0_d, places_0_1_d, places_0_2_d, places_0_3_d, places_0_4_d, places_1_0_d, places_1_1_d, places_1_2_d, places_1_3_d, places_1_4_d};
 
 const leg_controller leg_the_controller = {
-    5, 2, 46, 4, 22, 44,
+    5, 2, 46, 4, 24, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

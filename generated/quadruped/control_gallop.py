@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "gallop"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "aa7e538ae9d5fc3d"
+FINGERPRINT = "44f22da005a34a05"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'integral.turn_rate', 'leg.fl.foot_z', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.foot_z', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.foot_z', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.foot_z', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'terrain.height', 'time')
@@ -77,6 +77,7 @@ PARAMS = {
     "settle": 0.02,
     "leg_b": 85.4,
     "leg_k": 6370.0,
+    "entry_fast": 3.0,
     "kv_rate": 38.8,
     "omega_f": 4.87,
     "omega_r": 2.17,
@@ -86,6 +87,7 @@ PARAMS = {
     "k_pitch_thrust": 0.0125,
     "idle_delay": 0.116,
     "lift_slew": 5.69,
+    "kv_roll_entry": 0.0,
     "stagger": 0.00955,
     "lead_front": 1.0,
     "lead_rear": -1.0,
@@ -107,7 +109,7 @@ PARAMS = {
     "fast_window": 0.0123,
     "fast_lag": 0.00657,
 }
-RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'pitch_mean', 'pitch_last_td', 'pitch_trim', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'aim_rate', 'ahead_then', 'ahead_at', 'entered_fast', 'entered')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -127,7 +129,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:471:5
+        event  creatures/quadruped.leg:484:5
     """
     leg_fl_touching = s[19]
     leg_fr_touching = s[26]
@@ -138,7 +140,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:487:5
+        event  creatures/quadruped.leg:500:5
     """
     leg_fl_touching = s[19]
     leg_fr_touching = s[26]
@@ -149,7 +151,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:497:5
+        event  creatures/quadruped.leg:510:5
     """
     leg_fl_rate = s[18]
     leg_fr_rate = s[25]
@@ -160,7 +162,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:500:5
+        event  creatures/quadruped.leg:513:5
     """
     leg_fl_rate = s[18]
     leg_fr_rate = s[25]
@@ -172,7 +174,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:504:5
+        event  creatures/quadruped.leg:517:5
     """
     leg_fl_length = s[17]
     leg_fl_touching = s[19]
@@ -188,7 +190,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:471:5
+        event  creatures/quadruped.leg:484:5
     """
     leg_rl_touching = s[33]
     leg_rr_touching = s[40]
@@ -199,7 +201,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:487:5
+        event  creatures/quadruped.leg:500:5
     """
     leg_rl_touching = s[33]
     leg_rr_touching = s[40]
@@ -210,7 +212,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:497:5
+        event  creatures/quadruped.leg:510:5
     """
     leg_rl_rate = s[32]
     leg_rr_rate = s[39]
@@ -221,7 +223,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:500:5
+        event  creatures/quadruped.leg:513:5
     """
     leg_rl_rate = s[32]
     leg_rr_rate = s[39]
@@ -233,7 +235,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:504:5
+        event  creatures/quadruped.leg:517:5
     """
     leg_rl_length = s[31]
     leg_rl_touching = s[33]
@@ -246,23 +248,25 @@ def event_UNLOADING_1(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:473:7
-        record ramped_speed  creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:484:7
+        record steps         creatures/quadruped.leg:486:7
+        record ramped_speed  creatures/quadruped.leg:493:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:493:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:494:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:494:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:495:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:495:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:495:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:496:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:496:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:496:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:496:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:496:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:497:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -281,10 +285,11 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     aim_rate_most = p[5]
     stance_guess = p[6]
     accel = p[27]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_trim = p[55]
-    fast_trim_band = p[56]
+    entry_fast = p[33]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_trim = p[57]
+    fast_trim_band = p[58]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -305,6 +310,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     ramped_at = r[18]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -320,10 +327,12 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
-    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    t10 = com_vx*t3 + com_vy*t5
+    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (t10))
     new_ramped_at = maximum(0.001, time)
-    t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    t11 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t11), math.cos(t11))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < t10) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -347,6 +356,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -354,46 +365,46 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_fr_spring.b, leg_rl_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place fl (x, y), place fr (x, y), place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fl_spring.k          creatures/quadruped.leg:475:7
-        leg_fr_spring.k          creatures/quadruped.leg:475:7
-        leg_rl_spring.k          creatures/quadruped.leg:476:7
-        leg_rr_spring.k          creatures/quadruped.leg:476:7
-        leg_fl_spring.b          creatures/quadruped.leg:477:7
-        leg_fr_spring.b          creatures/quadruped.leg:477:7
-        leg_rl_spring.b          creatures/quadruped.leg:478:7
-        leg_rr_spring.b          creatures/quadruped.leg:478:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
-        leg_rl_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fl_spring.k          creatures/quadruped.leg:488:7
+        leg_fr_spring.k          creatures/quadruped.leg:488:7
+        leg_rl_spring.k          creatures/quadruped.leg:489:7
+        leg_rr_spring.k          creatures/quadruped.leg:489:7
+        leg_fl_spring.b          creatures/quadruped.leg:490:7
+        leg_fr_spring.b          creatures/quadruped.leg:490:7
+        leg_rl_spring.b          creatures/quadruped.leg:491:7
+        leg_rr_spring.b          creatures/quadruped.leg:491:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3
+        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -436,17 +447,17 @@ def action_FLIGHT_0(s, u, p, r, tis):
     slew = p[28]
     leg_b = p[31]
     leg_k = p[32]
-    lift_slew = p[41]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_window = p[60]
-    fast_lag = p[61]
+    lift_slew = p[42]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -538,14 +549,14 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:488:7
-        record pitch_mean      creatures/quadruped.leg:489:7
-        record pitch_last_td   creatures/quadruped.leg:490:7
-        record pitch_trim      creatures/quadruped.leg:491:7
-        record flight_apex     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:501:7
+        record pitch_mean      creatures/quadruped.leg:502:7
+        record pitch_last_td   creatures/quadruped.leg:503:7
+        record pitch_trim      creatures/quadruped.leg:504:7
+        record flight_apex     creatures/quadruped.leg:505:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:505:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:505:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:505:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -557,12 +568,12 @@ def entry_LOADING_0(s, u, p, r, tis):
     k_height_trim = p[22]
     stroke_max = p[23]
     stroke_min = p[24]
-    k_pitch_i = p[37]
-    trim_most = p[38]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_height = p[57]
-    fast_stroke_max = p[58]
+    k_pitch_i = p[38]
+    trim_most = p[39]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_height = p[59]
+    fast_stroke_max = p[60]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -583,6 +594,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
@@ -614,6 +627,8 @@ def entry_LOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -621,48 +636,48 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -711,25 +726,26 @@ def action_LOADING_0(s, u, p, r, tis):
     swing_kv = p[19]
     stand = p[25]
     short = p[26]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    stance_lead = p[45]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    stance_lead = p[47]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -738,6 +754,7 @@ def action_LOADING_0(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     leg_fl_spring_rest = 0.5*leg_fl_hip_z - 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fl_hip_y > 0.0)) if t1 else ((lead_rear*leg_fl_hip_y > 0.0))) else (0.0))
     leg_fr_spring_rest = -0.5*leg_fl_hip_z + 0.5*leg_fr_hip_z + stand + ((stance_lead) if (((lead_front*leg_fr_hip_y > 0.0)) if t1 else ((lead_rear*leg_fr_hip_y > 0.0))) else (0.0))
@@ -755,7 +772,7 @@ def action_LOADING_0(s, u, p, r, tis):
     t11 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t12 = leg_fl_touching*t11
     hip_fl_motor_force = t12*(-leg_fl_hip_y*t10 - t4)
-    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t12*(-leg_fl_hip_x*t10 + t13)
     t14 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t14
@@ -851,6 +868,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -874,6 +893,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -881,34 +902,34 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -955,24 +976,25 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     swing_kv = p[19]
     stand = p[25]
     short = p[26]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -981,6 +1003,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = 1.0 - leg_fl_touching
     hip_fl_pitch_kp = swing_kp*t1
     hip_fl_pitch_kv = swing_kv*t1
@@ -995,7 +1018,7 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     t10 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t11 = leg_fl_touching*t10
     hip_fl_motor_force = t11*(-leg_fl_hip_y*t9 - t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t11*(-leg_fl_hip_x*t9 + t12)
     t13 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t13
@@ -1077,6 +1100,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -1100,6 +1125,8 @@ def entry_THRUST_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1107,36 +1134,36 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fl_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fl_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fl_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_fr_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_fr_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_fr_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_rl_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fl_roll.kp           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fl_roll.kv           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fl_motor.force       creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_fr_roll.kp           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_fr_roll.kv           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_fr_motor.force       creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_rl_spring.rest       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1186,28 +1213,29 @@ def action_THRUST_0(s, u, p, r, tis):
     stand = p[25]
     short = p[26]
     slew = p[28]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    k_pitch_thrust = p[39]
-    idle_delay = p[40]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    stance_lead = p[45]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_pitch_thrust = p[59]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    k_pitch_thrust = p[40]
+    idle_delay = p[41]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    stance_lead = p[47]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_pitch_thrust = p[61]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1217,6 +1245,7 @@ def action_THRUST_0(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = (0.5*leg_fl_hip_x + 0.5*leg_fr_hip_x > 0.0)
     t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
@@ -1235,7 +1264,7 @@ def action_THRUST_0(s, u, p, r, tis):
     t12 = 1/maximum(1.0, leg_fl_touching + leg_fr_touching)
     t13 = leg_fl_touching*t12
     hip_fl_motor_force = t13*(-leg_fl_hip_y*t11 - t5)
-    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_fl_roll_motor_force = t13*(-leg_fl_hip_x*t11 + t14)
     t15 = 1.0 - leg_fr_touching
     hip_fr_pitch_kp = swing_kp*t15
@@ -1319,6 +1348,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -1342,6 +1373,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1349,36 +1382,36 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, place rl (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
-        leg_fr_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
-        leg_rl_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3
+        leg_fr_spring.rest       creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_motor.force       creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kp           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll.kv           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3
+        leg_rl_spring.rest       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1409,16 +1442,16 @@ def action_UNLOADING_0(s, u, p, r, tis):
     swing_kp = p[18]
     swing_kv = p[19]
     stand = p[25]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_window = p[60]
-    fast_lag = p[61]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_window = p[62]
+    fast_lag = p[63]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]
@@ -1478,23 +1511,25 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:473:7
-        record ramped_speed  creatures/quadruped.leg:480:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:480:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:481:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:482:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:482:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:72:3
-        record speed_trim    creatures/quadruped.leg:483:7 > stdlib/raibert.leg:73:3
-        record lifted        creatures/quadruped.leg:483:7 > stdlib/raibert.leg:74:3
-        record lifted_x      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:75:3
-        record lifted_y      creatures/quadruped.leg:483:7 > stdlib/raibert.leg:76:3
-        record stance        creatures/quadruped.leg:484:7
+        record steps         creatures/quadruped.leg:486:7
+        record ramped_speed  creatures/quadruped.leg:493:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:493:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:494:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:494:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:495:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:495:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:495:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:496:7 > stdlib/raibert.leg:72:3
+        record speed_trim    creatures/quadruped.leg:496:7 > stdlib/raibert.leg:73:3
+        record lifted        creatures/quadruped.leg:496:7 > stdlib/raibert.leg:74:3
+        record lifted_x      creatures/quadruped.leg:496:7 > stdlib/raibert.leg:75:3
+        record lifted_y      creatures/quadruped.leg:496:7 > stdlib/raibert.leg:76:3
+        record stance        creatures/quadruped.leg:497:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1513,10 +1548,11 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     aim_rate_most = p[5]
     stance_guess = p[6]
     accel = p[27]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_trim = p[55]
-    fast_trim_band = p[56]
+    entry_fast = p[33]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_trim = p[57]
+    fast_trim_band = p[58]
     steps = r[0]
     landed = r[2]
     pitch_mean = r[3]
@@ -1537,6 +1573,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     ramped_at = r[18]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1552,10 +1590,12 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_step_side = (((-t2*t5 + t3*t4)/maximum(0.001, t1)) if t6 else (0.0))
     new_side_trim = -k_side_trim*minimum(trim_band, maximum(step_side, -trim_band)) + side_trim
     t9 = accel*(-ramped_at + time)
-    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (com_vx*t3 + com_vy*t5))
+    t10 = com_vx*t3 + com_vy*t5
+    new_ramped_speed = ((minimum(ramped_speed + t9, maximum(speed, ramped_speed - t9))) if (ramped_at > 0.0) else (t10))
     new_ramped_at = maximum(0.001, time)
-    t10 = ahead_then - path_route_ahead_heading
-    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t10), math.cos(t10))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    t11 = ahead_then - path_route_ahead_heading
+    new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t11), math.cos(t11))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < t10) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -1579,6 +1619,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -1586,46 +1628,46 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, leg_rl_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_fr_spring.k, leg_rl_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_fr_spring.b, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place rl (x, y), place rr (x, y), place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:474:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rl_spring.k          creatures/quadruped.leg:475:7
-        leg_rr_spring.k          creatures/quadruped.leg:475:7
-        leg_fl_spring.k          creatures/quadruped.leg:476:7
-        leg_fr_spring.k          creatures/quadruped.leg:476:7
-        leg_rl_spring.b          creatures/quadruped.leg:477:7
-        leg_rr_spring.b          creatures/quadruped.leg:477:7
-        leg_fl_spring.b          creatures/quadruped.leg:478:7
-        leg_fr_spring.b          creatures/quadruped.leg:478:7
-        hip_rl_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:479:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:479:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:479:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:486:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place rl (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:485:7 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fl (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:486:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:487:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rl_spring.k          creatures/quadruped.leg:488:7
+        leg_rr_spring.k          creatures/quadruped.leg:488:7
+        leg_fl_spring.k          creatures/quadruped.leg:489:7
+        leg_fr_spring.k          creatures/quadruped.leg:489:7
+        leg_rl_spring.b          creatures/quadruped.leg:490:7
+        leg_rr_spring.b          creatures/quadruped.leg:490:7
+        leg_fl_spring.b          creatures/quadruped.leg:491:7
+        leg_fr_spring.b          creatures/quadruped.leg:491:7
+        hip_rl_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:492:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:492:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place rl (x, y)          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1668,17 +1710,17 @@ def action_FLIGHT_1(s, u, p, r, tis):
     slew = p[28]
     leg_b = p[31]
     leg_k = p[32]
-    lift_slew = p[41]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_window = p[60]
-    fast_lag = p[61]
+    lift_slew = p[42]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     speed_trim = r[7]
@@ -1770,14 +1812,14 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, pitch_mean, pitch_last_td, pitch_trim, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:488:7
-        record pitch_mean      creatures/quadruped.leg:489:7
-        record pitch_last_td   creatures/quadruped.leg:490:7
-        record pitch_trim      creatures/quadruped.leg:491:7
-        record flight_apex     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:492:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:492:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:492:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:501:7
+        record pitch_mean      creatures/quadruped.leg:502:7
+        record pitch_last_td   creatures/quadruped.leg:503:7
+        record pitch_trim      creatures/quadruped.leg:504:7
+        record flight_apex     creatures/quadruped.leg:505:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:505:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:505:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:505:7 > stdlib/raibert.leg:315:3
     """
     body_trunk_pitch = s[0]
     com_vz = s[8]
@@ -1789,12 +1831,12 @@ def entry_LOADING_1(s, u, p, r, tis):
     k_height_trim = p[22]
     stroke_max = p[23]
     stroke_min = p[24]
-    k_pitch_i = p[37]
-    trim_most = p[38]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_height = p[57]
-    fast_stroke_max = p[58]
+    k_pitch_i = p[38]
+    trim_most = p[39]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_height = p[59]
+    fast_stroke_max = p[60]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1815,6 +1857,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     new_pitch_mean = 0.5*body_trunk_pitch + 0.5*pitch_last_td
     new_pitch_trim = minimum(trim_most, maximum(-trim_most, k_pitch_i*pitch_mean + pitch_trim))
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
@@ -1846,6 +1890,8 @@ def entry_LOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1853,48 +1899,48 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:493:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:494:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:494:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:494:7 > stdlib/raibert.leg:169:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:495:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:496:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:496:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:506:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:507:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:507:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:507:7 > stdlib/raibert.leg:169:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:508:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:509:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:509:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -1943,25 +1989,26 @@ def action_LOADING_1(s, u, p, r, tis):
     swing_kv = p[19]
     stand = p[25]
     short = p[26]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    stance_lead = p[45]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    stance_lead = p[47]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -1970,6 +2017,7 @@ def action_LOADING_1(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     leg_rl_spring_rest = 0.5*leg_rl_hip_z - 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rl_hip_y > 0.0)) if t1 else ((lead_rear*leg_rl_hip_y > 0.0))) else (0.0))
     leg_rr_spring_rest = -0.5*leg_rl_hip_z + 0.5*leg_rr_hip_z + stand + ((stance_lead) if (((lead_front*leg_rr_hip_y > 0.0)) if t1 else ((lead_rear*leg_rr_hip_y > 0.0))) else (0.0))
@@ -1987,7 +2035,7 @@ def action_LOADING_1(s, u, p, r, tis):
     t11 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t12 = leg_rl_touching*t11
     hip_rl_motor_force = t12*(-leg_rl_hip_y*t10 - t4)
-    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t13 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t12*(-leg_rl_hip_x*t10 + t13)
     t14 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t14
@@ -2083,6 +2131,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -2106,6 +2156,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2113,34 +2165,34 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        hip_rl_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:498:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:499:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:499:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:511:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:512:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:512:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2187,24 +2239,25 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     swing_kv = p[19]
     stand = p[25]
     short = p[26]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2213,6 +2266,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = 1.0 - leg_rl_touching
     hip_rl_pitch_kp = swing_kp*t1
     hip_rl_pitch_kv = swing_kv*t1
@@ -2227,7 +2281,7 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     t10 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t11 = leg_rl_touching*t10
     hip_rl_motor_force = t11*(-leg_rl_hip_y*t9 - t3)
-    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t12 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t11*(-leg_rl_hip_x*t9 + t12)
     t13 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t13
@@ -2309,6 +2363,8 @@ def entry_THRUST_1(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -2332,6 +2388,8 @@ def entry_THRUST_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2339,36 +2397,36 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_rr_spring.rest       creatures/quadruped.leg:501:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_rl_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rl_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rl_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rl_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
-        hip_rr_roll.kp           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
-        hip_rr_roll.kv           creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
-        hip_rr_motor.force       creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:502:7 > creatures/quadruped.leg:466:5 > creatures/quadruped.leg:273:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
-        leg_fl_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:503:7 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:503:7 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_rr_spring.rest       creatures/quadruped.leg:514:7 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_rl_pitch.kp          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rl_roll.kp           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rl_roll.kv           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rl_motor.force       creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:404:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:405:5
+        hip_rr_roll.kp           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:406:5
+        hip_rr_roll.kv           creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:407:5
+        hip_rr_motor.force       creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:408:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:515:7 > creatures/quadruped.leg:479:5 > creatures/quadruped.leg:279:5 > stdlib/raibert.leg:401:3 > stdlib/raibert.leg:409:5
+        leg_fl_spring.rest       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:516:7 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:516:7 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_pitch_rate = s[1]
     body_trunk_roll = s[2]
@@ -2418,28 +2476,29 @@ def action_THRUST_1(s, u, p, r, tis):
     stand = p[25]
     short = p[26]
     slew = p[28]
-    kv_rate = p[33]
-    omega_f = p[34]
-    omega_r = p[35]
-    k_center = p[36]
-    k_pitch_thrust = p[39]
-    idle_delay = p[40]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    stance_lead = p[45]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_omega_f = p[51]
-    fast_omega_r = p[52]
-    fast_kv_rate = p[53]
-    fast_k_center = p[54]
-    fast_pitch_thrust = p[59]
-    fast_window = p[60]
-    fast_lag = p[61]
+    kv_rate = p[34]
+    omega_f = p[35]
+    omega_r = p[36]
+    k_center = p[37]
+    k_pitch_thrust = p[40]
+    idle_delay = p[41]
+    kv_roll_entry = p[43]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    stance_lead = p[47]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_omega_f = p[53]
+    fast_omega_r = p[54]
+    fast_kv_rate = p[55]
+    fast_k_center = p[56]
+    fast_pitch_thrust = p[61]
+    fast_window = p[62]
+    fast_lag = p[63]
     steps = r[0]
     stance = r[1]
     pitch_mean = r[3]
@@ -2449,6 +2508,7 @@ def action_THRUST_1(s, u, p, r, tis):
     side_trim = r[16]
     ramped_speed = r[17]
     aim_rate = r[19]
+    entered_fast = r[22]
     t1 = (0.5*leg_rl_hip_x + 0.5*leg_rr_hip_x > 0.0)
     t2 = minimum(1.0, maximum(0.0, (-fast_from + ramped_speed)/fast_span))
     t3 = pitch_mean*(fast_pitch_thrust*t2 + k_pitch_thrust)*((1.0) if t1 else (-1.0)) + stand + thrust_stroke
@@ -2467,7 +2527,7 @@ def action_THRUST_1(s, u, p, r, tis):
     t12 = 1/maximum(1.0, leg_rl_touching + leg_rr_touching)
     t13 = leg_rl_touching*t12
     hip_rl_motor_force = t13*(-leg_rl_hip_y*t11 - t5)
-    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*kv_roll
+    t14 = body_trunk_roll*kp_roll + body_trunk_roll_rate*(kv_roll + ((kv_roll_entry) if (entered_fast > 0.0) else (0.0)))
     hip_rl_roll_motor_force = t13*(-leg_rl_hip_x*t11 + t14)
     t15 = 1.0 - leg_rr_touching
     hip_rr_pitch_kp = swing_kp*t15
@@ -2551,6 +2611,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     aim_rate = r[19]
     ahead_then = r[20]
     ahead_at = r[21]
+    entered_fast = r[22]
+    entered = r[23]
     return [
         steps,
         stance,
@@ -2574,6 +2636,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -2581,36 +2645,36 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_rl_spring.rest, leg_rr_spring.rest, hip_rl_pitch.kp, hip_rr_pitch.kp, hip_rl_pitch.kv, hip_rr_pitch.kv, hip_rl_motor.force, hip_rr_motor.force, hip_rl_roll.kp, hip_rr_roll.kp, hip_rl_roll.kv, hip_rr_roll.kv, hip_rl_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_fr_spring.rest, hip_fl_pitch.kp, hip_fr_pitch.kp, hip_fl_pitch.kv, hip_fr_pitch.kv, hip_fl_motor.force, hip_fr_motor.force, hip_fl_roll.kp, hip_fr_roll.kp, hip_fl_roll.kv, hip_fr_roll.kv, hip_fl_roll_motor.force, hip_fr_roll_motor.force, place fl (x, y), place fr (x, y).
 
     From the .leg file:
-        leg_rl_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:505:7 > stdlib/raibert.leg:196:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:505:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:505:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:505:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        leg_fr_spring.rest       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:429:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
-        hip_fl_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_motor.force       creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kp           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll.kv           creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:505:50 > creatures/quadruped.leg:430:5 > stdlib/raibert.leg:155:3
-        place fl (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place fr (x, y)          creatures/quadruped.leg:505:50 > creatures/quadruped.leg:431:5 > creatures/quadruped.leg:462:5 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_rl_spring.rest       creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:518:7 > stdlib/raibert.leg:196:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_motor.force       creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:518:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_roll.kp           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kv           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:518:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:518:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        leg_fr_spring.rest       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:442:5 > stdlib/raibert.leg:420:3 > stdlib/raibert.leg:420:20
+        hip_fl_pitch.kp          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_motor.force       creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kp           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll.kv           creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:518:50 > creatures/quadruped.leg:443:5 > stdlib/raibert.leg:155:3
+        place fl (x, y)          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place fr (x, y)          creatures/quadruped.leg:518:50 > creatures/quadruped.leg:444:5 > creatures/quadruped.leg:475:5 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -2641,16 +2705,16 @@ def action_UNLOADING_1(s, u, p, r, tis):
     swing_kp = p[18]
     swing_kv = p[19]
     stand = p[25]
-    stagger = p[42]
-    lead_front = p[43]
-    lead_rear = p[44]
-    fast_from = p[46]
-    fast_span = p[47]
-    fast_k_speed = p[48]
-    fast_stance_f = p[49]
-    fast_stance_r = p[50]
-    fast_window = p[60]
-    fast_lag = p[61]
+    stagger = p[44]
+    lead_front = p[45]
+    lead_rear = p[46]
+    fast_from = p[48]
+    fast_span = p[49]
+    fast_k_speed = p[50]
+    fast_stance_f = p[51]
+    fast_stance_r = p[52]
+    fast_window = p[62]
+    fast_lag = p[63]
     stance = r[1]
     speed_trim = r[7]
     side_trim = r[16]

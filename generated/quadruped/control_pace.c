@@ -7,7 +7,7 @@
 #include "dynamics.h"
 #include "legdsl_control.h"
 
-const char legdsl_control_fingerprint[] = "ce7a76c78acb1fa5";
+const char legdsl_control_fingerprint[] = "d1faf6e3033e6d05";
 
 const int64_t leg_has_c_controller = 1;
 
@@ -62,7 +62,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:202:5 */
+/*   event: creatures/quadruped.leg:207:5 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[22];
@@ -72,7 +72,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:218:5 */
+/*   event: creatures/quadruped.leg:223:5 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_touching = s[22];
@@ -82,7 +82,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:225:5 */
+/*   event: creatures/quadruped.leg:230:5 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[21];
@@ -92,7 +92,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:228:5 */
+/*   event: creatures/quadruped.leg:233:5 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_rate = s[21];
@@ -103,7 +103,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:232:5 */
+/*   event: creatures/quadruped.leg:237:5 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fl_length = s[20];
@@ -118,7 +118,7 @@ static int event_UNLOADING_0(const double *s, const double *u, const double *p, 
 }
 
 /* Enter FLIGHT (waiting under binding 1) when: liftoff(active) */
-/*   event: creatures/quadruped.leg:202:5 */
+/*   event: creatures/quadruped.leg:207:5 */
 static int event_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[28];
@@ -128,7 +128,7 @@ static int event_FLIGHT_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 1) when: touchdown(active) */
-/*   event: creatures/quadruped.leg:218:5 */
+/*   event: creatures/quadruped.leg:223:5 */
 static int event_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_touching = s[28];
@@ -138,7 +138,7 @@ static int event_LOADING_1(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 1) when: active.rate < 0 */
-/*   event: creatures/quadruped.leg:225:5 */
+/*   event: creatures/quadruped.leg:230:5 */
 static int event_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[27];
@@ -148,7 +148,7 @@ static int event_COMPRESSION_1(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle */
-/*   event: creatures/quadruped.leg:228:5 */
+/*   event: creatures/quadruped.leg:233:5 */
 static int event_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_rate = s[27];
@@ -159,7 +159,7 @@ static int event_THRUST_1(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active) */
-/*   event: creatures/quadruped.leg:232:5 */
+/*   event: creatures/quadruped.leg:237:5 */
 static int event_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_fr_length = s[26];
@@ -173,21 +173,23 @@ static int event_UNLOADING_1(const double *s, const double *u, const double *p, 
     return (((((leg_fr_touching < 0.5)) && ((leg_rr_touching < 0.5)))) || ((0.5*leg_fr_length + 0.5*leg_rr_length > full + stand + thrust_stroke)));
 }
 
-/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:204:7 */
-/*   record ramped_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3 */
-/*   record speed_trim: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3 */
-/*   record lifted: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3 */
-/*   record lifted_x: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3 */
-/*   record lifted_y: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3 */
-/*   record stance: creatures/quadruped.leg:215:7 */
+/* The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:209:7 */
+/*   record ramped_speed: creatures/quadruped.leg:216:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:216:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:220:7 */
 static void entry_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -209,6 +211,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double accel = p[27];
     const double decel = p[33];
     const double k_start = p[34];
+    const double entry_fast = p[35];
     const double steps = r[0];
     const double landed = r[2];
     const double flight_apex = r[3];
@@ -226,6 +229,8 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double lifted_y = r[15];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -244,6 +249,7 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < t8)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -263,53 +269,55 @@ static void entry_FLIGHT_0(const double *s, const double *u, const double *p, co
     out[16] = new_aim_rate;
     out[17] = path_route_ahead_heading;
     out[18] = time;
+    out[19] = new_entered_fast;
+    out[20] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y). */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:206:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:206:7 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:207:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:207:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:208:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:208:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:209:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:209:7 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
-/*   place fl (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rl (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:211:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:211:7 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:212:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:212:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:213:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:213:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:214:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:214:7 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5 */
+/*   place fl (x, y): creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rl (x, y): creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -414,11 +422,11 @@ static void action_FLIGHT_0(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:219:7 */
-/*   record flight_apex: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:224:7 */
+/*   record flight_apex: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -447,6 +455,8 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
     const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
@@ -470,55 +480,57 @@ static void entry_LOADING_0(const double *s, const double *u, const double *p, c
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5 */
 static void action_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -646,6 +658,8 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -665,41 +679,43 @@ static void entry_COMPRESSION_0(const double *s, const double *u, const double *
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5 */
 static void action_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -812,6 +828,8 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -831,43 +849,45 @@ static void entry_THRUST_0(const double *s, const double *u, const double *p, co
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5 */
 static void action_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -985,6 +1005,8 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1004,43 +1026,45 @@ static void entry_UNLOADING_0(const double *s, const double *u, const double *p,
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint. */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
-/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
-/*   hip_fr_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
-/*   hip_rr_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fr_pitch.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5 */
+/*   hip_rr_pitch.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_roll.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5 */
+/*   hip_rr_roll.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5 */
 static void action_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fl_y_value = s[12];
@@ -1086,21 +1110,23 @@ static void action_UNLOADING_0(const double *s, const double *u, const double *p
     (void)err;
 }
 
-/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
-/*   record steps: creatures/quadruped.leg:204:7 */
-/*   record ramped_speed: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3 */
-/*   record ramped_at: creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3 */
-/*   record step_side: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3 */
-/*   record side_trim: creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3 */
-/*   record aim_rate: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5 */
-/*   record ahead_then: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5 */
-/*   record ahead_at: creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5 */
-/*   record step_speed: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3 */
-/*   record speed_trim: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3 */
-/*   record lifted: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3 */
-/*   record lifted_x: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3 */
-/*   record lifted_y: creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3 */
-/*   record stance: creatures/quadruped.leg:215:7 */
+/* The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance). */
+/*   record steps: creatures/quadruped.leg:209:7 */
+/*   record ramped_speed: creatures/quadruped.leg:216:7 > stdlib/raibert.leg:446:3 */
+/*   record ramped_at: creatures/quadruped.leg:216:7 > stdlib/raibert.leg:447:3 */
+/*   record step_side: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:325:3 */
+/*   record side_trim: creatures/quadruped.leg:217:7 > stdlib/raibert.leg:326:3 */
+/*   record aim_rate: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:138:5 */
+/*   record ahead_then: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:141:5 */
+/*   record ahead_at: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:142:5 */
+/*   record entered_fast: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:145:5 */
+/*   record entered: creatures/quadruped.leg:218:7 > creatures/quadruped.leg:146:5 */
+/*   record step_speed: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:454:3 */
+/*   record speed_trim: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:455:3 */
+/*   record lifted: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:456:3 */
+/*   record lifted_x: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:457:3 */
+/*   record lifted_y: creatures/quadruped.leg:219:7 > stdlib/raibert.leg:458:3 */
+/*   record stance: creatures/quadruped.leg:220:7 */
 static void entry_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1122,6 +1148,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double accel = p[27];
     const double decel = p[33];
     const double k_start = p[34];
+    const double entry_fast = p[35];
     const double steps = r[0];
     const double landed = r[2];
     const double flight_apex = r[3];
@@ -1139,6 +1166,8 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double lifted_y = r[15];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     const double new_steps = steps + 1.0;
     const double new_stance = (((landed > 0.0)) ? (leg_min(2.0*stance_guess, leg_max(0.5*stance_guess, -landed + time))) : (stance_guess));
     const double t1 = -lifted + time;
@@ -1157,6 +1186,7 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     const double new_speed_trim = ((t6) ? (k_trim*leg_min(trim_band, leg_max(-trim_band, ramped_speed - step_speed)) + speed_trim) : (k_start*t8));
     const double t9 = ahead_then - path_route_ahead_heading;
     const double new_aim_rate = (((path_route_given > 0.0)) ? (k_aim_rate*(((ahead_at > 0.0)) ? (leg_min(aim_rate_most, leg_max(-aim_rate_most, leg_div(atan2(-leg_sin(t9), leg_cos(t9)), leg_max(0.001, -ahead_at + time))))) : (0.0))) : (turn_rate));
+    const double new_entered_fast = (((entered > 0.0)) ? (entered_fast) : ((((entry_fast < t8)) ? (1.0) : (0.0))));
     out[0] = new_steps;
     out[1] = new_stance;
     out[2] = landed;
@@ -1176,53 +1206,55 @@ static void entry_FLIGHT_1(const double *s, const double *u, const double *p, co
     out[16] = new_aim_rate;
     out[17] = path_route_ahead_heading;
     out[18] = time;
+    out[19] = new_entered_fast;
+    out[20] = 1.0;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y). */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
-/*   leg_fr_spring.k: creatures/quadruped.leg:206:7 */
-/*   leg_rr_spring.k: creatures/quadruped.leg:206:7 */
-/*   leg_fl_spring.k: creatures/quadruped.leg:207:7 */
-/*   leg_rl_spring.k: creatures/quadruped.leg:207:7 */
-/*   leg_fr_spring.b: creatures/quadruped.leg:208:7 */
-/*   leg_rr_spring.b: creatures/quadruped.leg:208:7 */
-/*   leg_fl_spring.b: creatures/quadruped.leg:209:7 */
-/*   leg_rl_spring.b: creatures/quadruped.leg:209:7 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5 */
-/*   place fr (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
-/*   place rr (x, y): creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20 */
+/*   leg_fr_spring.k: creatures/quadruped.leg:211:7 */
+/*   leg_rr_spring.k: creatures/quadruped.leg:211:7 */
+/*   leg_fl_spring.k: creatures/quadruped.leg:212:7 */
+/*   leg_rl_spring.k: creatures/quadruped.leg:212:7 */
+/*   leg_fr_spring.b: creatures/quadruped.leg:213:7 */
+/*   leg_rr_spring.b: creatures/quadruped.leg:213:7 */
+/*   leg_fl_spring.b: creatures/quadruped.leg:214:7 */
+/*   leg_rl_spring.b: creatures/quadruped.leg:214:7 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5 */
+/*   place fr (x, y): creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
+/*   place rr (x, y): creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5 */
 static void action_FLIGHT_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_yaw = s[4];
@@ -1327,11 +1359,11 @@ static void action_FLIGHT_1(const double *s, const double *u, const double *p, c
 }
 
 /* The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke). */
-/*   record landed: creatures/quadruped.leg:219:7 */
-/*   record flight_apex: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3 */
-/*   record stroke_trim: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3 */
-/*   record stroke_nominal: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3 */
-/*   record thrust_stroke: creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3 */
+/*   record landed: creatures/quadruped.leg:224:7 */
+/*   record flight_apex: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:312:3 */
+/*   record stroke_trim: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:313:3 */
+/*   record stroke_nominal: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:314:3 */
+/*   record thrust_stroke: creatures/quadruped.leg:225:7 > stdlib/raibert.leg:315:3 */
 static void entry_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double com_vz = s[8];
@@ -1360,6 +1392,8 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     const double new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z;
     const double t1 = -flight_apex + height;
     const double new_stroke_trim = leg_min(-stroke + stroke_max, leg_max(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + (((stroke_nominal != 0.0)) ? (-stroke + stroke_nominal) : (0.0))));
@@ -1383,55 +1417,57 @@ static void entry_LOADING_1(const double *s, const double *u, const double *p, c
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5 */
 static void action_LOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1559,6 +1595,8 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1578,41 +1616,43 @@ static void entry_COMPRESSION_1(const double *s, const double *u, const double *
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5 */
 static void action_COMPRESSION_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1725,6 +1765,8 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1744,43 +1786,45 @@ static void entry_THRUST_1(const double *s, const double *u, const double *p, co
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5 */
 static void action_THRUST_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double body_trunk_pitch = s[0];
@@ -1898,6 +1942,8 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     const double aim_rate = r[16];
     const double ahead_then = r[17];
     const double ahead_at = r[18];
+    const double entered_fast = r[19];
+    const double entered = r[20];
     out[0] = steps;
     out[1] = stance;
     out[2] = landed;
@@ -1917,43 +1963,45 @@ static void entry_UNLOADING_1(const double *s, const double *u, const double *p,
     out[16] = aim_rate;
     out[17] = ahead_then;
     out[18] = ahead_at;
+    out[19] = entered_fast;
+    out[20] = entered;
     (void)s; (void)u; (void)p; (void)r; (void)tis;
     (void)err;
 }
 
 /* Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint. */
-/*   leg_fr_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
-/*   leg_rr_spring.rest: creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3 */
-/*   hip_fr_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_rr_pitch.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
-/*   hip_fr_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_rr_pitch.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
-/*   hip_fr_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_rr_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
-/*   hip_fr_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
-/*   hip_rr_roll.kp: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3 */
-/*   hip_fr_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
-/*   hip_rr_roll.kv: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3 */
-/*   hip_fr_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
-/*   hip_rr_roll_motor.force: creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3 */
-/*   leg_fl_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
-/*   leg_rl_spring.rest: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5 */
-/*   hip_fl_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_rl_pitch.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
-/*   hip_fl_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_rl_pitch.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
-/*   hip_fl_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_rl_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
-/*   hip_fl_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_rl_roll.kp: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3 */
-/*   hip_fl_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_rl_roll.kv: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3 */
-/*   hip_fl_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_rl_roll_motor.force: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3 */
-/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
-/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5 */
-/*   hip_fl_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
-/*   hip_rl_roll.setpoint: creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5 */
+/*   leg_fr_spring.rest: creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3 */
+/*   leg_rr_spring.rest: creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3 */
+/*   hip_fr_pitch.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_rr_pitch.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3 */
+/*   hip_fr_pitch.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_rr_pitch.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3 */
+/*   hip_fr_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_rr_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3 */
+/*   hip_fr_roll.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3 */
+/*   hip_rr_roll.kp: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3 */
+/*   hip_fr_roll.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3 */
+/*   hip_rr_roll.kv: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3 */
+/*   hip_fr_roll_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3 */
+/*   hip_rr_roll_motor.force: creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3 */
+/*   leg_fl_spring.rest: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5 */
+/*   leg_rl_spring.rest: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5 */
+/*   hip_fl_pitch.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_rl_pitch.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3 */
+/*   hip_fl_pitch.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_rl_pitch.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3 */
+/*   hip_fl_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_rl_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3 */
+/*   hip_fl_roll.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_rl_roll.kp: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3 */
+/*   hip_fl_roll.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_rl_roll.kv: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3 */
+/*   hip_fl_roll_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_rl_roll_motor.force: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3 */
+/*   hip_fl_pitch.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5 */
+/*   hip_rl_pitch.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5 */
+/*   hip_fl_roll.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5 */
+/*   hip_rl_roll.setpoint: creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5 */
 static void action_UNLOADING_1(const double *s, const double *u, const double *p, const double *r, double tis, double *out, int *err)
 {
     const double coord_hip_fr_y_value = s[13];
@@ -2039,7 +2087,7 @@ static const int64_t *const places_i[] = {places_0_0_i, 0, 0, 0, 0, places_1_0_i
 static const double *const places_d[] = {places_0_0_d, 0, 0, 0, 0, places_1_0_d, 0, 0, 0, 0};
 
 const leg_controller leg_the_controller = {
-    5, 2, 45, 4, 19, 44,
+    5, 2, 45, 4, 21, 44,
     after_entry, events, entries, actions, n_settings, settings, read_sensors,
     n_outputs, n_places, places_i, places_d,
 };

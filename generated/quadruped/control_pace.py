@@ -33,7 +33,7 @@ def maximum(*values):
 
 CONTROLLER = "pace"
 # What this module depends on; the runtime recompiles when the controller hashes differently.
-FINGERPRINT = "ce7a76c78acb1fa5"
+FINGERPRINT = "d1faf6e3033e6d05"
 STATE_NAMES = ('FLIGHT', 'LOADING', 'COMPRESSION', 'THRUST', 'UNLOADING')
 START = 0
 SENSORS = ('body.trunk.pitch', 'body.trunk.pitch_rate', 'body.trunk.roll', 'body.trunk.roll_rate', 'body.trunk.yaw', 'body.trunk.yaw_rate', 'com.vx', 'com.vy', 'com.vz', 'com.x', 'com.y', 'com.z', 'coord.hip_fl_y.value', 'coord.hip_fr_y.value', 'coord.hip_rl_y.value', 'coord.hip_rr_y.value', 'integral.turn_rate', 'leg.fl.hip_x', 'leg.fl.hip_y', 'leg.fl.hip_z', 'leg.fl.length', 'leg.fl.rate', 'leg.fl.touching', 'leg.fr.hip_x', 'leg.fr.hip_y', 'leg.fr.hip_z', 'leg.fr.length', 'leg.fr.rate', 'leg.fr.touching', 'leg.rl.hip_x', 'leg.rl.hip_y', 'leg.rl.hip_z', 'leg.rl.length', 'leg.rl.rate', 'leg.rl.touching', 'leg.rr.hip_x', 'leg.rr.hip_y', 'leg.rr.hip_z', 'leg.rr.length', 'leg.rr.rate', 'leg.rr.touching', 'path.route.ahead_heading', 'path.route.given', 'path.route.lateral', 'time')
@@ -79,8 +79,9 @@ PARAMS = {
     "leg_k": 6510.0,
     "decel": 2.0,
     "k_start": 0.2,
+    "entry_fast": 3.0,
 }
-RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at')
+RECORDS = ('steps', 'stance', 'landed', 'flight_apex', 'stroke_trim', 'stroke_nominal', 'thrust_stroke', 'step_side', 'side_trim', 'ramped_speed', 'ramped_at', 'step_speed', 'speed_trim', 'lifted', 'lifted_x', 'lifted_y', 'aim_rate', 'ahead_then', 'ahead_at', 'entered_fast', 'entered')
 # (binding while waiting, state) -> the binding once the state's swaps are done
 AFTER_ENTRY = {
     (0, 0): 1,
@@ -100,7 +101,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:202:5
+        event  creatures/quadruped.leg:207:5
     """
     leg_fl_touching = s[22]
     leg_rl_touching = s[34]
@@ -111,7 +112,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:218:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fl_touching = s[22]
     leg_rl_touching = s[34]
@@ -122,7 +123,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:225:5
+        event  creatures/quadruped.leg:230:5
     """
     leg_fl_rate = s[21]
     leg_rl_rate = s[33]
@@ -133,7 +134,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:228:5
+        event  creatures/quadruped.leg:233:5
     """
     leg_fl_rate = s[21]
     leg_rl_rate = s[33]
@@ -145,7 +146,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:232:5
+        event  creatures/quadruped.leg:237:5
     """
     leg_fl_length = s[20]
     leg_fl_touching = s[22]
@@ -161,7 +162,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:202:5
+        event  creatures/quadruped.leg:207:5
     """
     leg_fr_touching = s[28]
     leg_rr_touching = s[40]
@@ -172,7 +173,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:218:5
+        event  creatures/quadruped.leg:223:5
     """
     leg_fr_touching = s[28]
     leg_rr_touching = s[40]
@@ -183,7 +184,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:225:5
+        event  creatures/quadruped.leg:230:5
     """
     leg_fr_rate = s[27]
     leg_rr_rate = s[39]
@@ -194,7 +195,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:228:5
+        event  creatures/quadruped.leg:233:5
     """
     leg_fr_rate = s[27]
     leg_rr_rate = s[39]
@@ -206,7 +207,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:232:5
+        event  creatures/quadruped.leg:237:5
     """
     leg_fr_length = s[26]
     leg_fr_touching = s[28]
@@ -219,23 +220,25 @@ def event_UNLOADING_1(s, u, p, r, tis):
 
 
 def entry_FLIGHT_0(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 0 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:204:7
-        record ramped_speed  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3
-        record speed_trim    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3
-        record lifted        creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3
-        record lifted_x      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3
-        record lifted_y      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3
-        record stance        creatures/quadruped.leg:215:7
+        record steps         creatures/quadruped.leg:209:7
+        record ramped_speed  creatures/quadruped.leg:216:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:216:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:218:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:218:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:219:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:219:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:219:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:219:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:219:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:220:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -256,6 +259,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     accel = p[27]
     decel = p[33]
     k_start = p[34]
+    entry_fast = p[35]
     steps = r[0]
     landed = r[2]
     flight_apex = r[3]
@@ -273,6 +277,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     lifted_y = r[15]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -291,6 +297,7 @@ def entry_FLIGHT_0(s, u, p, r, tis):
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < t8) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -311,6 +318,8 @@ def entry_FLIGHT_0(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -318,48 +327,48 @@ def action_FLIGHT_0(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.b, leg_rl_spring.b, leg_fr_spring.b, leg_rr_spring.b, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint, place fl (x, y), place rl (x, y).
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rl_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fl_spring.k          creatures/quadruped.leg:206:7
-        leg_rl_spring.k          creatures/quadruped.leg:206:7
-        leg_fr_spring.k          creatures/quadruped.leg:207:7
-        leg_rr_spring.k          creatures/quadruped.leg:207:7
-        leg_fl_spring.b          creatures/quadruped.leg:208:7
-        leg_rl_spring.b          creatures/quadruped.leg:208:7
-        leg_fr_spring.b          creatures/quadruped.leg:209:7
-        leg_rr_spring.b          creatures/quadruped.leg:209:7
-        hip_fl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
-        leg_fr_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
-        leg_rr_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
-        place fl (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rl (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fl_spring.rest       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rl_spring.rest       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fl_spring.k          creatures/quadruped.leg:211:7
+        leg_rl_spring.k          creatures/quadruped.leg:211:7
+        leg_fr_spring.k          creatures/quadruped.leg:212:7
+        leg_rr_spring.k          creatures/quadruped.leg:212:7
+        leg_fl_spring.b          creatures/quadruped.leg:213:7
+        leg_rl_spring.b          creatures/quadruped.leg:213:7
+        leg_fr_spring.b          creatures/quadruped.leg:214:7
+        leg_rr_spring.b          creatures/quadruped.leg:214:7
+        hip_fl_pitch.kp          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3
+        leg_fr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        leg_rr_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5
+        place fl (x, y)          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rl (x, y)          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -466,11 +475,11 @@ def entry_LOADING_0(s, u, p, r, tis):
     """The records on entering LOADING under binding 0 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:219:7
-        record flight_apex     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:224:7
+        record flight_apex     creatures/quadruped.leg:225:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:225:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:225:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:225:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -498,6 +507,8 @@ def entry_LOADING_0(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
@@ -522,6 +533,8 @@ def entry_LOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -529,50 +542,50 @@ def action_LOADING_0(s, u, p, r, tis):
     """Every tick in LOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        leg_rr_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
+        leg_fl_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        leg_rr_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -698,6 +711,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -718,6 +733,8 @@ def entry_COMPRESSION_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -725,36 +742,36 @@ def action_COMPRESSION_0(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 0: hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        hip_fl_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
-        leg_rr_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5
+        leg_rr_spring.rest       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -865,6 +882,8 @@ def entry_THRUST_0(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -885,6 +904,8 @@ def entry_THRUST_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -892,38 +913,38 @@ def action_THRUST_0(s, u, p, r, tis):
     """Every tick in THRUST under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_fl_pitch.kv, hip_fl_roll.kp, hip_fl_roll.kv, hip_fl_motor.force, hip_fl_roll_motor.force, hip_rl_pitch.kp, hip_rl_pitch.kv, hip_rl_roll.kp, hip_rl_roll.kv, hip_rl_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fl_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fl_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fl_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fl_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fl_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rl_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rl_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rl_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rl_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rl_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rl_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fr_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
-        leg_rr_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
+        leg_fl_spring.rest       creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fl_pitch.kv          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fl_roll.kp           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fl_roll.kv           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fl_motor.force       creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fl_roll_motor.force  creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rl_pitch.kp          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rl_pitch.kv          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rl_roll.kp           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rl_roll.kv           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rl_motor.force       creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rl_roll_motor.force  creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fr_spring.rest       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5
+        leg_rr_spring.rest       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1039,6 +1060,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -1059,6 +1082,8 @@ def entry_UNLOADING_0(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1066,38 +1091,38 @@ def action_UNLOADING_0(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 0: leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.setpoint, hip_rr_pitch.setpoint, hip_fr_roll.setpoint, hip_rr_roll.setpoint.
 
     From the .leg file:
-        leg_fl_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
-        leg_rl_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
-        hip_fl_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fl_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rl_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fl_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
-        hip_rl_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
-        hip_fl_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
-        hip_rl_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
-        leg_fr_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
-        leg_rr_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
-        hip_fr_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fr_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
-        hip_rr_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
-        hip_fr_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
-        hip_rr_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
+        leg_fl_spring.rest       creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3
+        leg_rl_spring.rest       creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3
+        hip_fl_pitch.kp          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fl_motor.force       creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rl_motor.force       creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fl_roll.kp           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3
+        hip_rl_roll.kp           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3
+        hip_fl_roll.kv           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3
+        hip_rl_roll.kv           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3
+        leg_fr_spring.rest       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5
+        leg_rr_spring.rest       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fr_pitch.setpoint    creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5
+        hip_rr_pitch.setpoint    creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5
+        hip_fr_roll.setpoint     creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5
+        hip_rr_roll.setpoint     creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5
     """
     coord_hip_fl_y_value = s[12]
     coord_hip_rl_y_value = s[14]
@@ -1143,23 +1168,25 @@ def action_UNLOADING_0(s, u, p, r, tis):
 
 
 def entry_FLIGHT_1(s, u, p, r, tis):
-    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
+    """The records on entering FLIGHT under binding 1 (changed: steps, ramped_speed, ramped_at, step_side, side_trim, aim_rate, ahead_then, ahead_at, entered_fast, entered, step_speed, speed_trim, lifted, lifted_x, lifted_y, stance).
 
     From the .leg file:
-        record steps         creatures/quadruped.leg:204:7
-        record ramped_speed  creatures/quadruped.leg:211:7 > stdlib/raibert.leg:446:3
-        record ramped_at     creatures/quadruped.leg:211:7 > stdlib/raibert.leg:447:3
-        record step_side     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:325:3
-        record side_trim     creatures/quadruped.leg:212:7 > stdlib/raibert.leg:326:3
-        record aim_rate      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:137:5
-        record ahead_then    creatures/quadruped.leg:213:7 > creatures/quadruped.leg:140:5
-        record ahead_at      creatures/quadruped.leg:213:7 > creatures/quadruped.leg:141:5
-        record step_speed    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:454:3
-        record speed_trim    creatures/quadruped.leg:214:7 > stdlib/raibert.leg:455:3
-        record lifted        creatures/quadruped.leg:214:7 > stdlib/raibert.leg:456:3
-        record lifted_x      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:457:3
-        record lifted_y      creatures/quadruped.leg:214:7 > stdlib/raibert.leg:458:3
-        record stance        creatures/quadruped.leg:215:7
+        record steps         creatures/quadruped.leg:209:7
+        record ramped_speed  creatures/quadruped.leg:216:7 > stdlib/raibert.leg:446:3
+        record ramped_at     creatures/quadruped.leg:216:7 > stdlib/raibert.leg:447:3
+        record step_side     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:325:3
+        record side_trim     creatures/quadruped.leg:217:7 > stdlib/raibert.leg:326:3
+        record aim_rate      creatures/quadruped.leg:218:7 > creatures/quadruped.leg:138:5
+        record ahead_then    creatures/quadruped.leg:218:7 > creatures/quadruped.leg:141:5
+        record ahead_at      creatures/quadruped.leg:218:7 > creatures/quadruped.leg:142:5
+        record entered_fast  creatures/quadruped.leg:218:7 > creatures/quadruped.leg:145:5
+        record entered       creatures/quadruped.leg:218:7 > creatures/quadruped.leg:146:5
+        record step_speed    creatures/quadruped.leg:219:7 > stdlib/raibert.leg:454:3
+        record speed_trim    creatures/quadruped.leg:219:7 > stdlib/raibert.leg:455:3
+        record lifted        creatures/quadruped.leg:219:7 > stdlib/raibert.leg:456:3
+        record lifted_x      creatures/quadruped.leg:219:7 > stdlib/raibert.leg:457:3
+        record lifted_y      creatures/quadruped.leg:219:7 > stdlib/raibert.leg:458:3
+        record stance        creatures/quadruped.leg:220:7
     """
     body_trunk_yaw = s[4]
     com_vx = s[6]
@@ -1180,6 +1207,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     accel = p[27]
     decel = p[33]
     k_start = p[34]
+    entry_fast = p[35]
     steps = r[0]
     landed = r[2]
     flight_apex = r[3]
@@ -1197,6 +1225,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     lifted_y = r[15]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     new_steps = steps + 1.0
     new_stance = ((minimum(2.0*stance_guess, maximum(0.5*stance_guess, -landed + time))) if (landed > 0.0) else (stance_guess))
     t1 = -lifted + time
@@ -1215,6 +1245,7 @@ def entry_FLIGHT_1(s, u, p, r, tis):
     new_speed_trim = ((k_trim*minimum(trim_band, maximum(-trim_band, ramped_speed - step_speed)) + speed_trim) if t6 else (k_start*t8))
     t9 = ahead_then - path_route_ahead_heading
     new_aim_rate = ((k_aim_rate*((minimum(aim_rate_most, maximum(-aim_rate_most, math.atan2(-math.sin(t9), math.cos(t9))/maximum(0.001, -ahead_at + time)))) if (ahead_at > 0.0) else (0.0))) if (path_route_given > 0.0) else (turn_rate))
+    new_entered_fast = ((entered_fast) if (entered > 0.0) else (((1.0) if (entry_fast < t8) else (0.0))))
     return [
         new_steps,
         new_stance,
@@ -1235,6 +1266,8 @@ def entry_FLIGHT_1(s, u, p, r, tis):
         new_aim_rate,
         path_route_ahead_heading,
         time,
+        new_entered_fast,
+        1.0,
     ]
 
 
@@ -1242,48 +1275,48 @@ def action_FLIGHT_1(s, u, p, r, tis):
     """Every tick in FLIGHT under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, leg_fr_spring.k, leg_rr_spring.k, leg_fl_spring.k, leg_rl_spring.k, leg_fr_spring.b, leg_rr_spring.b, leg_fl_spring.b, leg_rl_spring.b, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint, place fr (x, y), place rr (x, y).
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_rr_spring.rest       creatures/quadruped.leg:205:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
-        leg_fr_spring.k          creatures/quadruped.leg:206:7
-        leg_rr_spring.k          creatures/quadruped.leg:206:7
-        leg_fl_spring.k          creatures/quadruped.leg:207:7
-        leg_rl_spring.k          creatures/quadruped.leg:207:7
-        leg_fr_spring.b          creatures/quadruped.leg:208:7
-        leg_rr_spring.b          creatures/quadruped.leg:208:7
-        leg_fl_spring.b          creatures/quadruped.leg:209:7
-        leg_rl_spring.b          creatures/quadruped.leg:209:7
-        hip_fr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rr_motor.force       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
-        hip_rr_roll.kp           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:153:3
-        hip_fr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
-        hip_rr_roll.kv           creatures/quadruped.leg:210:7 > stdlib/raibert.leg:154:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:210:7 > stdlib/raibert.leg:155:3
-        leg_fl_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
-        leg_rl_spring.rest       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:123:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:217:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:217:7 > creatures/quadruped.leg:125:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:217:7 > creatures/quadruped.leg:126:5
-        place fr (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
-        place rr (x, y)          creatures/quadruped.leg:216:7 > creatures/quadruped.leg:144:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        leg_fr_spring.rest       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_rr_spring.rest       creatures/quadruped.leg:210:7 > stdlib/raibert.leg:292:3 > stdlib/raibert.leg:292:20
+        leg_fr_spring.k          creatures/quadruped.leg:211:7
+        leg_rr_spring.k          creatures/quadruped.leg:211:7
+        leg_fl_spring.k          creatures/quadruped.leg:212:7
+        leg_rl_spring.k          creatures/quadruped.leg:212:7
+        leg_fr_spring.b          creatures/quadruped.leg:213:7
+        leg_rr_spring.b          creatures/quadruped.leg:213:7
+        leg_fl_spring.b          creatures/quadruped.leg:214:7
+        leg_rl_spring.b          creatures/quadruped.leg:214:7
+        hip_fr_pitch.kp          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fr_motor.force       creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rr_motor.force       creatures/quadruped.leg:215:7 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fr_roll.kp           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3
+        hip_rr_roll.kp           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:153:3
+        hip_fr_roll.kv           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3
+        hip_rr_roll.kv           creatures/quadruped.leg:215:7 > stdlib/raibert.leg:154:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:215:7 > stdlib/raibert.leg:155:3
+        leg_fl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:222:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:222:7 > creatures/quadruped.leg:126:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:222:7 > creatures/quadruped.leg:127:5
+        place fr (x, y)          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
+        place rr (x, y)          creatures/quadruped.leg:221:7 > creatures/quadruped.leg:149:5 > stdlib/raibert.leg:251:3 > stdlib/raibert.leg:252:5
     """
     body_trunk_yaw = s[4]
     body_trunk_yaw_rate = s[5]
@@ -1390,11 +1423,11 @@ def entry_LOADING_1(s, u, p, r, tis):
     """The records on entering LOADING under binding 1 (changed: landed, flight_apex, stroke_trim, stroke_nominal, thrust_stroke).
 
     From the .leg file:
-        record landed          creatures/quadruped.leg:219:7
-        record flight_apex     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:312:3
-        record stroke_trim     creatures/quadruped.leg:220:7 > stdlib/raibert.leg:313:3
-        record stroke_nominal  creatures/quadruped.leg:220:7 > stdlib/raibert.leg:314:3
-        record thrust_stroke   creatures/quadruped.leg:220:7 > stdlib/raibert.leg:315:3
+        record landed          creatures/quadruped.leg:224:7
+        record flight_apex     creatures/quadruped.leg:225:7 > stdlib/raibert.leg:312:3
+        record stroke_trim     creatures/quadruped.leg:225:7 > stdlib/raibert.leg:313:3
+        record stroke_nominal  creatures/quadruped.leg:225:7 > stdlib/raibert.leg:314:3
+        record thrust_stroke   creatures/quadruped.leg:225:7 > stdlib/raibert.leg:315:3
     """
     com_vz = s[8]
     com_z = s[11]
@@ -1422,6 +1455,8 @@ def entry_LOADING_1(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     new_flight_apex = 0.0509683995922528*com_vz*com_vz + com_z
     t1 = -flight_apex + height
     new_stroke_trim = minimum(-stroke + stroke_max, maximum(-stroke + stroke_min, k_height_trim*t1 + stroke_trim + ((-stroke + stroke_nominal) if (stroke_nominal != 0.0) else (0.0))))
@@ -1446,6 +1481,8 @@ def entry_LOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1453,50 +1490,50 @@ def action_LOADING_1(s, u, p, r, tis):
     """Every tick in LOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:221:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:222:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:222:7 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:222:7 > stdlib/raibert.leg:169:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:223:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        leg_rl_spring.rest       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:123:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:224:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:224:7 > creatures/quadruped.leg:125:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:224:7 > creatures/quadruped.leg:126:5
+        leg_fr_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:226:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:227:7 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:227:7 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:227:7 > stdlib/raibert.leg:169:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:228:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:229:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:229:7 > creatures/quadruped.leg:126:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:229:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1622,6 +1659,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -1642,6 +1681,8 @@ def entry_COMPRESSION_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1649,36 +1690,36 @@ def action_COMPRESSION_1(s, u, p, r, tis):
     """Every tick in COMPRESSION under binding 1: hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        hip_fr_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:226:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
-        leg_rl_spring.rest       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:123:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:227:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:227:7 > creatures/quadruped.leg:125:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:227:7 > creatures/quadruped.leg:126:5
+        hip_fr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:232:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:232:7 > creatures/quadruped.leg:126:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:232:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1789,6 +1830,8 @@ def entry_THRUST_1(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -1809,6 +1852,8 @@ def entry_THRUST_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1816,38 +1861,38 @@ def action_THRUST_1(s, u, p, r, tis):
     """Every tick in THRUST under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_fr_pitch.kv, hip_fr_roll.kp, hip_fr_roll.kv, hip_fr_motor.force, hip_fr_roll_motor.force, hip_rr_pitch.kp, hip_rr_pitch.kv, hip_rr_roll.kp, hip_rr_roll.kv, hip_rr_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:229:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_fr_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_fr_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_fr_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_fr_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_fr_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        hip_rr_pitch.kp          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
-        hip_rr_pitch.kv          creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
-        hip_rr_roll.kp           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
-        hip_rr_roll.kv           creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
-        hip_rr_motor.force       creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
-        hip_rr_roll_motor.force  creatures/quadruped.leg:230:7 > creatures/quadruped.leg:130:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
-        leg_fl_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
-        leg_rl_spring.rest       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:123:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:231:7 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:231:7 > creatures/quadruped.leg:125:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:231:7 > creatures/quadruped.leg:126:5
+        leg_fr_spring.rest       creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:234:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_fr_pitch.kv          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_fr_roll.kp           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_fr_roll.kv           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_fr_motor.force       creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_fr_roll_motor.force  creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        hip_rr_pitch.kp          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:268:5
+        hip_rr_pitch.kv          creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:269:5
+        hip_rr_roll.kp           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:270:5
+        hip_rr_roll.kv           creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:271:5
+        hip_rr_motor.force       creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:272:5
+        hip_rr_roll_motor.force  creatures/quadruped.leg:235:7 > creatures/quadruped.leg:131:5 > stdlib/raibert.leg:265:3 > stdlib/raibert.leg:273:5
+        leg_fl_spring.rest       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:236:7 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:236:7 > creatures/quadruped.leg:126:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:236:7 > creatures/quadruped.leg:127:5
     """
     body_trunk_pitch = s[0]
     body_trunk_pitch_rate = s[1]
@@ -1963,6 +2008,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
     aim_rate = r[16]
     ahead_then = r[17]
     ahead_at = r[18]
+    entered_fast = r[19]
+    entered = r[20]
     return [
         steps,
         stance,
@@ -1983,6 +2030,8 @@ def entry_UNLOADING_1(s, u, p, r, tis):
         aim_rate,
         ahead_then,
         ahead_at,
+        entered_fast,
+        entered,
     ]
 
 
@@ -1990,38 +2039,38 @@ def action_UNLOADING_1(s, u, p, r, tis):
     """Every tick in UNLOADING under binding 1: leg_fr_spring.rest, leg_rr_spring.rest, hip_fr_pitch.kp, hip_rr_pitch.kp, hip_fr_pitch.kv, hip_rr_pitch.kv, hip_fr_motor.force, hip_rr_motor.force, hip_fr_roll.kp, hip_rr_roll.kp, hip_fr_roll.kv, hip_rr_roll.kv, hip_fr_roll_motor.force, hip_rr_roll_motor.force, leg_fl_spring.rest, leg_rl_spring.rest, hip_fl_pitch.kp, hip_rl_pitch.kp, hip_fl_pitch.kv, hip_rl_pitch.kv, hip_fl_motor.force, hip_rl_motor.force, hip_fl_roll.kp, hip_rl_roll.kp, hip_fl_roll.kv, hip_rl_roll.kv, hip_fl_roll_motor.force, hip_rl_roll_motor.force, hip_fl_pitch.setpoint, hip_rl_pitch.setpoint, hip_fl_roll.setpoint, hip_rl_roll.setpoint.
 
     From the .leg file:
-        leg_fr_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
-        leg_rr_spring.rest       creatures/quadruped.leg:233:7 > stdlib/raibert.leg:196:3
-        hip_fr_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_rr_pitch.kp          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
-        hip_fr_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_rr_pitch.kv          creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
-        hip_fr_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_rr_motor.force       creatures/quadruped.leg:233:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
-        hip_fr_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
-        hip_rr_roll.kp           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:167:3
-        hip_fr_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
-        hip_rr_roll.kv           creatures/quadruped.leg:233:29 > stdlib/raibert.leg:168:3
-        hip_fr_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
-        hip_rr_roll_motor.force  creatures/quadruped.leg:233:29 > stdlib/raibert.leg:169:3
-        leg_fl_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
-        leg_rl_spring.rest       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:123:5
-        hip_fl_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_rl_pitch.kp          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
-        hip_fl_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_rl_pitch.kv          creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
-        hip_fl_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_rl_motor.force       creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
-        hip_fl_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_rl_roll.kp           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:153:3
-        hip_fl_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_rl_roll.kv           creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:154:3
-        hip_fl_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_rl_roll_motor.force  creatures/quadruped.leg:233:50 > creatures/quadruped.leg:124:5 > stdlib/raibert.leg:155:3
-        hip_fl_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
-        hip_rl_pitch.setpoint    creatures/quadruped.leg:233:50 > creatures/quadruped.leg:125:5
-        hip_fl_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
-        hip_rl_roll.setpoint     creatures/quadruped.leg:233:50 > creatures/quadruped.leg:126:5
+        leg_fr_spring.rest       creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3
+        leg_rr_spring.rest       creatures/quadruped.leg:238:7 > stdlib/raibert.leg:196:3
+        hip_fr_pitch.kp          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_rr_pitch.kp          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:160:3
+        hip_fr_pitch.kv          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_rr_pitch.kv          creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:161:3
+        hip_fr_motor.force       creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_rr_motor.force       creatures/quadruped.leg:238:29 > stdlib/raibert.leg:166:3 > stdlib/raibert.leg:162:3
+        hip_fr_roll.kp           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3
+        hip_rr_roll.kp           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:167:3
+        hip_fr_roll.kv           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3
+        hip_rr_roll.kv           creatures/quadruped.leg:238:29 > stdlib/raibert.leg:168:3
+        hip_fr_roll_motor.force  creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3
+        hip_rr_roll_motor.force  creatures/quadruped.leg:238:29 > stdlib/raibert.leg:169:3
+        leg_fl_spring.rest       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5
+        leg_rl_spring.rest       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:124:5
+        hip_fl_pitch.kp          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_rl_pitch.kp          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:144:3
+        hip_fl_pitch.kv          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_rl_pitch.kv          creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:145:3
+        hip_fl_motor.force       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_rl_motor.force       creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:152:3 > stdlib/raibert.leg:146:3
+        hip_fl_roll.kp           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_rl_roll.kp           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:153:3
+        hip_fl_roll.kv           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_rl_roll.kv           creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:154:3
+        hip_fl_roll_motor.force  creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_rl_roll_motor.force  creatures/quadruped.leg:238:50 > creatures/quadruped.leg:125:5 > stdlib/raibert.leg:155:3
+        hip_fl_pitch.setpoint    creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5
+        hip_rl_pitch.setpoint    creatures/quadruped.leg:238:50 > creatures/quadruped.leg:126:5
+        hip_fl_roll.setpoint     creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5
+        hip_rl_roll.setpoint     creatures/quadruped.leg:238:50 > creatures/quadruped.leg:127:5
     """
     coord_hip_fr_y_value = s[13]
     coord_hip_rr_y_value = s[15]
