@@ -75,6 +75,7 @@ def test_the_same_value_twice_is_no_contradiction() -> None:
         (["sweep", HOPPER, "--jobs", "2x"], "--jobs 2x: --jobs takes a whole number"),
         (["run", HOPPER, "--integrator", "x"], "--integrator x: choose one of 'euler', 'rk4'"),
         (["run", HOPPER, "--time"], "--time needs a value after it"),
+        (["rn", HOPPER], "'rn' is not a command of legdsl (did you mean run?): choose one of"),
     ],
 )  # fmt: skip
 def test_argparses_mistakes_are_one_line_saying_what_to_write(

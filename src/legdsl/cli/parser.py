@@ -174,7 +174,15 @@ class LegParser(argparse.ArgumentParser):
                     f"{flags} needs a value after it ('{self.prog} --help' says what it takes)"
                 )
             elif choice := re.match(r"invalid choice: '(.*)' \(choose from (.*)\)", what):
-                message = f"{flags} {choice.group(1)}: choose one of {choice.group(2)}"
+                given, offered = choice.group(1), choice.group(2)
+                close = difflib.get_close_matches(given, re.findall(r"'([^']*)'", offered), n=1)
+                meant = f" (did you mean {close[0]}?)" if close else ""
+                message = (
+                    f"{flags} {given}: choose one of {offered}{meant}"
+                    if flags.startswith("-")
+                    else f"'{given}' is not a {flags.lower()} of {self.prog}{meant}: choose one "
+                    f"of {offered}"
+                )
             else:
                 message = f"{flags}: {what}"
         elif message.startswith("the following arguments are required"):
