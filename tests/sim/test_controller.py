@@ -167,7 +167,8 @@ def test_cli_rejects_unknown_inputs_and_runs_with_a_schedule(
     args = ["run", str(HOPPER), "--controller", "hop", "--generated", str(generated)]
     assert main([*args, "--set", "sped=1m/s", "--time", "0.1"]) == 2
     assert "no input or parameter 'sped'" in capsys.readouterr().err
-    assert main([*args, "--controller", "trot", "--time", "0.1"]) == 2
+    hopper = ["run", str(HOPPER), "--generated", str(generated)]  # --controller given once
+    assert main([*hopper, "--controller", "trot", "--time", "0.1"]) == 2
     out = tmp_path / "run"
     code = main(
         [
