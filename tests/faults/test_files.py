@@ -90,6 +90,7 @@ def test_two_writers_of_one_run_directory_take_turns(generated: Path, tmp_path: 
         written = Trajectory.load(out)
         mine = [r for r in runs if np.array_equal(written.q, r.trajectory.q)]
         assert len(mine) == 1  # the arrays of one run, the run.json and the table of the same
+        assert "generated" in info.pop("generated")["from_run"]  # said where it is written
         assert info == json.loads(json.dumps(mine[0].info))
         table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1, usecols=0)
         assert np.allclose(table, mine[0].trajectory.t)
