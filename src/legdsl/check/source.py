@@ -55,7 +55,8 @@ def check_tree(tree: ast.SourceFile, text: str, path: str | Path) -> list[Model]
             models.append(model)
             broken[model.name] = checker.unmade(model)
     if not tree.creatures:
-        diag.error(tree.span, "no creature in this file: write 'creature NAME { ... }'")
+        empty = "the file is empty" if not text.strip() else "no creature in this file"
+        diag.error(tree.span, f"{empty}: write 'creature NAME {{ ... }}'")
     models = check_controllers(tree, models, library, shared, diag, broken, used)
     models = check_scenes(tree, models, diag)
     diag.items = _once_per_place(_unmade_names(_without_echoes(diag.items, tree.pending)))
