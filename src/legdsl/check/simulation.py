@@ -12,7 +12,7 @@ from legdsl.check.values import ValueChecker, did_you_mean
 from legdsl.ir.model import SimulationDefaults
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.scaling import DEFAULT_DT, MOST_STEPS, SMALLEST_STEP
+from legdsl.lang.scaling import COMPUTABLE_STEP, DEFAULT_DT, MOST_STEPS, SMALLEST_STEP
 
 # property -> (kind, what it is called in messages)
 SIMULATION_PROPS: dict[str, tuple[str, str]] = {
@@ -51,7 +51,9 @@ class SimulationChecker(ValueChecker):
                 continue
             if key == "dt" and not value * value > 0:  # as --dt is refused (run refused it so)
                 self.err(p.value.span, f"the integration step {value:g} s is too small to "
-                         f"compute with; give {SMALLEST_STEP:g} s or more")  # fmt: skip
+                         f"compute with (its square is 0 in doubles); give {COMPUTABLE_STEP:g} s or "
+                         f"more (below {SMALLEST_STEP:g} s, a second of motion is more than a "
+                         "billion steps)")  # fmt: skip
                 continue
             values[key], spans[key] = value, p.value.span
         step = values.get("dt", DEFAULT_DT)

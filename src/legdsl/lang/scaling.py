@@ -40,6 +40,9 @@ MOST_STEPS = 2**53
 # The smallest step advised (s): a second of motion is then a billion steps. A stiffness that
 # needs less (k = 1e100 N/m asked for 1e-50 s, whose run legdsl refuses to count) is lowered.
 SMALLEST_STEP = 1e-9
+# The smallest step that can be computed with at all: its square the least power of ten above
+# 0 in doubles (the stiffness check divides by it); a step below it is refused, file or --dt.
+COMPUTABLE_STEP = 10.0 ** math.ceil(math.log10(math.sqrt(5e-324)))
 DEFAULT_LOOKAHEAD = 1.0  # m: a path's, legdsl.ir.paths.DEFAULT_LOOKAHEAD (a test keeps them equal)
 NAME_MOST = (
     64  # a creature name's characters: legdsl.check.values.MAX_NAME (a test keeps them equal)

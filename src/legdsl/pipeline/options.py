@@ -22,7 +22,7 @@ from pathlib import Path
 from legdsl.files import closed_stream, free_bytes, written_as
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.lang.scaling import MOST_STEPS, SMALLEST_STEP
+from legdsl.lang.scaling import COMPUTABLE_STEP, MOST_STEPS, SMALLEST_STEP
 from legdsl.lang.units import KINDS, UNITS, a_kind
 from legdsl.pipeline.settings import parse_given, written
 from legdsl.pipeline.start_pose import welded_root
@@ -150,13 +150,10 @@ def _check_step_counts(options: RunOptions, flags: bool) -> None:
     control interval of more steps than ``MOST_STEPS``: refused."""
     dt = options.dt
     step = "--dt" if flags else "dt"
-    if not dt * dt > 0:  # the smallest that passes: its square the least double above 0
-        least = 10.0 ** math.ceil(
-            math.log10(math.sqrt(sys.float_info.min * sys.float_info.epsilon))
-        )
+    if not dt * dt > 0:
         raise UsageError(
             f"--dt {dt:g}s is too small to compute with (its square is 0 in doubles); give "
-            f"--dt {least:g}s or more (below {SMALLEST_STEP:g}s, a second of motion is more "
+            f"--dt {COMPUTABLE_STEP:g}s or more (below {SMALLEST_STEP:g}s, a second of motion is more "
             "than a billion steps)"
         )
     for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
