@@ -172,3 +172,14 @@ def test_a_step_or_rate_the_scale_stretched_is_told_as_the_scales(
     assert "--scale 1e+09 stretches the creature's times by sqrt(L) = 3.162e+04" in err
     assert told in err
     assert not out.exists()
+
+
+def test_a_frequency_given_for_a_turning_rate_is_told_in_turns(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """'--set turn_rate=1Hz' for a rate in deg/s was told 'write e.g. turn_rate=1deg/s', 360
+    times slower than the turn a second meant (a scene's '1 Hz' is told so too)."""
+    biped = str(Path(HOPPER).with_name("biped.leg"))
+    args = ["run", biped, "--controller", "run", "--set", "turn_rate=0.5Hz"]
+    assert main([*args, "--out", str(tmp_path / "run")]) == 2
+    assert "write e.g. turn_rate=180deg/s (0.5Hz is 0.5 turns a second)" in capsys.readouterr().err

@@ -24,8 +24,9 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import COMPUTABLE_STEP, MOST_STEPS, SMALLEST_STEP
 from legdsl.lang.units import KINDS, UNITS, a_kind
-from legdsl.pipeline.settings import parse_given, written
+from legdsl.pipeline.settings import parse_given
 from legdsl.pipeline.start_pose import welded_root
+from legdsl.pipeline.suggested_values import written
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import INITIAL_ROWS, RunOptions, run_samples
 from legdsl.sim.stability import where_step

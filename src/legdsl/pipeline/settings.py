@@ -37,6 +37,7 @@ from legdsl.lang.units import (
     unit_for,
     unknown_unit,
 )
+from legdsl.pipeline.suggested_values import written
 from legdsl.sim.machine import InputChange, overwritten
 from legdsl.sim.switching import starting_values
 
@@ -170,34 +171,6 @@ def check_dimension(
         raise UsageError(
             f"{where}: {what}, but {given.text} is {a_kind(given.dim)}; write e.g. {example}"
         )
-
-
-def written(given: Given, want: Dim, unit: str) -> str:
-    """The value an error suggests in ``unit``: the user's number, or, for a quantity whose
-    dimension is the wanted one's inverse (a frequency for a time), its reciprocal: 500Hz
-    for a time is 0.002s, never 500s."""
-    inverse = given.dim is not None and all(a == -b for a, b in zip(given.dim, want, strict=True))
-    if inverse and given.value != 0 and want != DIMENSIONLESS:
-        return f"{1 / given.value / parse_unit(unit)[0]:g}{unit} (1/{given.text})"
-    return given.number + (_kept(given.unit, want) or unit)
-
-
-def _kept(written: str, want: Dim) -> str | None:
-    """The unit the user wrote, made the wanted kind, where that is plain: its first factor
-    (0.03m/s for a length: 0.03m, not 0.03cm, 100 times less), or its prefix before the wanted
-    kind's SI unit (20m for a time: 20ms). None where neither is ``want``."""
-    head = re.split(r"[*/]", written)[0]
-    plain = si_unit(want).isalpha()  # one unit (s, N): a prefix before it is plain
-    prefixed = (
-        written + si_unit(want) if plain and len(written) == 1 and written in "kcmunMG" else ""
-    )
-    for unit in (head if head != written else "", prefixed):
-        try:
-            if unit and parse_unit(unit)[1] == want:
-                return unit
-        except UnitError:
-            pass
-    return None
 
 
 def _check_named(where: str, name: str, given: Given, want: Dim, declared: str = "") -> None:

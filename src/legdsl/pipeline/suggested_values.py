@@ -1,0 +1,47 @@
+"""The value a ``--set`` (or another option's) error suggests writing instead, in the unit
+the user wrote where that is plain: the advice keeps their number and their unit's prefix."""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import TYPE_CHECKING
+
+from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY
+from legdsl.lang.units import DIMENSIONLESS, Dim, UnitError, parse_unit, si_unit
+
+if TYPE_CHECKING:
+    from legdsl.pipeline.settings import Given
+
+
+def written(given: Given, want: Dim, unit: str) -> str:
+    """The value an error suggests in ``unit``: the user's number, or, for a quantity whose
+    dimension is the wanted one's inverse (a frequency for a time), its reciprocal: 500Hz
+    for a time is 0.002s, never 500s; a frequency for a turning rate is turns a second: 1Hz
+    for deg/s is 360deg/s, never 1deg/s."""
+    inverse = given.dim is not None and all(a == -b for a, b in zip(given.dim, want, strict=True))
+    if inverse and given.value != 0 and want != DIMENSIONLESS:
+        return f"{1 / given.value / parse_unit(unit)[0]:g}{unit} (1/{given.text})"
+    if given.dim == FREQUENCY and want == ANGULAR_VELOCITY:  # 1Hz for deg/s: 360deg/s, not 1
+        turned = given.value * 2.0 * math.pi / parse_unit(unit)[0]
+        turns = f"{given.value:g} turn" + ("" if given.value == 1 else "s")
+        return f"{turned:g}{unit} ({given.text} is {turns} a second)"
+    return given.number + (_kept(given.unit, want) or unit)
+
+
+def _kept(written: str, want: Dim) -> str | None:
+    """The unit the user wrote, made the wanted kind, where that is plain: its first factor
+    (0.03m/s for a length: 0.03m, not 0.03cm, 100 times less), or its prefix before the wanted
+    kind's SI unit (20m for a time: 20ms). None where neither is ``want``."""
+    head = re.split(r"[*/]", written)[0]
+    plain = si_unit(want).isalpha()  # one unit (s, N): a prefix before it is plain
+    prefixed = (
+        written + si_unit(want) if plain and len(written) == 1 and written in "kcmunMG" else ""
+    )
+    for unit in (head if head != written else "", prefixed):
+        try:
+            if unit and parse_unit(unit)[1] == want:
+                return unit
+        except UnitError:
+            pass
+    return None
