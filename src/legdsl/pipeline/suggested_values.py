@@ -5,13 +5,29 @@ from __future__ import annotations
 
 import math
 import re
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY
 from legdsl.lang.units import DIMENSIONLESS, Dim, UnitError, parse_unit, si_unit
 
-if TYPE_CHECKING:
-    from legdsl.pipeline.settings import Given
+
+class Given(Protocol):
+    """A value as given (``legdsl.pipeline.settings.Given``, read only)."""
+
+    @property
+    def number(self) -> str: ...  # the digits as written
+
+    @property
+    def unit(self) -> str: ...  # the unit as written, empty for a bare number
+
+    @property
+    def value(self) -> float: ...  # in SI units
+
+    @property
+    def dim(self) -> Dim | None: ...  # None for a bare number
+
+    @property
+    def text(self) -> str: ...
 
 
 def written(given: Given, want: Dim, unit: str) -> str:
