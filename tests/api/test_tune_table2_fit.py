@@ -28,6 +28,6 @@ def test_a_row_of_pairs_the_creature_has_not_is_refused(
     err = capsys.readouterr().err
     assert code == 2, err
     assert "internal error" not in err and "--group" not in err
-    assert f"--table2 '{row}'" in err and "legs" in err
+    assert f"--table2 '{row}'" in err and "leg" in err
     assert "give a row that fits it ('biped run', 'kangaroo hop')" in err
     assert not out.exists()  # refused before --out was made

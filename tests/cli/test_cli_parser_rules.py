@@ -93,3 +93,11 @@ def test_minus_infinity_is_a_value_not_an_option(
     assert main(["run", HOPPER, "--time", "-inf", "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("legdsl: --time -inf:") and "expected one argument" not in err
+
+
+def test_debug_is_taken_after_the_command_too(tmp_path: Path) -> None:
+    """'legdsl run --debug FILE' was told '--debug is not an option of legdsl run: did you
+    mean --debug?': the whole program's flag, it counts wherever it is given."""
+    out, gen = str(tmp_path / "run"), str(tmp_path / "generated")
+    assert main(["run", HOPPER, "--debug", "--time", "0.05", "-o", out, "--generated", gen]) == 0
+    assert (tmp_path / "run" / "run.json").is_file()

@@ -350,6 +350,8 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
 
         parser = _parser()
         given = negative_values_joined(sys.argv[1:] if argv is None else argv, parser)
+        if "--debug" in given[1:]:  # the whole program's flag, taken after the command too
+            given = ["--debug", *(w for w in given if w != "--debug")]
         if mistake := empty_argument(given, parser) or file_read_as_option(given):
             print(f"legdsl: {mistake}", file=sys.stderr)
             return EXIT_USER_ERROR
