@@ -489,5 +489,18 @@ def overwritten_notes(
         return []
     module = session.control(controller)
     said = [(t, overwritten(t.partition("=")[0].strip(), controller, module)) for t in settings]
+    said += [(t, _commanded_too(t, controller, session.model, settings)) for t in settings]
     named = sources or {}
     return [f"{named.get(text, f'--set {text}')}: {why}" for text, why in said if why]
+
+
+def _commanded_too(text: str, controller: str, model: Model, settings: Sequence[str]) -> str:
+    """Why ``CONTROLLER.INPUT=V`` of the starting controller changes nothing: a plain
+    ``INPUT=W`` (a command, which an input's default sits under) is given too."""
+    owner, _, name = text.partition("=")[0].strip().partition(".")
+    inputs = {i.name for i in model.controller(controller).inputs}
+    if owner != controller or name not in inputs or "@" in text:
+        return ""
+    plain = next((t for t in settings if "@" not in t and t.partition("=")[0].strip() == name), "")
+    return (f"--set {plain} commands {name} from the start, over {controller}'s default this sets: "
+            "it changes nothing; keep one") if plain else ""  # fmt: skip
