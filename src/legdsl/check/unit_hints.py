@@ -8,9 +8,8 @@ from legdsl.check.control_words import describe_type
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import ONE, Type
 from legdsl.lang import ast
+from legdsl.lang.turning import FREQUENCY
 from legdsl.lang.units import KINDS, Dim, describe
-
-FREQUENCY = KINDS["frequency"][0]
 
 
 def unit_of(dim: Dim) -> str:

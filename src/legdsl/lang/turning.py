@@ -13,6 +13,12 @@ FREQUENCY = KINDS["frequency"][0]
 ANGULAR_VELOCITY = KINDS["angular velocity"][0]
 
 
+def turning_rate(turns: float, factor: float) -> float:
+    """``turns`` a second (a frequency, SI) as an angular velocity in a unit ``factor`` rad/s
+    large: 1 Hz is 360 deg/s."""
+    return turns * 2.0 * math.pi / factor
+
+
 def _number(value: float) -> str:
     return f"{value:.6g}"
 
@@ -30,7 +36,7 @@ def as_turning(written: str, value: float, given: Dim, want: Dim, unit: str) -> 
         return None
     if given == FREQUENCY and want == ANGULAR_VELOCITY:
         turns = value  # a turn a second for each Hz
-        as_unit = value * 2.0 * math.pi / factor
+        as_unit = turning_rate(value, factor)
         also = f" (or {_number(turns)} rev/s)" if unit != "rev/s" else ""
     elif given == ANGULAR_VELOCITY and want == FREQUENCY:
         turns = value / (2.0 * math.pi)

@@ -3,11 +3,10 @@ the user wrote where that is plain: the advice keeps their number and their unit
 
 from __future__ import annotations
 
-import math
 import re
 from typing import Protocol
 
-from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY
+from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY, turning_rate
 from legdsl.lang.units import DIMENSIONLESS, Dim, UnitError, parse_unit, si_unit
 
 
@@ -39,7 +38,7 @@ def written(given: Given, want: Dim, unit: str) -> str:
     if inverse and given.value != 0 and want != DIMENSIONLESS:
         return f"{1 / given.value / parse_unit(unit)[0]:g}{unit} (1/{given.text})"
     if given.dim == FREQUENCY and want == ANGULAR_VELOCITY:  # 1Hz for deg/s: 360deg/s, not 1
-        turned = given.value * 2.0 * math.pi / parse_unit(unit)[0]
+        turned = turning_rate(given.value, parse_unit(unit)[0])
         turns = f"{given.value:g} turn" + ("" if given.value == 1 else "s")
         return f"{turned:g}{unit} ({given.text} is {turns} a second)"
     return given.number + (_kept(given.unit, want) or unit)
