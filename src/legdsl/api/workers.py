@@ -149,24 +149,13 @@ class Workers:
                 self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
             with signals_held():  # the first submit forks the processes
                 order = {self._pool.submit(fn, item): k for k, item in enumerate(items)}
-            pending = set(order)
             # kept here: the executor forgets a process that died before its exit code is read
             self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
-            while pending:
-                ready, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
-                if not ready:
-                    self._check_manager()
-                    if self.waiting is not None:
-                        self.waiting()
-                # those done by one wake in the order given (a set's order put a table's rows
-                # 0, 2, 1 on a loaded machine, and a resume test cut the wrong row)
-                for future in sorted(ready, key=order.__getitem__):
-                    try:
-                        result = future.result()
-                    except BrokenProcessPool:
-                        self._killed()
-                        raise
-                    yield result
+
+            def local_wait(pending: set[Any]) -> tuple[set[Any], set[Any]]:
+                return wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
+
+            yield from self._as_they_end(order, local_wait, self._check_manager, self._local_result)
             return
         distributed = import_held("distributed")
 
@@ -174,30 +163,57 @@ class Workers:
         # AttributeError as "Exception ignored"; it comes once the futures are whole
         with signals_held():
             futures = self._client.map(fn, list(items), pure=False)
-        order = {f: k for k, f in enumerate(futures)}
-        pending = set(futures)
         idle = _NoWorkers(str(self.dask))
-        while pending:
+
+        def dask_wait(pending: set[Any]) -> tuple[set[Any], set[Any]]:
             try:
                 done = distributed.wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
-                ready, pending = set(done.done), set(done.not_done)
             except TimeoutError:
-                ready = set()
+                return set(), pending
+            return set(done.done), set(done.not_done)
+
+        def dask_idle() -> None:
+            idle.check(len(self._client.scheduler_info()["workers"]) if self.dask != "local" else 1)
+
+        def dask_result(future: Any) -> Any:
+            try:
+                return future.result()
+            except distributed.KilledWorker as e:
+                raise UsageError(
+                    f"the Dask workers running a batch died ({e}; killed, out of memory?); "
+                    "what was done is kept, and the same command again goes on from there"
+                ) from None
+
+        order = {f: k for k, f in enumerate(futures)}
+        yield from self._as_they_end(order, dask_wait, dask_idle, dask_result)
+
+    def _as_they_end(
+        self,
+        order: dict[Any, int],
+        wait_some: Callable[[set[Any]], tuple[set[Any], set[Any]]],
+        idle: Callable[[], None],
+        result: Callable[[Any], Any],
+    ) -> Iterator[Any]:
+        """The results of the futures of ``order`` as they end, waking every second while none
+        does (``idle``: the pool's check; ``waiting``: a progress log's lines go on)."""
+        pending = set(order)
+        while pending:
+            ready, pending = wait_some(pending)
             if not ready:
-                idle.check(
-                    len(self._client.scheduler_info()["workers"]) if self.dask != "local" else 1
-                )
+                idle()
                 if self.waiting is not None:
                     self.waiting()
+            # those done by one wake in the order given (a set's order put a table's rows
+            # 0, 2, 1 on a loaded machine, and a resume test cut the wrong row)
             for future in sorted(ready, key=order.__getitem__):
-                try:
-                    result = future.result()
-                except distributed.KilledWorker as e:
-                    raise UsageError(
-                        f"the Dask workers running a batch died ({e}; killed, out of memory?); "
-                        "what was done is kept, and the same command again goes on from there"
-                    ) from None
-                yield result
+                yield result(future)
+
+    def _local_result(self, future: Any) -> Any:
+        try:
+            return future.result()
+        except BrokenProcessPool:
+            self._killed()
+            raise
 
     def _check_manager(self) -> None:
         """The executor feeds its processes from a thread that dies, its futures never to end,
