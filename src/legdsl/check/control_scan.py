@@ -35,6 +35,21 @@ def dotted_members(
     return found
 
 
+def reads_of(node: Any, name: str, found: list[Span] | None = None) -> list[Span]:
+    """Where ``node`` reads ``name`` (each plain use of it, in the order written)."""
+    found = [] if found is None else found
+    if isinstance(node, ast.EName):
+        if node.ident.name == name:
+            found.append(node.span)
+    elif isinstance(node, tuple | list):
+        for item in node:
+            reads_of(item, name, found)
+    else:
+        for field in _walked_fields(node.__class__):
+            reads_of(getattr(node, field), name, found)
+    return found
+
+
 @functools.cache
 def _walked_fields(cls: type) -> tuple[str, ...]:
     """The fields ``dotted_members`` walks into, per class (``fields`` is slow to ask each

@@ -22,6 +22,7 @@ import dataclasses
 from collections.abc import Callable
 
 from legdsl.check.control_exprs import unit_advice
+from legdsl.check.control_scan import reads_of
 from legdsl.check.control_shared import Declared, Extension
 from legdsl.check.control_words import describe_type
 from legdsl.check.values import did_you_mean, place_of
@@ -100,16 +101,7 @@ def _first_read(decl: ast.ControllerDecl, name: str) -> Span | None:
         i for i in decl.items if not isinstance(i, ast.TableDecl | ast.InputDecl | ast.ParamDecl)
     ]
     for items in (tables, rest):
-        found: list[Span] = []
-        stack: list[object] = list(items)
-        while stack:
-            item = stack.pop()
-            if isinstance(item, ast.EName) and item.ident.name == name:
-                found.append(item.span)
-            elif dataclasses.is_dataclass(item) and not isinstance(item, type):
-                stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
-            elif isinstance(item, tuple | list):
-                stack.extend(item)
+        found = reads_of(items, name)
         if found:
             return min(found, key=lambda at: (at.file != decl.span.file, at.line, at.col))
     return None
