@@ -37,37 +37,19 @@ from legdsl.api.arguments import (
 )
 from legdsl.api.measured import run_metrics
 from legdsl.api.notes import LegdslWarning
+from legdsl.api.quantity import Quantity
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
 from legdsl.files import atomic_same_name, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import Dim, named_si_unit
 from legdsl.pipeline.generated import load_dynamics
 from legdsl.pipeline.session import RunSession
 from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory
 
 __all__ = ["Copies", "Creature", "LegdslWarning", "Quantity", "Run", "load", "open_run"]
-
-
-@dataclass(frozen=True)
-class Quantity:
-    """A value in SI units with its dimension; prints with its unit (``0.03 s``)."""
-
-    value: float
-    dim: Dim
-
-    @property
-    def unit(self) -> str:
-        return named_si_unit(self.dim)
-
-    def __str__(self) -> str:
-        return f"{self.value:g} {self.unit}".rstrip()
-
-    def __float__(self) -> float:
-        return self.value
 
 
 @dataclass(frozen=True)
