@@ -146,6 +146,21 @@ def test_joint_magnitude_and_anti_phase_correlation() -> None:
     assert m.summary("joint_magnitude").label == "magnitude of tail_base (deg)"
 
 
+def test_a_command_near_the_largest_double_is_averaged_without_overflow() -> None:
+    """set speed=1e308m/s (finite, accepted): numpy's mean overflowed ('overflow encountered
+    in reduce' leaked), and desired speed and its error were NaN with n = 0 over strides that
+    had a command; each is the command's now, without a warning."""
+    import warnings
+
+    h = Hopper()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = compute_metrics(h.run(4.0, command=1e308))
+    strides = m.n_strides
+    assert m.value("desired_speed") == 1e308 and m.summary("desired_speed").n == strides > 0
+    assert m.value("speed_error") == pytest.approx(-1e308) and m.summary("speed_error").std == 0
+
+
 def test_without_a_speed_command_the_error_is_nan_and_json_null() -> None:
     m = compute_metrics(Hopper().run(2.0, command=math.nan))
     assert math.isnan(m.value("speed_error"))

@@ -135,6 +135,25 @@ def test_a_run_of_one_sample_draws_without_warnings(tmp_path: Path) -> None:
         assert main(["plot", str(tmp_path / "one")]) == 0
 
 
+def test_a_command_near_the_largest_double_is_named_off_the_axis(tmp_path: Path) -> None:
+    """A speed command of 1e308 m/s overflowed matplotlib's ticks (numpy's RuntimeWarnings
+    leaked); one a million times the speeds drawn is named in the legend, not drawn."""
+    import warnings
+
+    from legdsl.analysis.plot import _command, pyplot
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig, axes = pyplot().subplots()
+        t = np.linspace(0.0, 1.0, 11)
+        _command(axes, t, np.full(11, 1e308), np.full(11, 3.0))
+        _command(axes, t, np.full(11, 2.0), np.full(11, 3.0))
+        labels = [line.get_label() for line in axes.get_lines()]
+        fig.savefig(tmp_path / "command.png")
+    assert labels == ["command (up to 1e+308 m/s, off the axis)", "command"]
+    assert len(axes.get_lines()[1].get_xdata()) == 11
+
+
 def test_a_window_reaching_past_the_run_or_into_a_stance_draws_only_the_run_inside_it(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -75,6 +75,18 @@ def test_the_speed_note_wants_a_clear_miss_and_says_the_other_way() -> None:
     assert run_notes(_run(np.full(n, 2.0), np.full(n, np.nan), states)) == []  # no speed input
 
 
+def test_a_command_near_the_largest_double_is_told_as_not_followed() -> None:
+    """A speed command of 1e308 m/s overflowed the command's mean (numpy warned) and the run
+    got no note, where 20 m/s got one: it is told, its number in a few figures."""
+    import warnings
+
+    n, states = 1001, [{"t": 0.1 * k, "kind": "state", "state": "A"} for k in range(100)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        (note,) = run_notes(_run(np.full(n, 3.0), np.full(n, 1e308), states))
+    assert note.startswith("the speed command was 1e+308 m/s and the forward speed 3.00 m/s")
+
+
 def test_the_stuck_note_wants_a_long_share_of_the_run() -> None:
     n = 1001  # 10 s
     speed, command = np.zeros(n), np.full(n, np.nan)

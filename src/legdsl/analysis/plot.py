@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from legdsl.ir.paths import PathSpec
 
 LINE_STYLES = ("-", "--", "-.", ":")
+OFF_AXIS = 1e6  # a speed command this many times the speeds drawn (and 1 m/s) is off the axis
 
 
 def pyplot() -> Any:
@@ -88,6 +89,17 @@ def picture_format(out: Path) -> str:
 MOST_STANCES = 200
 
 
+def _command(speed: Any, t: np.ndarray, command: np.ndarray, forward: np.ndarray) -> None:
+    """The speed command, dashed; one past ``OFF_AXIS`` times the speeds drawn (1e308 m/s,
+    finite, overflowed matplotlib's ticks, which warned) is named in the legend alone."""
+    most = float(np.nanmax(np.abs(command)))
+    if most <= OFF_AXIS * (1.0 + float(np.max(np.abs(forward), initial=0.0))):
+        speed.plot(t, command, color="0.5", linestyle="--", label="command")
+    else:
+        speed.plot([], [], color="0.5", linestyle="--", label=f"command (up to {most:.3g} m/s, "
+                   "off the axis)")  # fmt: skip
+
+
 def _stances_in(tr: Trajectory, t_from: float, end: float) -> list[tuple[float, float]]:
     """The first leg's stances that reach into the window (none without legs)."""
     if not tr.leg_names:
@@ -150,7 +162,7 @@ def plot_run(
         sideways = -vx * np.sin(heading) + vy * np.cos(heading)
         speed.plot(t, sideways, color="k", linestyle=":", label="sideways speed")
     if np.isfinite(tr.speed_command[window]).any():
-        speed.plot(t, tr.speed_command[window], color="0.5", linestyle="--", label="command")
+        _command(speed, t, tr.speed_command[window], forward)
     if not tr.planar or np.isfinite(tr.speed_command[window]).any():
         speed.legend(loc="lower right", fontsize=8)
     speed.set_ylabel("forward speed (m/s)" if tr.planar else "speed (m/s)")

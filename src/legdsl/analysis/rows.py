@@ -8,6 +8,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from legdsl.analysis import averages
 from legdsl.analysis.friction import friction_rows
 from legdsl.analysis.results import Flight, Friction, Stance, Summary
 from legdsl.analysis.strides import Unit
@@ -22,11 +23,7 @@ def stat(
     kept = [i for i, v in enumerate(values) if math.isfinite(v)]
     x = np.asarray([values[i] for i in kept], dtype=float)
     w = None if weights is None else np.asarray([weights[i] for i in kept], dtype=float)
-    if x.size and w is not None and w.sum() > 0:
-        mean = float(np.sum(x * w) / np.sum(w))
-    else:
-        mean = float(np.mean(x)) if x.size else math.nan
-    std = float(np.std(x, ddof=1)) if x.size > 1 else math.nan
+    mean, std = averages.mean(x, w), averages.spread(x)  # finite for any finite values
     how = "mean" if weights is None else "weighted mean"
     return Summary(key, label, mean, std, int(x.size), how)
 

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.analysis.averages import finite_mean
 from legdsl.analysis.path_report import settle_time
 from legdsl.analysis.strides import EPS_T
 from legdsl.figures import figure
@@ -48,7 +49,7 @@ def segment_report(
             window[:] = False
         speed = float(np.mean(forward[window])) if window.any() else math.nan
         cmd = tr.speed_command[window]
-        command = float(np.mean(cmd[np.isfinite(cmd)])) if np.isfinite(cmd).any() else math.nan
+        command = finite_mean(cmd)  # of any size: 1e308 m/s overflowed numpy's mean
         error = 100 * (speed / command - 1) if command and math.isfinite(speed) else math.nan
         out.append(
             {

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from legdsl.analysis.averages import finite_mean
 from legdsl.analysis.results import Flight, MetricsError, Stance
 from legdsl.sim.trajectory import Trajectory
 
@@ -201,8 +202,8 @@ def stride_series(
         series["pitch_magnitude"].append(_ptp(pitch[closed]))
         series["roll_magnitude"].append(math.nan if tr.planar else _ptp(roll[closed]))
         series["speed"].append(float(np.mean(forward[a:b])))
-        series["speed_command"].append(_finite_mean(cmd))
-        series["speed_error"].append(_finite_mean(forward[a:b] - cmd))
+        series["speed_command"].append(finite_mean(cmd))
+        series["speed_error"].append(finite_mean(forward[a:b] - cmd))
         series["peak_vertical_acceleration"].append(float(np.max(acc_g[closed])))
         series["energy_fluctuation"].append(_ptp(e_ext[closed]))
         # every fall, not max - min: a trot's or a biped's stride takes up energy twice
@@ -223,11 +224,6 @@ def _displacement(d: np.ndarray) -> float:
 
 def _ptp(x: np.ndarray) -> float:
     return float(np.max(x) - np.min(x))
-
-
-def _finite_mean(x: np.ndarray) -> float:
-    ok = np.isfinite(x)
-    return float(np.mean(x[ok])) if ok.any() else math.nan
 
 
 def _correlation(x: np.ndarray, y: np.ndarray) -> float:

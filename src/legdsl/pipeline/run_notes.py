@@ -112,6 +112,8 @@ def _off_speed(run: Any, unit: float) -> str:
 
 
 def _speed(x: float) -> str:
+    if abs(x) >= 1e6:  # a command of 1e308 m/s is not told in 309 digits
+        return f"{x:.3g}"
     return f"{round(x, 2) + 0.0:.2f}"  # -2e-19 (standing still) is 0.00
 
 
