@@ -76,7 +76,8 @@ def test_a_series_is_read_only_so_the_run_stays_as_recorded(run: legdsl.api.Run)
         with pytest.raises(ValueError, match="read-only"):
             run[name][0] = 100.0
     assert float(run["t"][0]) == start and float(run["q.x"][0]) == first_x
-    assert run.trajectory.t.flags.writeable and run.trajectory.state.flags.writeable
+    own = run._session_run.result.trajectory  # the session's, still its own to write
+    assert own.t.flags.writeable and own.state.flags.writeable
     shifted = run["t"].copy()
     shifted += 1
     assert run.to_pandas().index[0] == start
@@ -100,3 +101,25 @@ def test_a_run_without_samples_is_told_so_by_what_would_show_it(
         empty.save(tmp_path / "empty")
     assert list(tmp_path.iterdir()) == []
     assert repr(empty) == "<legdsl run of 'hopper': interrupted, 0 samples>"  # not "to nan s"
+
+
+def test_the_run_s_trajectory_and_a_batch_s_arrays_are_read_only_too(generated: Path) -> None:
+    """``run.trajectory.q[0, 0] = 7`` changed ``run['q.x'][0]`` (the samples api.md calls
+    read-only views), and ``copies.status[0] = 'fell'`` stored 'fe' (the array's width was
+    'ok''s), which ``repr(copies)`` then counted: each is a read-only view, also after pickle."""
+    import pickle
+
+    hopper = legdsl.load(ROOT / "creatures" / "hopper.leg", generated=generated)
+    run = hopper.run(controller="hop", time=0.1)
+    copies = hopper.run_copies(2, "hop", vary={"speed": ([1, 2], "m/s")}, time=0.1)
+    arrived = pickle.loads(pickle.dumps(run))
+    for tr in (run.trajectory, copies[0].trajectory, arrived.trajectory):
+        for name in ("t", "q", "force", "state", "work_positive"):
+            with pytest.raises(ValueError, match="read-only"):
+                getattr(tr, name)[0] = 7
+    for kept in (copies, pickle.loads(pickle.dumps(copies))):
+        for name in ("status", "sim_time"):
+            with pytest.raises(ValueError, match="read-only"):
+                getattr(kept, name)[0] = "fell" if name == "status" else 7
+        assert repr(kept).endswith("2 (ok 2)>")
+    assert run["q.x"][0] == arrived["q.x"][0] and run.metrics().n_strides == 0

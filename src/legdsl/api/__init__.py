@@ -38,6 +38,7 @@ from legdsl.api.arguments import (
 from legdsl.api.measured import run_metrics
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.quantity import Quantity
+from legdsl.api.read_only import read_only, read_only_trajectory
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
@@ -205,7 +206,7 @@ class Copies:
 
     def __init__(self, creature: Creature, copies: Any):
         self._creature, self.copies = creature, copies
-        self.status, self.sim_time = copies.status, copies.sim_time
+        self.status, self.sim_time = read_only(copies.status), read_only(copies.sim_time)
         self._runs: list[Run] | None = None  # a Copies that came through pickle: its runs
 
     def __len__(self) -> int:
@@ -230,7 +231,7 @@ def _arrived_copies(creature: Creature, runs: list[Run], status: Any, sim_time: 
     """A ``Copies`` as pickle brings it: its runs, with no batch behind them."""
     copies = Copies.__new__(Copies)
     copies._creature, copies.copies, copies._runs = creature, None, runs
-    copies.status, copies.sim_time = status, sim_time
+    copies.status, copies.sim_time = read_only(status), read_only(sim_time)
     return copies
 
 
@@ -247,7 +248,7 @@ class Run:
         directory: Path | None = None,
     ):
         self.model = model
-        self.trajectory = trajectory
+        self.trajectory = read_only_trajectory(trajectory)  # as its samples: the run's own
         self.info = info
         self._dynamics = dynamics
         self._session_run = session_run
@@ -287,10 +288,7 @@ class Run:
         for i, n in enumerate(tr.actuator_names):
             out[f"work_positive.{n}"] = tr.work_positive[:, i]
             out[f"work_negative.{n}"] = tr.work_negative[:, i]
-        for name, series in out.items():  # the run's own arrays: changed, they changed it
-            out[name] = series.view()
-            out[name].flags.writeable = False
-        return out
+        return out  # views of read_only_trajectory's read-only arrays
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -427,6 +425,9 @@ class Run:
 
     def __getstate__(self) -> dict[str, Any]:  # pickle: the module goes as its file
         return pickling.picklable(self.__dict__)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:  # its arrays arrive writeable
+        self.__dict__.update(state, trajectory=read_only_trajectory(state["trajectory"]))
 
     def _recorded(self, call: str) -> None:
         """A run without a sample (a copy stopped before it started) has nothing to show."""
