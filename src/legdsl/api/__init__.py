@@ -256,7 +256,8 @@ class Run:
 
     @property
     def status(self) -> str:
-        """ok, fell or diverged (run.json's word)."""
+        """ok, fell, diverged or interrupted (run.json's word; interrupted: cut short by
+        Ctrl-C, or a copy of ``run_copies`` stopped so)."""
         return str(self.info.get("status", "ok"))
 
     @property
@@ -339,14 +340,18 @@ class Run:
         groups: Mapping[str, Sequence[str]] | Sequence[str] = (),
         min_stance: float | str | None = None,
         friction_edge: float | str = "10 ms",
+        joint: str | None = None,
+        against: str | None = None,
     ) -> GaitMetrics:
         """The gait metrics of Table 2 (as ``legdsl metrics --from START --to END``);
         ``groups={"front": ["fl", "fr"]}`` (or ``["front=fl,fr"]``) measures legs together;
         ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise);
-        ``friction_edge`` as ``--friction-edge``."""
+        ``friction_edge`` as ``--friction-edge``; ``joint="tail_base"`` a coordinate's
+        magnitude per stride and ``against="hip"`` its correlation with another, as
+        ``--joint`` and ``--against``."""
         self._recorded("metrics()")
         return run_metrics(self.model, self.trajectory, self.info, self._dynamics_module, start,
-                           end, leg, groups, min_stance, friction_edge)  # fmt: skip
+                           end, leg, groups, min_stance, friction_edge, joint, against)  # fmt: skip
 
     def save(self, directory: str | Path) -> Path:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""

@@ -9,7 +9,9 @@ from typing import Any
 
 from legdsl.analysis.metrics import parse_groups
 from legdsl.analysis.results import GaitMetrics, MetricsError
+from legdsl.analysis.series_units import series_unit
 from legdsl.api.arguments import friction_edge_time, metrics_groups, min_stance_time, window_time
+from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import ROWS, Kinematics
@@ -30,9 +32,12 @@ def run_metrics(
     groups: Mapping[str, Sequence[str]] | Sequence[str],
     min_stance: float | str | None,
     friction_edge: float | str,
+    joint: object = None,
+    against: object = None,
 ) -> GaitMetrics:
     """The metrics of a run of ``model`` (``info`` its run.json; ``dynamics()`` its generated
-    dynamics module) over ``[start, end]``, as ``legdsl metrics`` measures them."""
+    dynamics module) over ``[start, end]``, as ``legdsl metrics`` measures them; ``joint`` and
+    ``against`` are ``--joint`` and ``--against``, coordinates of ``model``."""
     t_from = window_time("start", start)
     t_to = None if end is None else window_time("end", end)
     texts, shortest = metrics_groups(groups), min_stance_time(min_stance)
@@ -43,9 +48,36 @@ def run_metrics(
         given = parse_groups(texts)
     except MetricsError as e:
         raise UsageError(str(e)) from None
+    slides = _joint_slides(model, trajectory, joint, against)
     return measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
-                   leg=leg, groups=given, min_stance=shortest, edge=edge,
-                   ground_normal=model_ground_normal(model), events=info.get("events"))  # fmt: skip
+                   leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
+                   against=against, joint_slides=slides, ground_normal=model_ground_normal(model),
+                   events=info.get("events"))  # fmt: skip
+
+
+def _joint_slides(model: Model, trajectory: Trajectory, joint: object, against: object) -> bool:
+    """``joint=`` and ``against=`` checked as ``legdsl metrics --joint --against`` checks them,
+    in the words of the call: whether ``joint`` slides (its magnitude is then in metres)."""
+    named = ", ".join(trajectory.q_names) or "none"
+    for role, name in (("joint", joint), ("against", against)):
+        if name is not None and not isinstance(name, str):
+            raise UsageError(f"metrics(): {role}= is the name of a coordinate ({named}), "
+                             f"not {name!r}")  # fmt: skip
+        if name is not None and name not in trajectory.q_names:
+            raise UsageError(f"metrics(): {role}={name!r}: no coordinate named so"
+                             f"{did_you_mean(name, trajectory.q_names)} (coordinates: {named})")  # fmt: skip
+    if joint is None:
+        if against is not None:
+            raise UsageError(f"metrics(): against={against!r} needs joint=: the correlation is "
+                             "of the joint with it, e.g. joint='tail_base', against='hip'")  # fmt: skip
+        return False
+    unit = series_unit(model, f"q.{joint}")
+    if unit == "":  # of the coordinates, only a quaternion's component is a pure number
+        angles = [n for n in trajectory.q_names if series_unit(model, f"q.{n}")]
+        raise UsageError(f"metrics(): joint={joint!r} is a component of the root's orientation "
+                         f"quaternion, not an angle or a length; give a joint's coordinate "
+                         f"({', '.join(angles)})")  # fmt: skip
+    return unit == "m"
 
 
 def _kinematics(
