@@ -179,7 +179,9 @@ class Creature:
             batch = Batch(self.session, n, plan["controller"], plan["settings"], vary, q0, v0,
                           plan["paths"], plan["options"])  # fmt: skip
         self._before(plan, asked)  # once nothing is refused: a refusal is told alone, as run()'s
-        return Copies(self, batch.run(thread_count(threads), progress))
+        copies = batch.run(thread_count(threads), progress)
+        notes.after_copies(self.session, copies)
+        return Copies(self, copies)
 
     def _before(self, plan: dict[str, Any], passive_asked: bool) -> None:
         unreached = plan.pop("unreached")  # told here, and no argument of the run

@@ -79,3 +79,35 @@ def before_run(
         session.tell("note", f"controller: none, a passive run: choose one with controller="
                      f"{names[0]!r} (the file has {', '.join(names)}), or controller=None for "
                      "a passive run")  # fmt: skip
+
+
+MOST_NOTES = 5  # distinct notes on a batch's copies told one by one; the rest counted in one
+
+
+def after_copies(session: Any, copies: Any) -> None:
+    """The notes ``legdsl run`` prints after a run (``run_notes``: a speed off its command, a
+    state held for seconds, a path far off), for a batch's ``copies`` (``Batch.run``'s): each
+    distinct one told once by ``session``, with the copies it concerns (``run`` and
+    ``run_many`` tell each run's; the copies said nothing, their notes only in run.json)."""
+    from legdsl.pipeline.run_notes import run_notes
+
+    concerned: dict[str, list[int]] = {}
+    for k in range(len(copies)):
+        if copies.status[k] == "ok":  # the notes are of a run that ended ok (and run.json's)
+            for note in run_notes(copies.run(k)):
+                concerned.setdefault(note, []).append(k)
+    told = list(concerned.items())
+    for note, which in told[:MOST_NOTES]:
+        session.tell("note", f"{_which(which, len(copies))}: {note}")
+    if len(told) > MOST_NOTES:
+        rest = sorted({k for _, which in told[MOST_NOTES:] for k in which})
+        session.tell("note", f"{len(told) - MOST_NOTES} more notes, on {_which(rest, len(copies))}"
+                     ": each copy's are in copies[k].info['notes']")  # fmt: skip
+
+
+def _which(copies: list[int], n: int) -> str:
+    """'copy 3 of 8', 'copies 0, 1 (2 of 2)', 'copies 0, 1, 2, ... (40 of 256)'."""
+    if len(copies) == 1:
+        return f"copy {copies[0]} of {n}"
+    shown = ", ".join(map(str, copies[:8])) + (", ..." if len(copies) > 8 else "")
+    return f"copies {shown} ({len(copies)} of {n})"
