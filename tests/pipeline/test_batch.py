@@ -324,6 +324,28 @@ def test_a_wrong_value_is_refused_before_anything_runs(
     assert says in str(e.value)
 
 
+def test_a_copy_s_own_start_is_told_as_its_row_of_q0_or_v0(roo: RunSession) -> None:
+    """A q0 row under the ground said "raise the root's initial z ... in the .leg file, or start
+    with --drop H", and a v0 of 1e6 m/s ended its copy diverged blaming "the start velocity its
+    file gives": both came from the call's arrays, and are told as the copy's row."""
+    starts = np.array([roo.model.q0, roo.model.q0], dtype=float)
+    starts[1, 1] = -1.0  # the kangaroo's z
+    with pytest.raises(UsageError) as e:
+        Batch(roo, 2, "hop", q0=starts, options=HOP)
+    said = str(e.value)
+    assert said.startswith("q0 of copy 1: contact ") and ".leg" not in said
+    assert "; raise its root's z, q0[1, 1] (now -1 m), by at least " in said
+    assert "--drop" not in said and "initial" not in said
+    speeds = np.zeros((2, roo.model.nv))
+    speeds[1, 0] = 1e6
+    with pytest.raises(UsageError) as e:
+        Batch(roo, 2, "hop", v0=speeds, options=HOP)
+    assert str(e.value).startswith("v0 of copy 1: x = 1e+06 m/s is past the divergence limit")
+    assert "give v0[1, 0] a speed under " in str(e.value)
+    speeds[1, 0] = 3.0  # a start a copy can run from
+    assert Batch(roo, 2, "hop", v0=speeds, options=HOP).v0[1, 0] == 3.0
+
+
 @pytest.mark.parametrize(
     ("jobs", "threads", "says"),
     [

@@ -15,9 +15,11 @@ from legdsl.pipeline.backend import CUnavailable
 from legdsl.pipeline.batch_memory import check_recordings
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
+from legdsl.pipeline.start_pose import check_fall_height, check_start
 from legdsl.sim.c_backend import CSimulation
 from legdsl.sim.machine import overwritten
 from legdsl.sim.run_loop import RunOptions
+from legdsl.sim.sizes import too_fast
 
 Values = tuple[Sequence[float] | np.ndarray, str]  # numbers and their unit ("m/s"; "" if none)
 
@@ -76,6 +78,7 @@ class BatchSetup:
         self.q0 = self._start(q0, "q0", model.nq)
         self.v0 = self._start(v0, "v0", model.nv)
         self.start_heights = self._start_heights()
+        self._check_speeds()
         self._check_stiffness()
         self._note_overwritten()  # once nothing is refused: a refusal is told alone
 
@@ -133,6 +136,27 @@ class BatchSetup:
                 )
         return values
 
+    def _check_speeds(self) -> None:
+        """A copy's ``v0`` past the divergence limit (``legdsl.sim.sizes.too_fast``, its own
+        start's) would end it diverged before its first step, told as the file's velocity
+        (which it is not): refused as the row's mistake, as a ``q0`` under the ground is."""
+        if self.v0.strides[0] == 0:  # the file's start: a single run's rule tells it
+            return
+        sim = self.sim
+        for k in range(self.n):
+            fast = too_fast(self.v0[k], self.start_heights[k], sim.size_scale, sim.v_factors)
+            if fast is None:
+                continue
+            i, speed, most = fast
+            unit = "rad/s" if self.session.model.v_angular[i] else "m/s"
+            name = self.session.model.v_names[i]
+            raise UsageError(
+                f"v0 of copy {k}: {name} = {float(self.v0[k, i]):.4g} {unit} is past the "
+                f"divergence limit for a creature of its size ({most:.4g} {unit}; "
+                "docs/runtime.md#divergence-and-falls): the copy would end diverged before its "
+                f"first step; give v0[{k}, {i}] a speed under {most:.4g} {unit}"
+            )
+
     def _check_stiffness(self) -> None:
         """The template's stiffness check (``RunSession._check_stiffness``) again with each
         varied actuator setting at its largest (the stiffer and the more damped, the worse)."""
@@ -189,8 +213,9 @@ class BatchSetup:
         try:
             for k in range(self.n):
                 sim.move_to(self.q0[k].tolist(), saved_v)
-                try:
-                    self.session._check_start(sim)
+                try:  # as RunSession._check_start, the fix told in the row's numbers
+                    check_start(self.session.model, sim, self.session.source, row=k)
+                    check_fall_height(sim)
                 except UsageError as e:
                     raise UsageError(f"q0 of copy {k}: {e}") from None
                 heights[k] = sim.standing_height()

@@ -45,7 +45,10 @@ def welded_root(model: Model) -> str | None:
     return root.child if root.kind == "fixed" else None
 
 
-def check_start(model: Model, sim: Any, source: str | Path) -> None:
+def check_start(model: Model, sim: Any, source: str | Path, row: int | None = None) -> None:
+    """A contact deeper under the ground than a creature of its size may start is refused: at
+    the line of the file that places the root, or, for copy ``row`` of a batch (its own start,
+    ``run_copies``' ``q0=``), as that row's mistake: the file gave no such start."""
     if model.ground is None:
         return
     normal = model.ground.normal
@@ -61,11 +64,15 @@ def check_start(model: Model, sim: Any, source: str | Path) -> None:
     name, depth = max(under, key=lambda c: c[1])
     welded = welded_root(model)
     fix = (
-        f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
-        "with --drop H (the lowest foot H metres above the ground)"
-        if welded is None
-        else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
-        f"{depth:.3g} m in the .leg file"
+        _row_fix(model, sim, row, depth)
+        if row is not None
+        else (
+            f"raise the root's initial z by at least {depth:.3g} m in the .leg file, or start "
+            "with --drop H (the lowest foot H metres above the ground)"
+            if welded is None
+            else f"raise the point after 'fixed at' of its root body '{welded}' by at least "
+            f"{depth:.3g} m in the .leg file"
+        )
     )
     scaled = (f"; at --scale {scale:g} it starts {depth * scale:.3g} m under, where a creature "
               f"of that size may start {allowed * scale:.3g} m under: the file's numbers are the "
@@ -80,10 +87,35 @@ def check_start(model: Model, sim: Any, source: str | Path) -> None:
     except (OSError, UnicodeDecodeError):
         text = None
     from_file = [float(x) for x in sim.q] == list(model.q0)  # not a copy's or a scene's start
+    if row is not None:
+        raise UsageError(message)  # the caller names the argument and the copy
     if text is None or body.span.line <= 0 or not from_file:
         raise UsageError(f"{source}: {message}")
     span = _placed_at(text, body.span, "fixed" if welded else "initial")
     raise LegError([Diagnostic(span, message + body.span.within)], {span.file: text})
+
+
+def _row_fix(model: Model, sim: Any, row: int, depth: float) -> str:
+    """How to mend row ``row`` of ``q0`` (a batch copy's start): raise its root's z, the
+    column named, or, for a root that has none (welded, or a planar one without a vertical
+    slide), change the row's joint angles."""
+    column = root_z(model)
+    if column is None:
+        return (f"change its joint angles in q0[{row}] so that the contact is above the "
+                "ground")  # fmt: skip
+    z = float(sim.q[column])
+    return f"raise its root's z, q0[{row}, {column}] (now {z:.4g} m), by at least {depth:.3g} m"
+
+
+def root_z(model: Model) -> int | None:
+    """The column of q of the root's height (world z), None when it has none of its own."""
+    root = next(j for j in model.joints if j.parent is None)
+    if root.is_free_3d:
+        return root.q_start + 2
+    for dof in root.dofs:
+        if dof.motion == "slide" and tuple(dof.axis) == (0.0, 0.0, 1.0):
+            return dof.q_index
+    return None
 
 
 def _placed_at(text: str, body: Span, word: str) -> Span:
