@@ -52,9 +52,11 @@ def test_the_changed_creature_example_is_the_message_given(
     (tmp_path / "creatures").mkdir()
     shutil.copy(CREATURES / "hopper.leg", tmp_path / "creatures")
     argv = command.group(1).split()
-    assert main([*argv, "--generated", str(generated)]) == 0
+    # the modules in ./generated, the default: the command given then names no --generated
+    shutil.copytree(generated / "hopper", tmp_path / "generated" / "hopper")
+    assert main(argv) == 0
     leg = tmp_path / "creatures" / "hopper.leg"
     leg.write_text(leg.read_text().replace("mass 10 kg", "mass 11 kg", 1))
     capsys.readouterr()
-    assert main(["metrics", "runs/hopper", "--generated", str(generated)]) == 2
+    assert main(["metrics", "runs/hopper"]) == 2
     assert example in capsys.readouterr().err.splitlines()

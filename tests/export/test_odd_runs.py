@@ -50,7 +50,7 @@ def test_a_run_of_another_creature_with_as_many_coordinates_is_refused(
         )
     )
     info = json.loads((arm_run / "run.json").read_text())
-    del info["creature_fingerprint"]
+    del info["creature_fingerprint"], info["motion_fingerprint"]
     info["source"], info["creature"] = str(other), "arm2"
     run = tmp_path / "run"
     run.mkdir()

@@ -64,7 +64,9 @@ def test_a_run_of_a_changed_creature_is_refused(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert f"{leg} has changed since the run in {run} was recorded" in err
-    assert f"legdsl run {leg} --controller hop --time 1s --out {run})" in err
+    assert (
+        f"legdsl run {leg} --controller hop --time 1s --generated {generated} --out {run})" in err
+    )
 
 
 def test_the_rerun_asked_for_a_changed_creature_keeps_the_switches_and_scene(
@@ -80,7 +82,9 @@ def test_the_rerun_asked_for_a_changed_creature_keeps_the_switches_and_scene(
     leg.write_text(leg.read_text().replace("mass 10 kg", "mass 12 kg", 1))
     assert main(["plot", str(run)]) == 2
     err = capsys.readouterr().err
-    assert f"legdsl run {leg} --controller hop --switch 0.5s=hop --time 1s --out {run})" in err
+    assert (
+        f"--controller hop --switch 0.5s=hop --time 1s --generated {generated} --out {run})" in err
+    )
     biped = tmp_path / "biped.leg"
     shutil.copy(ROOT / "creatures" / "biped.leg", biped)
     scene = tmp_path / "scene"
@@ -93,7 +97,9 @@ def test_the_rerun_asked_for_a_changed_creature_keeps_the_switches_and_scene(
     assert main(["metrics", str(scene), "--generated", str(generated)]) == 2
     err = capsys.readouterr().err
     assert f"legdsl: {biped} has changed since the run" in err
-    assert f"legdsl run {biped} --scene run_gallop_run --time 0.2s --out {scene}" in err
+    assert (
+        f"{biped} --scene run_gallop_run --time 0.2s --generated {generated} --out {scene}" in err
+    )
 
 
 def test_a_new_run_removes_what_was_drawn_from_the_old(
@@ -164,7 +170,8 @@ def test_the_command_to_run_again_keeps_what_the_run_was_given(
     capsys.readouterr()
     assert main(["plot", str(run)]) == 2
     err = capsys.readouterr().err
-    assert f"(legdsl run {leg} --controller hop --time 0.3s --set speed=1.5m/s --out {run})" in err
+    said = f"(legdsl run {leg} --controller hop --time 0.3s --set speed=1.5m/s --generated {generated} --out {run})"  # fmt: skip
+    assert said in err
 
 
 def test_a_run_is_held_while_a_command_draws_from_it(

@@ -12,6 +12,7 @@ scene's own values and switches are left to ``--scene``.
 from __future__ import annotations
 
 import math
+import os
 import shlex
 from collections.abc import Iterator
 from pathlib import Path
@@ -54,7 +55,23 @@ def rerun_command(
         words += ["--set", f"{name}={_written(value)}{_unit(name, model, info)}{when}"]
     for text in _paths(info, model):
         words += ["--path", text]
+    words += _generated(directory, info)
     return shlex.join([*words, "--out", str(directory)])
+
+
+def _generated(directory: Path, info: dict[str, Any]) -> list[str]:
+    """``--generated DIR`` where run.json records the folder the run's modules were in
+    (``legdsl.pipeline.generated.recorded_folder``): from here through the run directory
+    where it is found so (the two moved together), else its absolute path; nothing where
+    that is the default, ``generated`` here."""
+    folder = info.get("generated")
+    if not isinstance(folder, dict):
+        return []
+    from_run, absolute = folder.get("from_run"), folder.get("absolute")
+    near = os.path.normpath(directory / from_run) if isinstance(from_run, str) else None
+    if near is not None and (Path(near).is_dir() or not isinstance(absolute, str)):
+        return ["--generated", near] if near != "generated" else []  # the default's own
+    return ["--generated", absolute] if isinstance(absolute, str) else []
 
 
 def _written(value: float) -> str:

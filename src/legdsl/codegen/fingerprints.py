@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import fields, is_dataclass
+from dataclasses import fields, is_dataclass, replace
 from typing import Any
 
 from legdsl import __version__
-from legdsl.ir.model import Controller, Model
+from legdsl.ir.model import Controller, Model, Shape
 
 
 def _clean(obj: Any) -> Any:
@@ -63,6 +63,17 @@ def creature_fingerprint(model: Model) -> str:
             "stops": _clean(model.stops),
             "start": [model.q0, model.v0],
         }
+    )
+
+
+def motion_fingerprint(model: Model) -> str:
+    """``creature_fingerprint`` without the creature's appearance: each body's colour and
+    drawing shape (which no simulation reads: the inertia, contacts and names are their own,
+    and are kept). A recorded run is drawn on a creature whose fingerprint this is (its
+    recolouring or reshaping changes no motion); a change of anything else refuses it."""
+    plain = Shape("none", ())
+    return creature_fingerprint(
+        replace(model, bodies=tuple(replace(b, shape=plain, color=None) for b in model.bodies))
     )
 
 

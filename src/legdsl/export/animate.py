@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from legdsl.export.ending import ending_note
 from legdsl.export.video_rates import VIDEO_FPS, most_fps
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.outputs import messages_for, named_as, not_a_stream
@@ -136,10 +137,14 @@ def _load(
 # ---------------------------------------------------------------- legdsl animate
 
 
-def _say_note(motion: Any) -> None:
-    """The motion's note (a stance of few keyframes) on standard error, where one was made."""
+def _say_note(motion: Any, run: str | None = None, out: object = None) -> None:
+    """The motion's note (a stance of few keyframes) on standard error, where one was made;
+    with ``run`` and ``out``, also how the run ended where it did not end ok (it fell, was
+    interrupted: a BVH file has no place to say it)."""
     if motion.note:
         print(motion.note, file=sys.stderr)
+    if run is not None and (told := ending_note(motion, run, str(out))):
+        print(told, file=sys.stderr)
 
 
 def _player_name(output: str | None) -> None:
@@ -176,7 +181,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         slow = args.slow_motion if args.slow_motion is not None else 1.0
         _positive(slow, "--slow-motion")
         motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
-        _say_note(motion)
+        _say_note(motion, args.run, video)
         progress = stderr_progress()
         try:
             result = render_video(motion, video, fps, size, overlays, progress=progress, slow=slow)
@@ -193,13 +198,15 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         if not args.output:
             return 0
         motion = _load(args, 60.0)  # the player's own rate, and its own note
+        said = True  # how the run ended: said once, with the video
     else:
         motion = _load(args, args.fps or 60.0)
+        said = False
     from legdsl.export.player import write_player
 
     out = Path(args.output) if args.output else run / "animation.html"
     size_bytes = write_player(motion, out, overlays)
-    _say_note(motion)
+    _say_note(motion, None if said else args.run, out)
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
         f"{seconds_text(motion.duration)}); open it in a web browser",
@@ -311,7 +318,7 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
         from legdsl.export.gltf import write_gltf
 
         size = write_gltf(motion, out, args.format, skin=args.skin)
-    _say_note(motion)
+    _say_note(motion, args.run, out)
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
+from legdsl.export.ending import ending
 from legdsl.export.motion import (
     Motion,
     frame_rate,
@@ -237,6 +238,7 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
         "time_end": motion.duration,
         "up_axis": "y (legdsl z)",
         "units": "metres",
+        **ending(motion),  # a run that fell or was cut short: how it ended (export/ending.py)
     }
 
     times = blob.accessor(motion.times.astype(np.float32), "SCALAR", bounds=True)

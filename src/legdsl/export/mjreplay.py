@@ -91,7 +91,7 @@ def replay_frames(
 ) -> tuple[Any, Any, Model, np.ndarray, np.ndarray]:
     """The MuJoCo model and data, the legdsl model, frame times and MuJoCo qpos per frame."""
     mujoco = _mujoco()
-    run = drawable(read_run(directory, source))
+    run = drawable(read_run(directory, source, drawn=True))
     # the bare link tree: anchor pads are for MuJoCo's simulation, and one a light body cannot
     # carry refused the replay, saying to export with --no-anchor-pads, which replay has not;
     # a drawing: a mite's inertias under MuJoCo's floor are raised to it, not refused

@@ -71,6 +71,8 @@ class Motion:
     weight: float  # N: total mass times gravity, to scale force arrows
     status: str = "ok"
     message: str = ""
+    ended_at: float | None = None  # s: when a run that did not end ok ended (run.json)
+    cause: str = ""  # and why, as run.json says it (its message where it has no cause)
     note: str = ""  # said when the frame rate misses the stances (stances.py)
     # each body's joint: its origin in the parent frame, and whether it has a slide
     joint_origins: np.ndarray | None = None  # (B, 3)
@@ -158,9 +160,12 @@ class Run:
     source: Path
 
 
-def read_run(directory: Path, source: Path | None = None, give: str = "--source FILE") -> Run:
+def read_run(
+    directory: Path, source: Path | None = None, give: str = "--source FILE", drawn: bool = False
+) -> Run:
     """The trajectory, run.json and checked model of a run directory (``source``, else the
-    file run.json names; ``give`` says how the caller gives another, as ``recorded_model``)."""
+    file run.json names; ``give`` says how the caller gives another, and ``drawn`` that it
+    only draws the motion, as ``recorded_model`` has them)."""
     from legdsl.analysis.recorded import recorded_model
 
     if not (directory / "trajectory.npz").is_file() or not (directory / "run.json").is_file():
@@ -169,7 +174,7 @@ def read_run(directory: Path, source: Path | None = None, give: str = "--source 
             "make one with: legdsl run FILE.leg --out DIR"
         )
     info = load_run_info(directory)  # not JSON, not an object...: a UsageError
-    source, model = recorded_model(directory, info, source, give)
+    source, model = recorded_model(directory, info, source, give, drawn)
     trajectory = Trajectory.load(directory)
     if len(trajectory) == 0:
         raise UsageError(f"{directory}: the run recorded no samples")
@@ -219,7 +224,7 @@ def load_motion(
     """Read a run directory and resample it for drawing (see the module docstring); ``video``
     is (frames per second, slow motion, the most frames per second of its format) when it is
     drawn for a video (its note then says so)."""
-    run = drawable(read_run(directory, source))
+    run = drawable(read_run(directory, source, drawn=True))
     t = run.trajectory.t  # read_run refuses a run of no samples
     if video is None:  # a video's own rate is checked, not the denser one its frames are read at
         enough_frames(float(t[-1] - t[0]), fps)
@@ -238,6 +243,9 @@ def load_motion(
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
     )
+    ended = run.info.get("ended_at", run.info.get("sim_time"))
+    motion.ended_at = float(ended) if isinstance(ended, int | float) else None
+    motion.cause = str(run.info.get("cause") or motion.message)
     if video is not None:  # a video's frames are its own, not the rate they are read at
         motion.note = stance_note(run.model, run.trajectory, *video[:2])
     specs = run.info.get("paths") or []

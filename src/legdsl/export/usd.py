@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from legdsl import __version__
+from legdsl.export.ending import ending, ending_text
 from legdsl.export.gltf import local_poses
 from legdsl.export.motion import Motion, frame_rate, free_name, ground_area
 from legdsl.export.shapes import Mesh, body_mesh, ground_meshes, hex_rgb, srgb_to_linear
@@ -87,6 +88,9 @@ def build_stage(motion: Motion, path: Path) -> Any:
     stage.SetStartTimeCode(0)
     stage.SetEndTimeCode(motion.frames - 1)
     layer.documentation = f"legdsl {__version__}: run of creature '{motion.creature}'"
+    if told := ending(motion):  # a run that fell or was cut short says how it ended
+        layer.documentation += f", which did not end ok: {ending_text(motion)}"
+        layer.customLayerData = {f"legdsl:{key}": value for key, value in told.items()}
 
     top = f"/{prim_name(motion.creature)}"
     root = UsdGeom.Xform.Define(stage, top)

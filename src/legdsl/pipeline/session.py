@@ -25,7 +25,7 @@ from typing import Any
 
 from legdsl import __version__
 from legdsl.check.source import check_tree, choose
-from legdsl.codegen.fingerprints import creature_fingerprint
+from legdsl.codegen.fingerprints import creature_fingerprint, motion_fingerprint
 from legdsl.files import file_sha256, remove, write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.ir.paths import PathSpec
@@ -461,9 +461,8 @@ class Run:
                     entry["superseded_by"] = {"t": by.t, "controller": by.controller}
                 extra["segments"] = m.segment_info(self.result.sim_time)
         result, at = self.result, self.result.diverged_at
-        ended = (
-            {"ended_at": round(result.sim_time, 9), "cause": result.cause} if result.cause else {}
-        )
+        cause = {"ended_at": round(result.sim_time, 9), "cause": result.cause}
+        ended = cause if result.cause else {}
         return {
             "legdsl": __version__,
             "source": self.model.source,
@@ -476,6 +475,7 @@ class Run:
             **({"scale": self.scale} if self.scale is not None else {}),
             **{k: v for k, v in {"scene": self.scene, "start": self.start}.items() if v},
             **extra,
+            "motion_fingerprint": motion_fingerprint(self.model),  # without its appearance
             "status": result.status,
             "message": result.message,
             **ended,
