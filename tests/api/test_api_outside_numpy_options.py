@@ -34,3 +34,17 @@ def test_numpy_numbers_as_options_save(pogo, tmp_path: Path) -> None:
 def test_an_option_of_the_wrong_type_is_a_usage_error(pogo, value) -> None:
     with pytest.raises(UsageError, match=r"dt"):
         pogo.run(controller="hop", time=0.02, dt=value)
+
+
+def test_zero_dimensional_arrays_are_their_numbers(pogo, tmp_path: Path) -> None:
+    """time=, dt=, fall_tilt= and metrics(start=) refused np.array(0.02) ("not
+    array(0.02)"), which api.md's "a numpy one too" and numpy's reductions give; a 0-d array
+    of a real number is that number, one of True/False or a complex one still refused."""
+    run = pogo.run(controller="hop", time=np.array(0.02), dt=np.array(5e-5),
+                   fall_tilt=np.array(1.2), record_rate=np.array(400))  # fmt: skip
+    saved = json.loads((run.save(tmp_path / "r") / "run.json").read_text())["options"]
+    assert saved["dt"] == 5e-5 and saved["fall_tilt"] == 1.2 and saved["duration"] == 0.02
+    assert run.metrics(start=np.array(0.0), end=np.array(0.02)).t_to <= 0.02
+    for wrong in (np.array(True), np.array(0.02 + 0j)):
+        with pytest.raises(UsageError, match=r"time= is seconds"):
+            pogo.run(controller="hop", time=wrong)

@@ -18,9 +18,12 @@ from legdsl.lang.errors import UsageError
 def as_text(value: object) -> object:
     """A ``Quantity`` (a creature's default, as ``load`` gives it) as the text of its SI value
     and unit, every digit kept, so that its dimension is checked as a text's (one without a
-    unit as its number: SI, as any number); else ``value``."""
+    unit as its number: SI, as any number); a 0-d numpy array of a real number
+    (``np.array(0.2)``, which numpy's reductions give) as that number; else ``value``."""
     from legdsl.api import Quantity
 
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        return value[()]  # a numpy scalar (True/False and complex ones stay refused)
     if not isinstance(value, Quantity):
         return value
     return f"{value.value!r}{value.unit}" if value.unit else value.value
