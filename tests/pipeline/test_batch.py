@@ -384,6 +384,29 @@ def test_a_batch_too_large_for_memory_is_refused_before_anything_is_laid_out(
     assert laid == []
 
 
+def test_a_batch_too_large_names_the_limit_it_passes(
+    roo: RunSession, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Under ulimit -v 4000000 on a 23 GB machine, 10**5 copies were refused as "more than half
+    of this machine's memory (1.8 GiB)": half of what the address-space limit left. Each
+    limit is named as what it is."""
+    import resource
+
+    gib = 2**30
+    monkeypatch.setattr(batch_memory, "recording_budget", lambda: int(1.5 * gib))
+    monkeypatch.setattr(batch_memory, "address_space_left", lambda: 3 * gib)
+    monkeypatch.setattr(resource, "getrlimit", lambda what: (4 * gib, resource.RLIM_INFINITY))
+    with pytest.raises(UsageError) as e:
+        Batch(roo, 10**5, "hop", options=RunOptions(duration=0.5))
+    said = str(e.value)
+    assert "more than 1.5 GiB, half of what this process's address-space limit (ulimit -v: " in said
+    assert "4.0 GiB, 1.0 GiB of it taken) leaves it; record less often" in said
+    assert "machine" not in said
+    monkeypatch.setattr(batch_memory, "address_space_left", lambda: None)  # no limit
+    with pytest.raises(UsageError, match=r"more than 1\.5 GiB, half of this machine's memory;"):
+        Batch(roo, 10**5, "hop", options=RunOptions(duration=0.5))
+
+
 @pytest.mark.parametrize(("quaternion", "norm"), [((0, 0, 0, 0), "0"), ((2, 0, 0, 0), "2")])
 def test_a_3d_copys_orientation_is_a_unit_quaternion(quaternion: tuple, norm: str) -> None:
     """A zero quaternion was a ZeroDivisionError; (2, 0, 0, 0) ran, its first sample

@@ -10,7 +10,7 @@ import numpy as np
 
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.sim.recorder import recording_budget, sample_bytes
+from legdsl.sim.recorder import address_space_left, recording_budget, sample_bytes
 from legdsl.sim.run_loop import RunOptions, run_samples, steps_per_sample
 
 LINE = 64  # bytes: a cache line
@@ -28,8 +28,8 @@ def check_recordings(model: Model, opts: RunOptions, copies: int) -> None:
     rate = 1.0 / (steps_per_sample(opts) * opts.dt)
     raise UsageError(
         f"a batch of {copies} copies of {opts.duration:g} s: their recordings would take "
-        f"{need / 2**30:,.1f} GiB ({samples:,} samples at {rate:g} Hz), more than half of this "
-        f"machine's memory ({budget / 2**30:,.1f} GiB); record less often (record_rate="
+        f"{need / 2**30:,.1f} GiB ({samples:,} samples at {rate:g} Hz), more than "
+        f"{budget_words(budget)}; record less often (record_rate="
         f"{rate * budget / need:.3g} fits), run for less time, or run fewer copies at once"
     )
 
@@ -46,10 +46,28 @@ def check_copies_memory(model: Model, opts: RunOptions, copies: int,
         return
     raise UsageError(
         f"a batch of {copies:,} copies: their states and recordings would take "
-        f"{copies * per_copy / 2**30:,.1f} GiB ({per_copy:,} bytes a copy), more than half of "
-        f"this machine's memory ({budget / 2**30:,.1f} GiB); run at most "
+        f"{copies * per_copy / 2**30:,.1f} GiB ({per_copy:,} bytes a copy), more than "
+        f"{budget_words(budget)}; run at most "
         f"{budget // per_copy:,} copies at once"
     )
+
+
+def budget_words(budget: int) -> str:
+    """``recording_budget``'s ``budget`` said as the limit it is: half of this machine's
+    memory, or half of what the process's address-space limit (``ulimit -v``) leaves it (a
+    4 GB ``ulimit -v`` on a 23 GB machine was told as "half of this machine's memory (1.8
+    GiB)")."""
+    left = address_space_left()
+    if left is not None and budget >= left // 2:
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        return (
+            f"{budget / 2**30:,.1f} GiB, half of what this process's address-space limit "
+            f"(ulimit -v: {limit / 2**30:,.1f} GiB, {(limit - left) / 2**30:,.1f} GiB of it "
+            "taken) leaves it"
+        )
+    return f"{budget / 2**30:,.1f} GiB, half of this machine's memory"
 
 
 def lined_up(n: int, size: int, dtype: Any) -> np.ndarray:
