@@ -8,6 +8,7 @@ that leg is bracketed by vertical dashed lines, as in the paper.
 from __future__ import annotations
 
 import textwrap
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -20,6 +21,7 @@ from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory, load_run_info
 
 if TYPE_CHECKING:
+    from legdsl.ir.model import Model
     from legdsl.ir.paths import PathSpec
 
 LINE_STYLES = ("-", "--", "-.", ":")
@@ -51,7 +53,12 @@ def stance_phases(tr: Trajectory, leg: int) -> list[tuple[float, float]]:
 
 
 def samples_in_window(
-    tr: Trajectory, run: Path, t_from: float, t_to: float | None, verb: str, curve: bool = False
+    tr: Trajectory,
+    run: Path | str,
+    t_from: float,
+    t_to: float | None,
+    verb: str,
+    curve: bool = False,
 ) -> np.ndarray:
     """Which samples lie in the window (a mask); ``UsageError`` when none does, as a window
     past the end of the run: drawn, its panels were empty on axes matplotlib made up, and
@@ -130,11 +137,36 @@ def plot_run(
     t_from: float = 0.0,
     t_to: float | None = None,
 ) -> Path:
-    """Draw the Figure-6 panels of a run into ``out`` (PNG)."""
+    """Draw the Figure-6 panels of the run in directory ``run`` into ``out`` (PNG)."""
     plt = pyplot()
-
     tr = Trajectory.load(run)
-    window = samples_in_window(tr, run, t_from, t_to, "draw", curve=True)
+    drawn = Drawn(run.name, run, ground_under_com(run, tr), switch_times(run))
+    return draw_run(plt, tr, drawn, out, angles, t_from, t_to)
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """What Figure 6 takes of a run besides its samples: its title, how its messages name it
+    (its directory), the ground under its centre of mass (None: a flat floor) and its
+    controller changes (``switch_times``). The API's ``Run.plot`` gives them from memory."""
+
+    title: str
+    named: Path | str
+    ground: np.ndarray | None
+    switches: list[tuple[float, str]]
+
+
+def draw_run(
+    plt: Any,
+    tr: Trajectory,
+    drawn: Drawn,
+    out: Path,
+    angles: tuple[str, ...] = (),
+    t_from: float = 0.0,
+    t_to: float | None = None,
+) -> Path:
+    """Draw the Figure-6 panels of ``tr`` into ``out`` (PNG, SVG or PDF as its name says)."""
+    window = samples_in_window(tr, drawn.named, t_from, t_to, "draw", curve=True)
     end = tr.t[-1] if t_to is None else t_to
     t = tr.t[window]
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
@@ -142,7 +174,7 @@ def plot_run(
 
     height.plot(t, tr.com[window, 2], color="k")
     height.set_ylabel("body height (m)")
-    ground = ground_under_com(run, tr)
+    ground = drawn.ground
     if ground is not None:  # heights are world z: on terrain, the ground they stand over too
         height.plot(t, ground[window], color="0.5", linewidth=1.0, label="ground under com")
         height.legend(loc="lower right", fontsize=8)
@@ -183,7 +215,7 @@ def plot_run(
             ax.axvline(start, color="0.6", linestyle="--", linewidth=0.8)
             ax.axvline(stop, color="0.6", linestyle="--", linewidth=0.8)
     labels = []
-    for t_switch, controller in switch_times(run):  # controller changes (legdsl run --switch)
+    for t_switch, controller in drawn.switches:  # controller changes (legdsl run --switch)
         if t_from <= t_switch <= end:
             for ax in axes:
                 ax.axvline(t_switch, color="tab:red", linewidth=1.2)
@@ -192,7 +224,7 @@ def plot_run(
                                       transform=height.get_xaxis_transform()))  # fmt: skip
     if t[-1] > t[0]:  # the window's samples, not a stance begun before it or a --to past the end
         height.set_xlim(t[0], t[-1])
-    creature = run.name
+    creature = drawn.title
     fig.suptitle(
         creature
         if not tr.leg_names
@@ -211,9 +243,12 @@ def plot_run(
 
 def switch_times(run: Path) -> list[tuple[float, str]]:
     """(time, controller) of each controller change of a run (``legdsl run --switch``)."""
-    if not (run / "run.json").is_file():
-        return []
-    segments = load_run_info(run).get("segments") or []
+    return segment_switches(load_run_info(run)) if (run / "run.json").is_file() else []
+
+
+def segment_switches(info: dict[str, Any]) -> list[tuple[float, str]]:
+    """``switch_times`` read from a run.json's contents (``info``)."""
+    segments = info.get("segments") or []
     out = []
     for seg in segments[1:]:
         if isinstance(seg, dict) and isinstance(seg.get("from"), int | float):
@@ -303,7 +338,11 @@ def first_leg_angles(run: Path) -> tuple[str, ...]:
     info = load_run_info(run)
     if run_source(run, info) is None:
         return ()
-    _, model = recorded_model(run, info)
+    return leg_angles(recorded_model(run, info)[1])
+
+
+def leg_angles(model: Model) -> tuple[str, ...]:
+    """The hinge coordinates of ``model``'s first leg (none without legs)."""
     if not model.legs:
         return ()
     joints = model.legs[0].joints
@@ -315,13 +354,20 @@ def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
     floor (or when the run's creature cannot be read back: the panel is then the body alone).
     A ``--scale L`` run's ground is the file's scaled by L, as its motion and metrics are."""
     from legdsl.analysis.recorded import model_if_readable
-    from legdsl.sim.contact import GroundContact
 
     model = model_if_readable(run)
     if model is None or model.ground is None or not model.ground.terrain:
         return None
+    return ground_height(model, tr, float(load_run_info(run).get("scale") or 1.0))
+
+
+def ground_height(model: Model, tr: Trajectory, scale: float = 1.0) -> np.ndarray | None:
+    """``ground_under_com`` of ``model``'s ground, scaled by ``scale`` (a ``--scale L`` run)."""
+    from legdsl.sim.contact import GroundContact
+
+    if model.ground is None or not model.ground.terrain:
+        return None
     surface = GroundContact(model.ground, (), model.planar)
-    scale = float(load_run_info(run).get("scale") or 1.0)
     return np.array([scale * surface.height(float(x) / scale, float(y) / scale)
                      for x, y in tr.com[:, :2]])  # fmt: skip
 

@@ -16,7 +16,6 @@ run session (``legdsl.pipeline.session``).
 from __future__ import annotations
 
 import html
-import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,7 +41,7 @@ from legdsl.api.read_only import read_only, read_only_trajectory
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
-from legdsl.files import atomic_same_name, write_atomic, writing_alone
+from legdsl.files import write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.generated import load_dynamics
@@ -374,24 +373,23 @@ class Run:
         return out
 
     def plot(self, path: str | Path | None = None, start: float = 0.0) -> Path:
-        """Figure 6 of the paper for this run, as a PNG, SVG or PDF as ``path``'s name says (a
-        PNG in the run's directory by default)."""
-        from legdsl.analysis.plot import first_leg_angles, plot_run
+        """Figure 6 of the paper for this run, drawn from what it holds, as a PNG, SVG or PDF
+        as ``path``'s name says (a PNG in the run's directory by default: ``save``'s, else a
+        temporary one holding its pictures only)."""
+        from legdsl.api.drawing import draw_figure6, pictures_directory
+        from legdsl.pipeline.outputs import PICTURES  # as legdsl plot -o
 
         self._recorded("plot()")
         t_from = window_time("start", start)
-        from legdsl.pipeline.outputs import PICTURES  # as legdsl plot -o
-
         out = None if path is None else an_output("plot()", path, PICTURES, "a PNG, SVG or PDF")
-        directory = self._directory()
-        out = out or directory / "figure6.png"
-        with atomic_same_name(out) as drawn:  # no half PNG under its name
-            plot_run(directory, drawn, first_leg_angles(directory), t_from, None)
+        out = out or pictures_directory(self) / "figure6.png"
+        draw_figure6(self, out, t_from)
         return out
 
     def animate(self, path: str | Path | None = None, fps: float = 60.0) -> Path:
         """The self-contained HTML player of this run (in the run's directory by default),
         ``fps`` frames a second stored (a rate giving one frame of a run that moves is refused)."""
+        from legdsl.api.drawing import pictures_directory
         from legdsl.export.animate import frame_rate
         from legdsl.export.player import write_player
 
@@ -401,7 +399,7 @@ class Run:
         out = (
             an_output("animate()", path, (".html", ".htm"), player)
             if path is not None
-            else self._directory() / "animation.html"
+            else pictures_directory(self) / "animation.html"
         )
         write_player(motion, out)
         if motion.note:  # a stance of few keyframes, as legdsl animate notes it
@@ -458,17 +456,6 @@ class Run:
             fps=fps,
             flag="fps=",
         )
-
-    def _directory(self) -> Path:
-        """Where the run is saved; a fresh run, or one whose directory was since deleted, is
-        saved to a temporary directory first."""
-        saved = self.directory is not None and all(
-            (self.directory / name).is_file() for name in ("run.json", "trajectory.npz")
-        )
-        if not saved:
-            self.save(Path(tempfile.mkdtemp(prefix=f"legdsl-{self.model.name}-")))
-        assert self.directory is not None
-        return self.directory
 
 
 def load(
