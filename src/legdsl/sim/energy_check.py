@@ -8,10 +8,11 @@ step or two, the creature is flung, and the run could end as an ordinary fall, o
 time, when no velocity was past the divergence rule's limit at a check.
 
 Over a window of the recording (up to ``WINDOW`` samples) the total energy (kinetic,
-gravitational, elastic) can rise by no more than the actuators' positive work in it plus
-what the springs hold at its end: a controller that moves a spring's rest or a servo's
-setpoint, or stiffens it, stores energy in it with no work, and all of that is in the elastic
-energy. A spring or servo whose stiffness and rest nothing changes in the run, and that has no
+gravitational, elastic: a spring or servo with a ``max`` holds the potential of its force as
+it is clipped, ``legdsl.sim.actuators.stored``) can rise by no more than the actuators'
+positive work in it plus what the springs hold at its end: a controller that moves a
+spring's rest or a servo's setpoint, or stiffens it, stores energy in it with no work, and all
+of that is in the elastic energy. A spring or servo whose stiffness and rest nothing changes in the run, and that has no
 ``max``, is a source of neither (``held_springs``): its work only gives back what it stored,
 which is in the total already, and what it holds is part of the total it started with (a
 passive pogo's 5 g foot chattering on the ground at twice its stable step had its leg spring
@@ -78,9 +79,9 @@ def held_springs(
     sim: Any, settings: Iterable[tuple[float, float]] | None = None
 ) -> tuple[HeldSpring, ...]:
     """The springs and servos of ``sim`` (a ``legdsl.sim.simulate.Simulation``) that no
-    controller of its run writes the stiffness or the rest of, and that have no ``max`` (a
-    clipped force is not the spring's): at each one's (gain, target) in ``settings`` (a batch
-    copy's), or its settings now."""
+    controller of its run writes the stiffness or the rest of, and that have no ``max`` (one
+    with a ``max`` stays a source, its work and what it holds counted: the looser bound): at
+    each one's (gain, target) in ``settings`` (a batch copy's), or its settings now."""
     controller = sim.controller
     modules = getattr(controller, "modules", None) or (
         {"": controller.module} if controller is not None else {}

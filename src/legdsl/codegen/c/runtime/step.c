@@ -572,12 +572,19 @@ raised:
 }
 
 /* ------------------------------------------------------------ recording (recorder.py) */
+/* actuators.stored: what a spring holds, its force clipped to its max (has_limit) */
+static double spring_stored(double gain, double stretch, int64_t has_limit, double limit) {
+    if (!has_limit || !(fabs(gain * stretch) > limit)) return 0.5 * gain * stretch * stretch;
+    double beyond = limit * (fabs(stretch) - 0.5 * limit / fabs(gain));
+    return gain > 0.0 ? beyond : -beyond;
+}
+
 static double springs_energy(const leg_sim *s, const double *q, const int64_t *mask) {
     double total = 0.0;
     for (int64_t a = 0; a < s->n_act; a++) {
         if (!s->act_is_force[a] && (mask == 0 || mask[a])) {
             double d = q[s->act_qi[a]] - s->act_target[a];
-            total += 0.5 * s->act_gain[a] * d * d;
+            total += spring_stored(s->act_gain[a], d, s->act_has_limit[a], s->act_limit[a]);
         }
     }
     return total;
