@@ -85,6 +85,9 @@ def test_gltf_link_nodes_keep_their_names(tmp_path: Path) -> None:
         names = [n.get("name") for n in read_glb(path)[0]["nodes"]]
         assert len(names) == len(set(names)), names
         assert {"clash", "floor"} <= set(names)
+        # and every mesh's: two meshes were named floor (the link's and the ground's)
+        meshes = [m.get("name") for m in read_glb(path)[0]["meshes"]]
+        assert len(meshes) == len(set(meshes)), meshes
         assert names.index("clash") == 1 + [b.name for b in motion.bodies].index("clash")
 
 

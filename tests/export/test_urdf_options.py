@@ -49,6 +49,20 @@ def test_with_link_mass_mujoco_loads_the_urdf_as_it_is(name: str) -> None:
     assert np.all(mj.body_mass[1:] > 0)
 
 
+def test_mujoco_welds_a_free_base_urdf_s_root_as_docs_export_says() -> None:
+    # docs/export.md said MuJoCo loads the --link-mass URDF "as it is" with an example that
+    # added --base free, which MuJoCo loads with the trunk welded to the world (nq 12, 10 kg)
+    model = check_model(CREATURES / "quadruped.leg")
+    world = mujoco.MjModel.from_xml_string(model_to_urdf(model, link_mass=1e-6))
+    free = mujoco.MjModel.from_xml_string(model_to_urdf(model, "free", link_mass=1e-6))
+    assert (world.nq, free.nq) == (19, 12)
+    assert mujoco.mj_getTotalmass(world) == pytest.approx(20.000004)
+    assert mujoco.mj_getTotalmass(free) == pytest.approx(10.000004)
+    text = (Path(__file__).parents[2] / "docs" / "export.md").read_text()
+    assert "--format urdf --base free --link-mass" not in text
+    assert "`nq` 19, `nv` 18, 20.000004 kg" in text and "`nq` 12 and 10.000004 kg" in text
+
+
 def test_cli_urdf_options(tmp_path: Path) -> None:
     out = tmp_path / "q.urdf"
     args = ["export", str(CREATURES / "quadruped.leg"), "--format", "urdf", "-o", str(out)]

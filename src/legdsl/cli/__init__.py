@@ -252,7 +252,10 @@ def _parser() -> argparse.ArgumentParser:
     )
     e.add_argument("file", metavar="FILE", help="a .leg file")
     e.add_argument(
-        "--format", required=True, choices=("mjcf", "urdf"), help="MJCF (MuJoCo XML) or URDF"
+        "--format",
+        choices=("mjcf", "urdf"),
+        help="MJCF (MuJoCo XML) or URDF (default: as -o's name says: .xml or .mjcf is MJCF, "
+        ".urdf is URDF)",
     )
     e.add_argument(
         "-o",

@@ -18,8 +18,10 @@ from legdsl.pipeline.outputs import (
     PICTURES,
     ROOM_TO_DRAW,
     is_stream,
+    made_note,
     messages_for,
     named_as,
+    new_directory,
     room_for,
 )
 
@@ -44,8 +46,11 @@ def cmd_plot(args: argparse.Namespace) -> int:
     out = check_output_file(args.output or run / "figure6.png", "--output")
     say = messages_for(args.output)
     room_for("draw the run", ROOM_TO_DRAW)
+    made = new_directory(out)
     with atomic_same_name(out) as tmp:  # matplotlib writes in place: a full disk left half a PNG
         plot_run(run, tmp, first_leg_angles(run), args.t_from, args.t_to)
+    if made is not None:
+        print(made_note(made, out), file=say)
     print(f"wrote {out}", file=say)
 
     # Beside --output the other pictures take its name (fig.png: fig-footfall.png), so that
@@ -70,6 +75,27 @@ def cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+# what an export's name says it holds, where --format is not given
+NAMED_FORMATS = {".xml": "mjcf", ".mjcf": "mjcf", ".urdf": "urdf"}
+
+
+def format_named(output: str | None) -> str:
+    """The ``legdsl export`` format ``-o``'s name says (as ``export-motion`` takes it): .xml
+    or .mjcf is MJCF, .urdf is URDF; a name that says none, or no name, is refused."""
+    suffix = Path(output).suffix.lower() if output not in (None, "-") else ""
+    if suffix in NAMED_FORMATS:
+        return NAMED_FORMATS[suffix]
+    if output is None:
+        said = "without -o, say the format: --format mjcf (NAME.xml) or --format urdf (NAME.urdf)"
+    elif output == "-" or is_stream(output):
+        said = f"-o {output}: say the format: --format mjcf or --format urdf"
+    else:
+        which = f"the suffix {suffix} says" if suffix else "a name without a suffix says"
+        said = (f"-o {output}: {which} no format; name it .xml or .mjcf (MJCF) or .urdf "
+                "(URDF), or give --format mjcf or --format urdf")  # fmt: skip
+    raise UsageError(said)
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from legdsl.check.source import check_model
     from legdsl.export.formats import (
@@ -90,6 +116,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     if args.output == "-" and sys.stdout is None:  # started with >&-: an AttributeError
         raise UsageError("-o -: this command was started with standard output closed (>&-), "
                          "so nothing can be written there; give a file, or leave it open")  # fmt: skip
+    args.format = args.format or format_named(args.output)
     if args.output not in (None, "-"):
         check_output_file(args.output, "-o")
         not_an_input(args.output, "-o", [Path(args.file)])
@@ -116,9 +143,12 @@ def cmd_export(args: argparse.Namespace) -> int:
         print(f"wrote standard output {what}", file=sys.stderr)  # as /dev/stdout's
         return 0
     out = check_output_file(args.output or default_path(model, args.format), "-o")
+    made = new_directory(out)
     try:
         write_atomic(out, text)
     except OSError as e:
         raise os_error("the export", out, e) from None
+    if made is not None:
+        print(made_note(made, out), file=messages_for(out))
     print(f"wrote {out} {what}", file=messages_for(out))
     return 0

@@ -119,6 +119,13 @@ class LegParser(argparse.ArgumentParser):
         return super().add_argument(*args, **kwargs)
 
     def _get_value(self, action: argparse.Action, arg_string: str) -> Any:
+        if action.type in (int, float) and (not arg_string.isascii() or "_" in arg_string):
+            flag = action.option_strings[-1] if action.option_strings else action.dest
+            raise argparse.ArgumentError(  # Python's int() and float() read '1_0' as 10
+                None,
+                f"{flag} {arg_string}: {arg_string!r} is not a number: write it with the digits "
+                "0-9, without '_' (as in a .leg file)",
+            )
         try:
             return super()._get_value(action, arg_string)
         except argparse.ArgumentError:

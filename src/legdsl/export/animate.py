@@ -22,7 +22,14 @@ from typing import Any
 from legdsl.export.ending import ending_note
 from legdsl.export.video_rates import VIDEO_FPS, most_fps
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.outputs import messages_for, named_as, not_a_stream
+from legdsl.pipeline.outputs import (
+    is_stream,
+    made_note,
+    messages_for,
+    named_as,
+    new_directory,
+    not_a_stream,
+)
 
 OVERLAY_NAMES = ("state", "speed", "forces", "footprints", "com")
 Command = Callable[[argparse.Namespace], int]
@@ -96,8 +103,8 @@ def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
     if text is None or isinstance(text, float):
         value = text
     else:
-        try:  # a bare number (inf and nan too, told as such below): frames per second
-            value = float(text)
+        try:  # a bare number (inf and nan too, told as such below): frames per second; not
+            value = float(text if text.isascii() and "_" not in text else "?")  # 6_0, as 60
         except ValueError:
             from legdsl.pipeline.options import Numeric, read_numeric
 
@@ -147,6 +154,12 @@ def _say_note(motion: Any, run: str | None = None, out: object = None) -> None:
         print(told, file=sys.stderr)
 
 
+def _say_made(made: Path | None, out: Path, say: Any) -> None:
+    """``legdsl: made directory DIR/`` where writing ``out`` made it (``-o /new/x.glb``)."""
+    if made is not None:
+        print(f"legdsl: {made_note(made, out)}", file=say)
+
+
 def _player_name(output: str | None) -> None:
     """``-o`` names the HTML player: a video's or another format's name would hold HTML."""
     suffix = Path(output).suffix.lower() if output else ""
@@ -182,6 +195,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         _positive(slow, "--slow-motion")
         motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
         _say_note(motion, args.run, video)
+        made = new_directory(video)
         progress = stderr_progress()
         try:
             result = render_video(motion, video, fps, size, overlays, progress=progress, slow=slow)
@@ -189,6 +203,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
             if progress is not None:
                 progress.end()
         slowed = f", {slow:g} times slower" if slow != 1.0 else ""
+        _say_made(made, video, messages_for(args.output, args.video))
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "
             f"frame{'s' if result.frames != 1 else ''} at "
@@ -205,11 +220,14 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     from legdsl.export.player import write_player
 
     out = Path(args.output) if args.output else run / "animation.html"
+    made = new_directory(out)
     size_bytes = write_player(motion, out, overlays)
     _say_note(motion, None if said else args.run, out)
+    _say_made(made, out, messages_for(args.output))
+    browse = "" if is_stream(out) else "; open it in a web browser"  # not /dev/null's
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
-        f"{seconds_text(motion.duration)}); open it in a web browser",
+        f"{seconds_text(motion.duration)}){browse}",
         file=messages_for(args.output),
     )
     return 0
@@ -280,16 +298,25 @@ def add_animate_parser(sub: Any) -> Command:
 # ---------------------------------------------------------------- legdsl export-motion
 
 
-MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "bvh")
+MOTION_FORMATS = ("glb", "gltf", "usd", "usda", "usdc", "bvh")
+# a .usd file holds either USD encoding; a binary one may be named .usdc
+_USD_NAMES = {("usda", "usd"), ("usd", "usdc"), ("usdc", "usd")}
 
 
 def motion_format(given: str | None, output: str | None) -> str:
     """``--format``, or the one ``-o``'s name says, or glb; a name that says another format
-    than ``--format`` is a mistake (a USD layer named .glb), except text USD in a .usd file."""
+    than ``--format`` is a mistake (a USD layer named .glb), except USD in a .usd file and
+    binary USD in a .usdc one. A .usdz package is refused with the USD names it can take."""
     named = Path(output).suffix[1:].lower() if output else ""
+    if named == "usdz":
+        raise UsageError(
+            f"-o {output}: a .usdz package is not written; write the stage as "
+            f"{Path(output or '').with_suffix('.usd')} (binary, or .usdc) or as .usda (text), "
+            "and package it with usd-core's usdzip if a .usdz is needed"
+        )
     if named not in MOTION_FORMATS:
         return given or "glb"
-    if given is not None and given != named and (given, named) != ("usda", "usd"):
+    if given is not None and given != named and (given, named) not in _USD_NAMES:
         raise UsageError(
             f"-o {output}: a .{named} name, but --format {given}; name the file "
             f"{Path(output or '').stem}.{given}, or leave out --format"
@@ -301,12 +328,19 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     args.fps = frame_rate(args.fps)
     args.format = motion_format(args.format, args.output)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
-    named = (".usd", ".usda") if args.format == "usda" else (f".{args.format}",)
-    named_as(out, "-o", named, f"{args.format.upper()} (or choose it with --format)")
+    named = {"usda": (".usda", ".usd"), "usd": (".usd", ".usdc"), "usdc": (".usdc", ".usd")}
+    what = "binary USD" if args.format in ("usd", "usdc") else args.format.upper()
+    named_as(
+        out,
+        "-o",
+        named.get(args.format, (f".{args.format}",)),
+        f"{what} (or choose it with --format)",
+    )
     if args.skin and args.format not in ("glb", "gltf"):
         raise UsageError(f"--skin is for glTF (--format glb or gltf), not {args.format}")
     motion = _load(args, args.fps)
-    if args.format in ("usd", "usda"):
+    made = new_directory(out)
+    if args.format in ("usd", "usda", "usdc"):
         from legdsl.export.usd import write_usd
 
         size = write_usd(motion, out, args.format)
@@ -319,6 +353,7 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
 
         size = write_gltf(motion, out, args.format, skin=args.skin)
     _say_note(motion, args.run, out)
+    _say_made(made, out, messages_for(args.output))
     print(
         f"legdsl: wrote {out} ({human_size(size)}: {len(motion.bodies)} "
         f"link{'s' if len(motion.bodies) != 1 else ''}, "
@@ -363,7 +398,7 @@ def add_export_motion_parser(sub: Any) -> Command:
         "material of its colour, the ground as meshes, and the run as one animation with LINEAR "
         "translation and rotation keys, in seconds; y-up as glTF requires (legdsl's x forward "
         "stays x); .glb is one binary file, .gltf is JSON with the buffer embedded. USD (.usd "
-        "binary, .usda text): the same tree as Xform prims with time-sampled transforms, z-up. "
+        "or .usdc binary, .usda text): the same tree as Xform prims with time-sampled transforms, z-up. "
         "BVH: the link tree as a skeleton with offsets and per-frame channels, for "
         "motion-capture tools.",
         epilog="Example: legdsl export-motion runs/k --format glb -o kangaroo.glb",
@@ -373,7 +408,8 @@ def add_export_motion_parser(sub: Any) -> Command:
         "--format",
         choices=MOTION_FORMATS,
         default=None,
-        help="glb, gltf, usd, usda or bvh (default: as -o's name says, else glb)",
+        help="glb, gltf, usd (binary; also usdc), usda (text) or bvh (default: as -o's name "
+        "says, else glb)",
     )
     e.add_argument("-o", "--output", metavar="FILE", help="default DIR/motion.FORMAT")
     e.add_argument(

@@ -222,8 +222,9 @@ def build_gltf(motion: Motion, skin: bool = False) -> Any:
     ground_node = lib.Node(name=own_name("ground"), children=[])
     gltf.nodes.append(ground_node)
     gltf.nodes[0].children.append(len(gltf.nodes) - 1)
-    for name, mesh, color in ground:
-        gltf.nodes.append(lib.Node(name=own_name(name), mesh=add_mesh(name, mesh, color)))
+    for name, mesh, color in ground:  # a mesh is named as its node: a link 'floor' has one
+        free = own_name(name)
+        gltf.nodes.append(lib.Node(name=free, mesh=add_mesh(free, mesh, color)))
         ground_node.children.append(len(gltf.nodes) - 1)
 
     fps = frame_rate(motion)
@@ -324,7 +325,7 @@ def _skin(
                 material=materials[colors[b]],
             )
         )
-    gltf.meshes.append(lib.Mesh(name=f"{motion.creature}_skin", primitives=primitives))
+    gltf.meshes.append(lib.Mesh(name=node_name, primitives=primitives))  # as its node
     matrices = blob.accessor(np.array(inverse_bind, dtype=np.float32), "MAT4")
     joints_list = list(range(1, len(motion.bodies) + 1))
     root = next(b for b, parent in enumerate(motion.parents) if parent < 0)

@@ -33,7 +33,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.optional import not_installed
 from legdsl.pipeline.outputs import ROOM_FOR_USD, room_for
 
-FORMATS = ("usd", "usda")
+FORMATS = ("usd", "usda", "usdc")  # usdc: binary, as usd
 
 
 def _pxr() -> Any:

@@ -27,6 +27,26 @@ def is_stream(path: str | Path) -> bool:
     return str(path) == "-" or is_device(Path(path)) or process_fd(Path(path)) is not None
 
 
+def new_directory(path: str | Path) -> Path | None:
+    """The outermost missing directory above the file ``path`` (writing the file makes it and
+    those under it, as ``legdsl run --out`` makes its run directory), or None when the file's
+    folder exists: the command that writes the file says it made it (``made_note``)."""
+    top, parent = None, Path(path).parent
+    while not parent.exists() and not parent.is_symlink() and parent.parent != parent:
+        top, parent = parent, parent.parent
+    return top
+
+
+def made_note(made: Path | None, path: str | Path) -> str:
+    """``made directory DIR/``: said before a command's "wrote" line where writing ``path``
+    made ``made`` (``new_directory``), so that a mistyped folder (``-o /nonexistent/x.glb``)
+    is seen; "" where it made none."""
+    if made is None:
+        return ""
+    folder = Path(path).parent
+    return f"made directory {made}/" if folder == made else f"made directories {made}/ to {folder}/"
+
+
 def named_as(path: str | Path, flag: str, suffixes: tuple[str, ...], what: str) -> Path:
     """``path``, if its name ends in one of ``suffixes`` (or it is a stream); else refused
     with the name to write (``suffixes[0]`` added, or put in place of the wrong one)."""

@@ -41,7 +41,10 @@ from legdsl.pipeline.suggested_values import written
 from legdsl.sim.machine import InputChange, overwritten
 from legdsl.sim.switching import starting_values
 
-NUMBER_AND_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+# ASCII digits alone, as in a .leg file (\d took '٦٠' for 60, float() too)
+NUMBER_AND_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*", re.ASCII)
+# Python's digit separator, which float() takes ('6_0' for 60): no number of legdsl's has it
+_SEPARATED = re.compile(r"\s*[-+]?\.?\d[\d.]*_[\d._]*", re.ASCII)
 _TIME: Dim = KINDS["time"][0]
 
 
@@ -98,6 +101,10 @@ def plain_number(text: str, what: str) -> float:
 
 def parse_given(value: str, where: str) -> Given:
     """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
+    if separated := _SEPARATED.match(value):
+        number = separated.group().strip()
+        raise UsageError(f"{where}: {number!r} is not a number: write it with the digits "
+                         "0-9, without '_' (as in a .leg file)")  # fmt: skip
     match = NUMBER_AND_UNIT.fullmatch(value)
     joined = _spaced_unit(value) if match is None else None
     if joined is not None:
