@@ -133,7 +133,7 @@ def test_a_copy_is_found_by_its_index_and_no_other(monkeypatch: pytest.MonkeyPat
         ),
         (lambda c: c.run(controller=None, time=0.1).metrics(start=-1), "start= is seconds"),
         (lambda c: c.run(controller=None, time=0.1).metrics(end=float("inf")), "end= is seconds"),
-        (lambda c: c.run(controller=None, time=0.1).metrics(start="1 kg"), "start=1kg"),
+        (lambda c: c.run(controller=None, time=0.1).metrics(start="1 kg"), "start='1 kg'"),
         (lambda c: c.run(controller=None, time=0.1).plot(start=None), "start= is seconds"),
         (lambda c: c.run(controller=None, time=0.1).save(ROOT / "README.md"), "this is a file"),
         (lambda c: legdsl.load(None), "load.*: give the path of a .leg file, not None"),

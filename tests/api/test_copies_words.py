@@ -31,6 +31,12 @@ pytestmark = pytest.mark.usefixtures("hopper_modules")
         ({"set": {"speed@2": "1 m/s"}},
          "run_copies(): set['speed@2'] = '1m/s': the time after '@' is in seconds; give its "
          "unit, e.g. set={'speed@2s': '1m/s'}"),
+        ({"dtt": 1}, "run_copies(): no option 'dtt'; the options are dt, "),  # was run()'s
+        ({"set": {"speed@": "1 m/s"}},
+         "set 'speed@': no time after '@': give e.g. set={'speed@4 s': '1 m/s'} (from 4 s on)"),
+        ({"set": {"speed@nan s": "1 m/s"}},
+         "set 'speed@nan s': the time after '@', 'nan s', is not a finite number; give e.g. "
+         "set={'speed@4 s': '1 m/s'}"),  # it was echoed as 'nans'
     ],
 )  # fmt: skip
 def test_a_refused_setting_is_told_as_the_argument_given(

@@ -29,7 +29,7 @@ def test_the_friction_edge_is_read_with_its_unit(run: legdsl.api.Run) -> None:
 @pytest.mark.parametrize(
     ("value", "said"),
     [
-        ("2 kg", "friction_edge=2kg: friction_edge= is a time"),
+        ("2 kg", "friction_edge='2 kg': friction_edge= is a time"),
         (-0.001, "friction_edge= is seconds, a number 0 or more"),
         (True, "friction_edge= is seconds"),
     ],

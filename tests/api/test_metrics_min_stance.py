@@ -32,7 +32,7 @@ def test_min_stance_is_read_with_its_unit_and_leaves_shorter_contacts_out(
 @pytest.mark.parametrize(
     ("value", "said"),
     [
-        ("20 kg", "min_stance=20kg: min_stance= is a time"),
+        ("20 kg", "min_stance='20 kg': min_stance= is a time"),
         (0, "min_stance= is seconds, a number more than zero"),
         (True, "min_stance= is seconds"),
         ([0.02], "min_stance= is seconds"),

@@ -67,6 +67,10 @@ def test_a_run_that_cannot_record_all_its_samples_is_told_before(
     assert note is not None
     assert "will stop as interrupted (exit 130) near t = " in note
     assert "with 4096 samples" in note  # 1024 -> 2048 -> 4096 (8192 with 4096: past it)
+    assert note.endswith("(a lower --record-rate, or a shorter --time)")
+    said = recording_note(RunOptions(duration=1e9, record_rate=0.0), model, flags=False)
+    assert said is not None and "(exit 130)" not in said and "--" not in said  # the API's
+    assert said.endswith("(a lower record_rate=, or a shorter time=)")
 
 
 def test_an_older_runs_files_are_gone_once_the_new_run_json_is_written(

@@ -43,12 +43,12 @@ def a_float(value: int | float | np.number, meaning: str) -> float:
 def seconds(time: object) -> float:
     """``time=``: seconds, or a text with its unit as ``--time`` takes it (``"500 ms"``), or a
     ``Quantity`` of a time."""
-    from legdsl.pipeline.options import read_seconds
+    from legdsl.pipeline.options import RUN_NUMERIC
 
     time = as_text(time)
     meaning = "run(): time= is seconds (a number, or a text like '500 ms')"
     if isinstance(time, str):
-        return read_seconds("--time", time)
+        return read_text("time", time, RUN_NUMERIC["duration"][1])
     if isinstance(time, bool) or not isinstance(time, int | float | np.integer | np.floating):
         raise UsageError(f"{meaning}, not {time!r}")
     return a_float(time, meaning)
@@ -57,15 +57,39 @@ def seconds(time: object) -> float:
 def with_units(options: dict[str, Any]) -> dict[str, Any]:
     """Options written as text with their unit, as ``legdsl run`` takes them (``dt="0.4 ms"``,
     ``fall_tilt="60 deg"``), in SI; a number is SI already (``fall_tilt`` in radians)."""
-    from legdsl.pipeline.options import RUN_NUMERIC, read_numeric
+    from legdsl.pipeline.options import RUN_NUMERIC
 
     out = dict(options)
     for key, value in options.items():
         value = out[key] = as_text(value)
         if key in RUN_NUMERIC and isinstance(value, str):
-            flag, spec = RUN_NUMERIC[key]
-            out[key] = read_numeric(flag, value.replace(" ", ""), spec)
+            out[key] = read_text(key, value, RUN_NUMERIC[key][1])
     return out
+
+
+def read_text(name: str, text: str, spec: Any) -> float:
+    """Argument ``name``'s ``text`` with its unit (``"0.4 ms"``), read as ``legdsl run``'s
+    option is (``pipeline.options.read_numeric``, ``spec`` its ``Numeric``), a mistake told
+    in the argument's words: ``min_stance='20 kg'`` was told "write e.g. min_stance=20s" (no
+    Python), ``dt='0.4 kg'`` as ``--dt``, and ``time='nan s'`` as 'nans'."""
+    from legdsl.pipeline.options import read_numeric
+
+    flag, compact = f"{name}=", text.replace(" ", "")
+    if re.match(r"\s*[-+]?(?:nan|inf(?:inity)?)(?![a-z])", text, re.I):
+        raise UsageError(f"{name}={text!r}: {text.split()[0]} is not a finite number; give "
+                         f"e.g. {name}='2 {spec.bare}'")  # fmt: skip
+    try:
+        return read_numeric(flag, compact, spec)
+    except UsageError as e:
+        said = str(e)
+        if said.startswith(f"{flag}{compact}:"):  # as given, a Python text
+            said = f"{name}={text!r}:" + said[len(flag + compact) + 1 :]
+        said = re.sub(  # e.g. min_stance=20s -> min_stance='20 s', a Python argument
+            rf"e\.g\. {re.escape(flag)}([-+\d.eE]+)([^\s,;()]*)",
+            lambda m: f"e.g. {name}='{m.group(1)} {m.group(2)}'".replace(" '", "'"),
+            said,
+        )
+        raise UsageError(said) from None
 
 
 def a_path(call: str, path: object) -> Path:
@@ -123,11 +147,11 @@ def friction_edge_time(value: object) -> float:
 def _seconds(name: str, value: object, least: str, meaning: str) -> float:
     """``value`` in seconds: a text with its unit (``read_seconds``), or a finite number, 0 or
     more (``least="nonnegative"``) or more than 0 (``"positive"``); else ``meaning``."""
-    from legdsl.pipeline.options import read_seconds
+    from legdsl.pipeline.options import Numeric
 
     value = as_text(value)
     if isinstance(value, str):
-        return read_seconds(f"{name}=", value, least)
+        return read_text(name, value, Numeric("time", "s", least))
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise UsageError(f"{meaning}, not {value!r}")
     number = a_float(value, meaning)
@@ -150,6 +174,14 @@ def setting_text(name: str, value: object) -> str:
         raise UsageError(f"set {name!r}: give a value with its unit as text, e.g. "
                          f"{{'speed': '2 m/s'}} (or a Quantity), not {value!r}")  # fmt: skip
     key, at, when = name.partition("@")
+    if at:  # told here, in set='s words: the run's own check says --set speed=1m/s@ (or @nans)
+        example = f"set={{'{key.strip()}@4 s': {value!r}}}"
+        if not when.strip():
+            raise UsageError(f"set {name!r}: no time after '@': give e.g. {example} (from 4 s "
+                             "on), or leave the '@' out to set it from the start")  # fmt: skip
+        if re.match(r"\s*[-+]?(?:nan|inf(?:inity)?)(?![a-z])", when, re.I):
+            raise UsageError(f"set {name!r}: the time after '@', {when.strip()!r}, is not a "
+                             f"finite number; give e.g. {example}")  # fmt: skip
     meaning = f"set {name!r}: give a value with its unit as text, e.g. {{'speed': '2 m/s'}}"
     if re.match(r"\s*[-+]?(?:nan|inf(?:inity)?)(?![a-z])", str(value), re.I):  # not 'speed=nanm/s'
         raise UsageError(

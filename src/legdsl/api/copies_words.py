@@ -47,6 +47,8 @@ def reworded(message: str, vary: Mapping[str, Any]) -> str:
     or ``run_copies(): set['NAME'] = 'VALUE': ...``, its advice in the argument's form."""
     for cli, api in _OPTIONS:
         message = message.replace(cli, api)
+    if message.startswith("run(): "):  # run()'s own reading of the arguments they share
+        return "run_copies(): " + message.removeprefix("run(): ")
     match = re.match(r"--set (\S+?)(?:=(\S*))?: (.*)$", message, re.S)
     if match is None:
         return message

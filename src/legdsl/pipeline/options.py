@@ -210,22 +210,29 @@ def _why(e: OSError) -> str:
 
 
 def notes_before_run(
-    settings: list[str], options: RunOptions, model: Model, sources: Mapping[str, str] | None = None
+    settings: list[str],
+    options: RunOptions,
+    model: Model,
+    sources: Mapping[str, str] | None = None,
+    flags: bool = True,
 ) -> list[str]:
     """What ``legdsl run`` (and the API, as warnings) notes before a run, once its options
     are checked (a mistake in them is told first): changes set for after the run's end (a
-    scene's named by its line, ``sources``), and a drop whose fall outlasts the run."""
+    scene's named by its line, ``sources``), and a drop whose fall outlasts the run; its
+    options named as ``legdsl run``'s flags if ``flags``, else as the API's arguments."""
     from legdsl.pipeline.scenes import too_late
 
     check_run_options(options)
-    said = [fall_note(options, model), recording_note(options, model)]
+    said = [fall_note(options, model, flags), recording_note(options, model, flags)]
     return [*too_late(settings, options, sources), *(note for note in said if note)]
 
 
-def recording_note(options: RunOptions, model: Model) -> str | None:
+def recording_note(options: RunOptions, model: Model, flags: bool = True) -> str | None:
     """The note of a run whose recording cannot grow to all its samples within
     ``recording_budget`` (the old arrays and the new while it doubles): it will stop early,
-    as interrupted (None: it fits, or the system does not say how much memory it has)."""
+    as interrupted (None: it fits, or the system does not say how much memory it has); its
+    advice in ``legdsl run``'s flags if ``flags``, else in the API's arguments (a Python
+    caller was told "(exit 130)" and "--record-rate")."""
     budget, per = recording_budget(), sample_bytes(model)
     samples = run_samples(options)
     rows = INITIAL_ROWS
@@ -237,24 +244,32 @@ def recording_note(options: RunOptions, model: Model) -> str | None:
     return (
         f"this run would record {samples:.3g} samples ({samples * per / 1e6:.3g} MB), and its "
         f"recording may take {budget / 1e6:.3g} MB of memory (half of what the run may use: "
-        f"the rest is for writing it): it will stop as interrupted (exit 130) near "
-        f"t = {ends:.3g} s with {rows} samples; to run it all, record fewer samples (a lower "
-        "--record-rate, or a shorter --time)"
+        f"the rest is for writing it): it will stop as interrupted{' (exit 130)' * flags} "
+        f"near t = {ends:.3g} s with {rows} samples; to run it all, record fewer samples "
+        + (
+            "(a lower --record-rate, or a shorter --time)"
+            if flags
+            else "(a lower record_rate=, or a shorter time=)"
+        )  # fmt: skip
     )
 
 
-def fall_note(options: RunOptions, model: Model) -> str | None:
+def fall_note(options: RunOptions, model: Model, flags: bool = True) -> str | None:
     """The note of a ``--drop`` whose fall from rest alone outlasts the run (None: it does not,
-    or there is no ground or no gravity to fall by)."""
+    or there is no ground or no gravity to fall by); in the API's words unless ``flags``."""
     g = -model.gravity[2]
     if options.drop is None or not options.drop > 0 or model.ground is None or not g > 0:
         return None
     fall = float((2.0 * options.drop / g) ** 0.5)
     if not fall > options.duration:
         return None
-    return (f"--drop {options.drop:g}m: the fall alone takes {fall:.3g} s, longer than the run "
+    if flags:
+        drop, time, lower = f"--drop {options.drop:g}m", f"--time {fall:.3g}s", "--drop"
+    else:
+        drop, time, lower = f"drop={options.drop:g}", f"time={fall:.3g}", "drop="
+    return (f"{drop}: the fall alone takes {fall:.3g} s, longer than the run "
             f"({options.duration:g} s), which ends with the creature in the air; give "
-            f"--time {fall:.3g}s or more, or a lower --drop")  # fmt: skip
+            f"{time} or more, or a lower {lower}")  # fmt: skip
 
 
 def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = None) -> Path:

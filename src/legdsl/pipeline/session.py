@@ -351,7 +351,7 @@ class RunSession:
         reaches (``unreached``), changes after its end (a scene's named by its line, ``sources``),
         a drop outlasting it, a setting its controller writes (``legdsl run``'s, the API's)."""
         texts = [settings] if isinstance(settings, str) else list(settings)
-        late = notes_before_run(texts, options, self.model, sources)
+        late = notes_before_run(texts, options, self.model, sources, flags=self.log is not None)
         written = overwritten_notes(texts, controller, self, sources)
         for note in [*unreached, *late, *written]:
             self.tell("note", note)
