@@ -70,3 +70,44 @@ def test_the_caret_finds_the_part_of_a_compound_value() -> None:
         )
         == 2
     )
+
+
+KANGAROO = str(Path(__file__).resolve().parents[2] / "creatures" / "kangaroo.leg")
+
+
+@pytest.mark.parametrize(
+    ("value", "words", "caret"),
+    [
+        ("speed=4m/s@-1s", "0 or more", "                     ^^^"),
+        ("speed=4m/s@", "no time after '@'", "                    ^"),
+        ("speed=4m/s@1e999s", "too large to be a number", "                     ^~~~~"),
+        ("speed=4m/s@nans", "'nans' is not a number", "                     ^~~~"),
+        ("jump_height=1e-999m", "too small to be a number", "                      ^~~~~~"),
+        ("jump_at=8m@4s@5s", "one '@' to a --set", "                       ^^^"),
+        ("hop.speed=4m/s", "controller 'hop' does not run here", "          ^^^"),
+    ],
+)  # fmt: skip
+def test_a_set_values_mistake_echoes_the_option_with_a_caret(
+    value: str,
+    words: str,
+    caret: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """They were one line (``--set ...@: '' is not a number``, the value unechoed), or the
+    second '@' was read as the value's unit ('m@4s' is not a unit), or the echo dropped --set."""
+    monkeypatch.chdir(tmp_path)
+    lines = _told(["run", KANGAROO, "--controller", "jump", "--set", value, "--time", "1"], capsys)
+    at = next(i for i, line in enumerate(lines) if line.startswith("legdsl: --set "))
+    assert words in lines[at] and "is not a unit" not in lines[at], lines
+    assert lines[at + 1 :] == [f"    --set {value}", caret]
+
+
+def test_a_length_for_a_time_is_advised_in_seconds_first(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--time 5m`` advised only 5ms: 1000 times off if seconds were meant."""
+    monkeypatch.chdir(tmp_path)
+    lines = _told(["run", HOPPER, "--time", "5m"], capsys)
+    assert lines[0].endswith("write e.g. --time 5s, or 5ms if the m meant milli"), lines

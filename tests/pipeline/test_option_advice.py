@@ -47,7 +47,9 @@ def test_a_wrong_unit_is_advised_with_the_users_own() -> None:
     with pytest.raises(UsageError, match=r"write e\.g\. stroke=0\.03m$"):
         check_dimension("--set 'stroke=0.03m/s'", "stroke is a length", parse_given("0.03m/s", "x"),
                         KINDS["length"][0], "stroke={}", "cm")  # fmt: skip
-    with pytest.raises(UsageError, match=r"write e\.g\. --min-stance 20ms$"):
+    with pytest.raises(
+        UsageError, match=r"write e\.g\. --min-stance 20s, or 20ms if the m meant milli$"
+    ):
         read_numeric("--min-stance", "20m", Numeric("time", "s"))
     with pytest.raises(UsageError, match=r"write e\.g\. speed=2m/s$"):  # no prefix to keep
         check_dimension("--set 'speed=2m'", "speed is a velocity", parse_given("2m", "x"),

@@ -17,7 +17,8 @@ _OPTION = re.compile(r"(--?[A-Za-z][\w-]*)[ =:]")
 # the words of a quantity's mistake (not a path's, a name's, a file's: those have their own)
 _QUANTITY = re.compile(
     r"but '?[^'\s;]+'? is (an?|dimensionless)|is not a unit|must be more than zero|must not be "
-    r"negative|give its unit|not a number|plain number|whole number|overflows|underflows|finite number"
+    r"negative|give its unit|not a number|plain number|whole number|overflows|underflows|finite number|"
+    r"too small to be a number"
 )
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:inf|nan)", re.I)
 
@@ -35,6 +36,12 @@ def _values(option: str, argv: Sequence[str], takes_value: Iterable[str]) -> lis
     return found
 
 
+def _find(value: str, token: str, after: int) -> int:
+    """Where ``token`` is in ``value``: from ``after`` on if it is there, else anywhere."""
+    at = value.find(token, after)
+    return at if at >= 0 else value.find(token)
+
+
 def _fault(message: str, value: str) -> tuple[int, int] | None:
     """Where in ``value`` the message's fault is (start, length)."""
     quantity = re.search(r"but '?([^'\s;]+?)'? is ", message)
@@ -47,6 +54,13 @@ def _fault(message: str, value: str) -> tuple[int, int] | None:
         number = _NUMBER.match(text)
         skip = number.end() if number and number.end() < len(text) else 0
         return at + skip, len(text) - skip  # the unit, or a bare number
+    said = re.search(
+        r"(\S+) is too (?:large|small) to be a number|'([^']+)' is not a number", message
+    )
+    token = (said.group(1) or said.group(2)) if said else ""
+    if said and token and (at := _find(value, token, after)) >= 0:  # no number, or no double
+        number = _NUMBER.match(token)
+        return at, number.end() if said.group(1) and number else len(token)
     if "give its unit" in message:  # a bare number: under it, where the unit goes
         start = after or value.find("=", 0, value.find("@") % (len(value) + 1)) + 1
         bare = _NUMBER.match(value, start)

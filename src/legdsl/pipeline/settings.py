@@ -265,7 +265,8 @@ def sort_settings(
         text, at = _command_time(original)
         if at is not None and at < 0:  # ran as if given from the start, unsaid
             raise UsageError(f"{where}: a change comes at a time from the run's start, 0 or "
-                             f"more; to set it from the start, write --set {text}")  # fmt: skip
+                             f"more; to set it from the start, write --set {text}"
+                             + _caret(original, len(text) + 1, len(original) - len(text) - 1))  # fmt: skip
         name, given = _split(text, original)
         owner, dot, own_name = name.partition(".")
         if dot and owner in {c.name for c in model.controllers}:
@@ -310,8 +311,9 @@ def sort_settings(
 
 
 def _caret(text: str, start: int, length: int) -> str:
-    """The option's text with a caret under the part that is wrong."""
-    return f"\n    {text}\n    {' ' * start}{'^' * max(length, 1)}"
+    """The option's text (``--set TEXT``, as written) with a caret under the part of TEXT
+    from ``start`` that is wrong."""
+    return f"\n    --set {text}\n    {' ' * (len('--set ') + start)}{'^' * max(length, 1)}"
 
 
 def _unknown_owner(model: Model, owner: str, where: str) -> None:
@@ -470,8 +472,20 @@ def _command_time(original: str) -> tuple[str, float | None]:
     without one), that time's unit checked."""
     if "@" not in original:
         return original, None
-    text, _, when = original.rpartition("@")
-    given = parse_given(when, f"--set ...@{when}")
+    text, _, when = original.partition("@")
+    if "@" in when:  # read as the value's unit ('m@4s' is not a unit)
+        second = len(text) + 1 + when.index("@")
+        raise UsageError(
+            f"--set {original}: one '@' to a --set: it changes the value once, at the time after "
+            f"its '@'; for another change give another --set, e.g. --set {original[:second]} "
+            f"--set {text}{original[second:]}" + _caret(original, second, len(original) - second)
+        )
+    if not when:
+        raise UsageError(
+            f"--set {original}: no time after '@': write e.g. --set {original}4s (from 4 s on), "
+            f"or leave the '@' out to set it from the start" + _caret(original, len(text), 1)
+        )
+    given = parse_given(when, f"--set {original}")
     check_dimension(f"--set {original}", "the time after '@' is in seconds", given, _TIME, "@{}")
     return text, given.value
 

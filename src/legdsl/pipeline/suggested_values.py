@@ -9,6 +9,8 @@ from typing import Protocol
 from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY, turning_rate
 from legdsl.lang.units import DIMENSIONLESS, Dim, UnitError, parse_unit, si_unit
 
+_PREFIXES = {"k": "kilo", "c": "centi", "m": "milli", "u": "micro", "n": "nano", "M": "mega"}
+
 
 class Given(Protocol):
     """A value as given (``legdsl.pipeline.settings.Given``, read only)."""
@@ -41,7 +43,12 @@ def written(given: Given, want: Dim, unit: str) -> str:
         turned = turning_rate(given.value, parse_unit(unit)[0])
         turns = f"{given.value:g} turn" + ("" if given.value == 1 else "s")
         return f"{turned:g}{unit} ({given.text} is {turns} a second)"
-    return given.number + (_kept(given.unit, want) or unit)
+    kept = _kept(given.unit, want)
+    prefix = _PREFIXES.get(given.unit, "")
+    if prefix and given.dim and kept == given.unit + si_unit(want) and kept != unit:
+        # 5m for a time: 5ms reads the metre as milli, 1000 times off if seconds were meant
+        return f"{given.number}{unit}, or {given.number}{kept} if the {given.unit} meant {prefix}"
+    return given.number + (kept or unit)
 
 
 def _kept(written: str, want: Dim) -> str | None:
