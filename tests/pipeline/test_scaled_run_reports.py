@@ -63,10 +63,29 @@ def test_a_scaled_run_that_falls_says_the_heights_of_the_scaled_creature(
             "--fall-height", "1.8", "--scale", "2", "--generated", str(generated),
             "--backend", "python", "--out", str(out)]  # fmt: skip
     assert main(args) == 4
-    said = "the root fell to 1.7996 m above the ground (the limit is 1.8 m)"
+    said = "the root fell to 1.7997 m above the ground (the limit is 1.8 m)"  # the scaled file's
     assert said in capsys.readouterr().err
     info = _run_json(out)
     assert info["message"] == info["cause"] == said
+
+
+def test_a_scaled_runs_fall_heights_are_the_scaled_files_to_the_digit(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The heights were the unscaled model's, rounded, then multiplied: 3.496 m at L = 4 where
+    the scaled file's run (bit for bit the same run: L = 4 scales time by 2) says 3.497 m
+    (0.8741 m rounded before it was scaled). They are rounded once, scaled."""
+    hopper = CREATURES / "hopper.leg"
+    scaled = tmp_path / "hopper_x4.leg"
+    assert main(["scale", str(hopper), "--by", "4", "-o", str(scaled)]) == 0
+    common = ["--controller", "hop", "--time", "1", "--fall-height", "3.5", "--backend", "python"]
+    told = []
+    for source, more in ((hopper, ["--scale", "4", "--generated", str(generated)]),
+                         (scaled, ["--generated", str(tmp_path / "gen")])):  # fmt: skip
+        capsys.readouterr()
+        assert main(["run", str(source), *common, *more, "--out", str(tmp_path / "r")]) == 4
+        told.append(_run_json(tmp_path / "r")["message"])
+    assert told[0] == told[1] == "the root fell to 3.497 m above the ground (the limit is 3.5 m)"
 
 
 def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(

@@ -138,6 +138,24 @@ def scale_checks(sim: Simulation, scale: float) -> None:
     sim.check_interval = sim.check_interval / math.sqrt(scale)
     sim.size_scale, sim.v_factors = scale, tuple(float(f) for f in v_factors(sim.model, scale))
     sim.q_factors = tuple(float(f) for f in q_factors(sim.model, scale))
+    check = sim._check
+
+    def check_exact(start_height: float) -> str | None:
+        """The check, a fall's heights kept unrounded (``scale_message`` rounds them scaled:
+        rounded first, 0.1 and 0.101 m, they scaled by 2 to 0.2 and 0.202 m, where the
+        scaled file's run tells 0.2005 and 0.2011 m)."""
+        said = check(start_height)
+        if said == "fell" and _FELL_TO.search(sim.message):
+            pos, _ = sim._root_pose()
+            given = sim.options.fall_height
+            limit = given if given is not None else 0.3 * start_height
+            above = pos[2] - sim._ground_under(pos)
+            sim.message = _FELL_TO.sub(
+                _fell_to(repr(float(above)), repr(float(limit))), sim.message
+            )
+        return said
+
+    sim._check = check_exact  # type: ignore[method-assign]
 
 
 def scale_settings(
@@ -276,15 +294,16 @@ _DIVERGED = re.compile(r"^the simulation diverged at t = (\S+) s: ")
 _AFTER = re.compile(r"\. After it the run (fell|ran on to its end) at t = (\S+) s")
 
 
+def _fell_to(above: str, limit: str) -> str:
+    return f"the root fell to {above} m above the ground (the limit is {limit} m)"
+
+
 def scale_message(message: str, scale: float) -> str:
     """The run's message with its heights and times as the scaled creature's (angles stay); a
     divergence's cause is told in them already (``scale_checks``)."""
     tick = math.sqrt(scale)
     message = _FELL_TO.sub(
-        lambda m: "the root fell to {} m above the ground (the limit is {} m)".format(
-            *apart(float(m[1]) * scale, float(m[2]) * scale)
-        ),
-        message,
+        lambda m: _fell_to(*apart(float(m[1]) * scale, float(m[2]) * scale)), message
     )
     message = _INTERRUPTED.sub(
         lambda m: f"at t = {float(m[1]) * tick:.4f} s of {float(m[2]) * tick:g} s;", message
