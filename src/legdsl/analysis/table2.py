@@ -32,6 +32,11 @@ def _load(
 
 
 TABLE2, MEASURE = _load(Path(__file__).with_name("table2.toml"))
+# TIME_UNIT[gait]: the natural time (run.json's ``time_unit``) of the creature the gait's
+# numbers are for, the shipped file's (its standing height: legdsl.sim.switching.natural_scale)
+TIME_UNIT = {
+    gait: float(how.pop("time_unit")) for gait, how in MEASURE.items() if "time_unit" in how
+}
 # MEASURE[gait]: "pairs" (its virtual legs, legdsl.analysis.pairs, or "steps": one of every
 # leg, so a stride is a step), "reference" (the stride's virtual leg, or "first"), and paper
 # labels measured as legdsl rows (label -> row key)
@@ -83,3 +88,24 @@ def compare_table(
         ref = "  ".join(f"{'n/a' if r is None else f'{r:g}':>15}" for r in refs)
         lines.append(f"{name:<{width}}  {run:>17}  {ref}")
     return "\n".join(lines) + "\n"
+
+
+def size_note(gait: str, time_unit: float) -> str | None:
+    """What ``legdsl metrics --table2 GAIT`` says of a run of a creature of another size than
+    the one Table 2's ``gait`` is for (``time_unit``, the run's, L = (its / the gait's)^2 times
+    as large, as ``legdsl scale`` or ``--scale`` make it); None within 5% of that size. Table
+    2's numbers are not scaled: Table 1 says how they would be."""
+    ref = TIME_UNIT.get(gait)
+    if ref is None or not math.isfinite(time_unit) or time_unit <= 0:
+        return None
+    size = (time_unit / ref) ** 2
+    if abs(math.log(size)) < math.log(1.05):
+        return None
+    return (
+        f"this creature is {size:.3g} times the size of the one Table 2's {gait} is for (by "
+        f"its standing height: run.json's time_unit {time_unit:.4g}, Table 2's {ref:.4g}); "
+        f"Table 2's numbers are for that size and are not scaled: at this size, by Table 1, "
+        f"its durations and speeds would be {math.sqrt(size):.3g} times as large, its lengths "
+        f"{size:.3g} times, its angles and accelerations the same; compare by those factors, "
+        "or run the creature at Table 2's size"
+    )

@@ -32,7 +32,8 @@ def cmd_metrics(args: argparse.Namespace) -> int:
     given = {"--min-stance": args.min_stance, "--friction-edge": args.friction_edge}
     told = [_bare_seconds(note, flag, given[flag]) if flag in given else note
             for flag, note in metrics.option_notes.items()]  # fmt: skip
-    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten):
+    sized = _size_note(args.dir, args.table2) if args.table2 is not None else None
+    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten, sized):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:
@@ -55,6 +56,19 @@ def cmd_metrics(args: argparse.Namespace) -> int:
         for report in reports:
             print(path_summary(report))
     return 0
+
+
+def _size_note(run: Any, gait: str) -> str | None:
+    """Table 2's note on a run of a creature of another size (``table2.size_note``)."""
+    from legdsl.analysis.path_report import time_unit
+    from legdsl.analysis.table2 import size_note
+    from legdsl.sim.trajectory import load_run_info
+
+    try:
+        info = load_run_info(run)
+    except (OSError, UsageError, ValueError):
+        return None  # a trajectory without its run.json: its size is not known
+    return size_note(gait, time_unit(info))
 
 
 def _bare_seconds(note: str, flag: str, text: str) -> str:
