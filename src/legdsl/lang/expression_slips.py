@@ -8,7 +8,12 @@ from __future__ import annotations
 import re
 
 Found = tuple[int, int, str]
-NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"  # a number as written
+NUMBER = r"(?<![\d.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"  # a number as written
+
+# The name that ends a run of word characters (its group 1: 'x' of '2x'), in linear time: the
+# run is tried only from its start, and only the run that reaches the end (what follows it
+# in a pattern is '[ \t]*$' or '$')
+LAST_NAME = r"(?<!\w)(?=\w*+[ \t]*+$)\w*?([A-Za-z_]\w*)"
 
 _COMPARISON = r"<=|>=|==|!=|<|>"
 
@@ -29,7 +34,7 @@ def expression_slip(text: str, masked: str, pos: int, kind: str) -> Found | None
     here = re.match(_COMPARISON, masked[pos:])
     if here is not None:
         clause = re.split(r"[:;(]|\b(?:on|and|or|not)\b", masked[line_start:pos])[-1]
-        first = re.search(rf"^(.*?)\s*({_COMPARISON})\s*(.*?)$", clause.strip())
+        first = re.search(rf"^(.*?)(?<!\s)\s*({_COMPARISON})\s*(.*?)$", clause.strip())
         rest = re.match(r"[^:;)\n]*", masked[pos + here.end() :])
         if first is not None and rest is not None and first.group(1) and first.group(3):
             a, op, b = first.groups()

@@ -18,8 +18,8 @@ import unicodedata
 from lark import Token
 
 from legdsl.lang.context import in_expression, in_parentheses, innermost, opening
+from legdsl.lang.expression_slips import LAST_NAME, expression_slip
 from legdsl.lang.expression_slips import NUMBER as _NUMBER
-from legdsl.lang.expression_slips import expression_slip
 from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
 from legdsl.lang.stray_words import stray_word
@@ -121,11 +121,11 @@ def _structure(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
     line_start = masked.rfind("\n", 0, pos) + 1
     first = masked[line_start:].split()[:1]
     word = re.match(r"[A-Za-z_]\w*", masked[pos:])
-    prev = re.search(r"([A-Za-z_]\w*)[ \t]*$", before)
+    prev = re.search(rf"{LAST_NAME}[ \t]*$", before)
     if kind == "LPAR" and re.search(
         r"(?:^|[^\w.])(" + "|".join(_PYTHON_MODULES) + r")\.(\w+)$", before
     ):
-        module, name = re.search(r"(\w+)\.(\w+)$", before).groups()  # type: ignore[union-attr]
+        module, name = re.search(r"(?<!\w)(\w+)\.(\w+)$", before).groups()  # type: ignore[union-attr]
         right = _FUNCTION_NAMES.get(name, name)
         start = len(before) - len(module) - len(name) - 1
         return (
@@ -324,14 +324,14 @@ def _unit_habit(text: str, masked: str, pos: int, kind: str) -> Found | None:
                     f"'{before[opened:]} * 1 {written}'"
                 ),
             )
-        name = re.search(r"[A-Za-z_]\w*$", before)
+        name = re.search(rf"{LAST_NAME}$", before)
         if name is not None:  # 'thrust cm'
             return (
                 pos,
                 len(written),
                 (
                     f"a unit follows a number, not a name: multiply by one of it, as in "
-                    f"'{name.group()} * 1 {written}'"
+                    f"'{name.group(1)} * 1 {written}'"
                 ),
             )
     dotted = re.search(rf"{_NUMBER}[ \t]*{unit_pattern()}$", before)

@@ -27,7 +27,7 @@ from legdsl.lang.errors import Diagnostic, LegError
 from legdsl.lang.parser import parse
 from legdsl.lang.units import DIMENSIONLESS, Dim, parse_unit
 
-_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+_NUMBER = re.compile(r"(\d+(?:\.\d*)?|\.\d+)([eE][-+]?\d+)?")
 
 # what the scaled file says about running it, when the creature has no simulation block
 DEFAULT_DT = 0.0004

@@ -29,9 +29,12 @@ def offset_span(file: str, text: str, start: int, length: int) -> Span:
 # The unit written after a number, loosely: symbols with spaces, parentheses or '**'
 # between them ('9.81 m s^-2', '200 N s/m', 'm/(s^2)', 'm/s**2'), which legdsl does not read.
 _LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)?-?\d+)?(?![A-Za-z0-9_])"
-_LOOSE_SEP = r"(?:[ \t]*[*/][ \t]*\(?[ \t]*|[ \t]+\(?[ \t]*|[ \t]*\([ \t]*)"
+# No two runs of blanks meet without a symbol between them ('[ \t]+\(?[ \t]*' would try
+# every way of splitting a long run of blanks between them: minutes on a line that ends in
+# 100 000 spaces), so each is read in linear time.
+_LOOSE_SEP = r"(?:[ \t]*[*/][ \t]*(?:\([ \t]*)?|[ \t]+(?:\([ \t]*)?|[ \t]*\([ \t]*)"
 _LOOSE_UNIT = re.compile(
-    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*"
+    r"(?<![\w.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?[ \t]*"
     rf"({_LOOSE_ATOM}(?:[ \t]*\)|{_LOOSE_SEP}{_LOOSE_ATOM})*)"
 )
 
@@ -154,7 +157,7 @@ def other_numbers(file: str, text: str) -> tuple[list[Diagnostic], str]:
 # A number and the word written after it on the same line, where its unit is ('10 kgg',
 # '2 m/sec').
 NUMBER_AND_WORD = re.compile(
-    r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
+    r"(?<![\w.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)"
 )
 
 

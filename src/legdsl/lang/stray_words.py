@@ -18,7 +18,7 @@ import re
 from legdsl.lang import ast
 from legdsl.lang.context import in_expression, innermost, opening
 from legdsl.lang.errors import Diagnostic, Span
-from legdsl.lang.expression_slips import NUMBER
+from legdsl.lang.expression_slips import LAST_NAME, NUMBER
 from legdsl.lang.spellings import mask, offset_span
 from legdsl.lang.unit_words import prop_runs
 from legdsl.lang.units import UnitError, parse_unit, unit_pattern
@@ -33,7 +33,7 @@ _KEYWORDS = {
     "actuator", "at", "body", "contact", "instance", "leg", "mirror", "on", "set", "switch",
     "template", "time", "to", "use", "via", "gait", "controller", "path", "input", "param",
 }  # fmt: skip
-_CALLED = re.compile(r"[A-Za-z_]\w*[ \t]*$")
+_CALLED = re.compile(rf"{LAST_NAME}[ \t]*$")
 _TWO_WORDS = re.compile(r"(?<![\w.])([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*$")
 
 
@@ -200,11 +200,11 @@ def _called(before: str, start: int) -> str | None:
     called = _CALLED.search(before, 0, start)
     if called is None:
         return None
-    key = before[: called.start()].rstrip()
+    key = before[: called.start(1)].rstrip()
     unit = re.search(rf"(?<![\w.]){NUMBER}[ \t]*{unit_pattern()}$", key)
     if not re.search(r"(?<![\w.])[A-Za-z_]\w*$", key) or unit is not None:
         return None
-    return called.group().strip()
+    return called.group(1)
 
 
 def _top_level_split(inside: str) -> list[str]:

@@ -332,7 +332,8 @@ def _spaced_unit(text: str, token: Token) -> bool:
         return False
     return (
         re.search(
-            rf"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*{unit_pattern()}[ \t]+$", before
+            rf"(?<![\w.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?[ \t]*{unit_pattern()}[ \t]+$",
+            before,
         )
         is not None
     )
@@ -459,7 +460,9 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     elif unit is not None:
         word, start = unit
         span = offset_span(file, text, start, len(word))
-        number = re.search(r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[ \t]*$", text[:start])
+        number = re.search(
+            r"(?<![\d.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?[ \t]*$", text[:start]
+        )
         message = unknown_unit(word, number.group().strip() if number else None)
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"

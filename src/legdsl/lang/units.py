@@ -88,6 +88,8 @@ def parse_unit(text: str) -> tuple[float, Dim]:
         if not match or match.group(1) not in UNITS:
             raise UnitError(text)
         scale, base = UNITS[match.group(1)]
+        if len((match.group(2) or "").lstrip("-")) > 3:  # 'm^100000': no unit has it
+            raise UnitError(text)
         power = sign * int(match.group(2) or 1)
         try:
             factor *= scale**power
@@ -237,7 +239,25 @@ _PREFIX_FACTORS: dict[str, tuple[str, float]] = {
     "M": ("mega", 1e6), "G": ("giga", 1e9),
 }  # fmt: skip
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
-_UNIT_RUN = re.compile(rf"(?:{_UNIT_SYMBOL})+")
+
+
+def _symbol_run(text: str) -> bool:
+    """Whether ``text`` is unit symbols run together ('kgm', 'Nms'): read position by position
+    (as '(?:kg|m|mm|...)+' a regular expression takes time exponential in a long run of
+    'm's that ends in another letter)."""
+    reached = {0}
+    for i in range(len(text)):
+        if i in reached:
+            reached.update(i + len(u) for u in UNITS if text.startswith(u, i))
+    return bool(text) and len(text) in reached
+
+
+def _symbols_and_power(text: str) -> tuple[str, str] | None:
+    """'kgm2' as ('kgm', '2'): symbols run together and a power, or None."""
+    found = re.fullmatch(r"([A-Za-z]+)(\d+)", text)
+    return (found[1], found[2]) if found is not None and _symbol_run(found[1]) else None
+
+
 _UNIT_BY_LOWER = {u.lower(): u for u in UNITS}
 # SI prefixes (micro as 'u', 'µ' or Greek 'μ') that run into a symbol as a product would
 # ('mN', 'kJ')
@@ -256,13 +276,14 @@ def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
     """Whether a word after a number was meant as a unit (and is not, say, a property name);
     not ``fuzzy``: only as a unit's case, plural, name or symbols run together, not by a
     near spelling ('com', a property, is near 'cm')."""
-    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not p.lstrip("-").isdigit()]
+    powers = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"  # 'm^2', 'm^2.0', 'm^1e3'
+    parts = [p for p in re.split(r"[*/^]", _plain_unit(word)) if not re.fullmatch(powers, p)]
     return bool(parts) and all(
         p.lower().removesuffix("s") in _UNIT_NAMES
         or p.lower() in _UNIT_NAMES
         or p.lower().removesuffix("s") in _UNIT_BY_LOWER
         or p.lower() in _UNIT_BY_LOWER
-        or re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d*", p) is not None
+        or _symbol_run(p.rstrip("0123456789"))
         or (p[:1] in _PREFIXES and p[1:] in UNITS)
         or (fuzzy and difflib.get_close_matches(p, list(UNITS), n=1, cutoff=0.8))
         for p in parts
@@ -297,6 +318,11 @@ def unknown_unit(word: str, number: str | None = None) -> str:
     other = other_system(word, number)
     if other is not None:
         return other
+    if re.search(r"\^[-+]?(?:\d+(?:\.\d*)?[eE]|\d{4})", word):  # 'm^1e300', 'm^10000'
+        return (
+            f"'{word}' has a power past any unit's: a unit's powers are small whole numbers "
+            "written with digits, as in 'm^2' or 's^-1'"
+        )
     if re.search(r"\^[-+]?(?:\d*[./]\d|\()", word):  # 'm^2.5', 'm^(1/2)'
         return (
             f"'{word}' has a power that is not a whole number: a unit's powers are whole, as "
@@ -433,8 +459,8 @@ def suggest_units(word: str) -> list[str]:
             out.append([undoubled])
         elif part.lower() in _UNIT_BY_LOWER:  # 'MS', 'HZ', 'S': its case
             out.append([_UNIT_BY_LOWER[part.lower()]])
-        elif re.fullmatch(rf"(?:{_UNIT_SYMBOL})+\d+", part):  # 'm/s2', 'kgm2': a power
-            run, power = re.fullmatch(rf"((?:{_UNIT_SYMBOL})+)(\d+)", part).groups()  # type: ignore[union-attr]
+        elif (run_power := _symbols_and_power(part)) is not None:  # 'm/s2', 'kgm2': a power
+            run, power = run_power
             out.append(["*".join(split) + f"^{power}" for split in _splits(run)])
         elif singular in _UNIT_NAMES:
             symbol = _UNIT_NAMES[singular]
@@ -445,7 +471,7 @@ def suggest_units(word: str) -> list[str]:
             out.append([_UNIT_BY_LOWER[singular]])
         elif part[:1] in _PREFIXES and part[1:] in UNITS:
             return []  # a prefix legdsl lacks ('mN'): not 'm*N', a metre-newton
-        elif _UNIT_RUN.fullmatch(part):
+        elif _symbol_run(part):
             out.append(["*".join(split) for split in _splits(part)])
         else:
             close = difflib.get_close_matches(part, list(UNITS), n=1, cutoff=0.6)
@@ -466,9 +492,12 @@ def suggest_units(word: str) -> list[str]:
 
 def _splits(run: str) -> list[list[str]]:
     """The ways symbols run together read as symbols, the longest symbols first:
-    'Nms' -> [['N', 'ms'], ['N', 'm', 's']]."""
+    'Nms' -> [['N', 'ms'], ['N', 'm', 's']]; none for a run longer than a unit is written
+    (their number grows exponentially with its length)."""
     if not run:
         return [[]]
+    if len(run) > 12:
+        return []
     return [
         [symbol, *rest]
         for symbol in sorted(UNITS, key=len, reverse=True)
@@ -477,8 +506,13 @@ def _splits(run: str) -> list[list[str]]:
     ]
 
 
+_LONGEST = max(len(u) for u in UNITS)
+
+
 def _undoubled(part: str) -> str | None:
     """The unit symbol ``part`` is with one doubled letter written once ('kgg', 'ss'), if any."""
+    if len(part) > _LONGEST + 1:  # no symbol with one letter doubled
+        return None
     for i in range(1, len(part)):
         if part[i] == part[i - 1] and part[:i] + part[i + 1 :] in UNITS:
             return part[:i] + part[i + 1 :]

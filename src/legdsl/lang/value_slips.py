@@ -15,7 +15,7 @@ from legdsl.lang.units import UnitError, parse_unit, suggest_unit, unit_pattern
 
 Found = tuple[int, int, str]
 
-_NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_NUMBER = r"(?<![\d.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 
 
 def value_slip(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
@@ -37,7 +37,7 @@ def bare_exponent(masked: str, pos: int) -> Found | None:
     line_start = masked.rfind("\n", 0, pos) + 1
     found = None
     for m in re.finditer(
-        r"(?<![\w.])(\d+\.?\d*|\.\d+)[eE](?![\w+-])", masked[line_start : pos + 1]
+        r"(?<![\w.])(\d+(?:\.\d*)?|\.\d+)[eE](?![\w+-])", masked[line_start : pos + 1]
     ):
         found = m
     if found is None:
@@ -70,14 +70,14 @@ def bare_exponent(masked: str, pos: int) -> Found | None:
     )
 
 
-_END = rf"-?[ \t]*{_NUMBER}(?:[ \t]*{unit_pattern()})?"
+_END = rf"(?:-[ \t]*)?{_NUMBER}(?:[ \t]*{unit_pattern()})?"
 
 
 def _range_colon(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
     """'limits -60 deg : 60 deg': a range written as some languages slice."""
     if kind != "COLON" or "to" not in expected:
         return None
-    low = re.search(rf"(?:([A-Za-z_]\w*)[ \t]+)?({_END})[ \t]*$", masked[:pos])
+    low = re.search(rf"(?:(?<!\w)([A-Za-z_]\w*)[ \t]+)?({_END})[ \t]*$", masked[:pos])
     high = re.match(rf"[ \t]*({_END})", masked[pos + 1 :])
     if low is None or high is None:
         return None
@@ -131,8 +131,12 @@ def _trailing_list_comma(
             # A trailing ',' fails the parse by the next '=' at the latest: one read well
             # before it ('joints hip, slide  ...  alias a = x b = y') ended its list fine.
             continue
+        # from after the line's last '{', '}' or '=', where a list can start: searched from
+        # its start, a long line would be tried from each of its words
+        head = masked[line_start:comma]
+        head = head[max(head.rfind(c) for c in "{}=") + 1 :]
         listed = re.search(
-            r"([A-Za-z_]\w*)[ \t]+([^,{}=\n]+(?:,[^,{}=\n]+)*)$", masked[line_start:comma]
+            r"(?<![A-Za-z_])([A-Za-z_]\w*)[ \t]+(\S[^,{}=\n]*(?:,[^,{}=\n]+)*)$", head
         )
         shown = f" ('{listed.group(1)} {listed.group(2).strip()}')" if listed else ""
         return (
