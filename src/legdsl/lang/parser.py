@@ -24,6 +24,7 @@ from legdsl.lang.stray_words import stray_key
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.unit_words import unit_word
 from legdsl.lang.units import DIMENSIONLESS, Quantity, parse_unit
+from legdsl.lang.value_slips import not_a_number_name
 
 __all__ = ["grammar_dir", "parse", "parse_file"]
 
@@ -392,6 +393,8 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
         stray = stray_key(file, read, built)
         if stray is not None:  # what follows it is misread: the checker's errors would mislead
             raise LegError([*pending, stray], {file: text})
+        if (nan := not_a_number_name(built)) is not None:  # not 'declare it: param inf = ...'
+            raise LegError([*pending, nan], {file: text})
         # a unit the parser read as the next property ('length 0.5 meters')
         word = unit_word(file, read, built) if len(pending) < MAX_REPAIRS else None
         if word is None:

@@ -33,6 +33,7 @@ from legdsl.lang.units import (
     unknown_unit,
 )
 from legdsl.lang.value_slips import hex_color_line_before
+from legdsl.lang.value_slips import not_a_number as not_a_number_message
 
 
 def friendly_errors() -> tuple[tuple[str, tuple[str, ...]], ...]:
@@ -308,6 +309,14 @@ def _not_a_number(text: str, pos: int) -> tuple[str, int] | None:
     return (found[-1].group(0), found[-1].start()) if found else None
 
 
+def _just_before(text: str, word: tuple[str, int] | None, pos: int | None) -> bool:
+    """Whether ``word`` (as ``_not_a_number`` gives it) is the last thing before ``pos``: 'nan'
+    in 'cylinder(nan m)' is the mistake, not a name a unit follows."""
+    if word is None or pos is None:
+        return False
+    return not text[word[1] + len(word[0]) : pos].strip(" \t")
+
+
 def _slip(text: str, pos: int) -> str | None:
     """A sentence for a habit from other languages at ``pos``: a C comment, a percentage,
     a name with a letter outside ASCII."""
@@ -447,16 +456,18 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         message = color[2]
     elif slip is not None and unit is None:  # 'µm' is a unit before it is a name's letter
         message = slip
-    elif other is not None and unit is None and spelt is None:
+    elif (
+        other is not None
+        and unit is None
+        and spelt is None
+        and not _just_before(text, not_a_number, pos)
+    ):
         span = offset_span(file, text, other[0], other[1])
         message = other[2]
     elif not_a_number is not None:
         word, start = not_a_number
         span = offset_span(file, text, start, len(word))
-        message = (
-            f"'{word}' is not a number legdsl reads: every quantity is a finite number with "
-            "its unit, as in '10 kg'"
-        )
+        message = not_a_number_message(word)
     elif unit is not None:
         word, start = unit
         span = offset_span(file, text, start, len(word))

@@ -7,9 +7,12 @@ quotes ('color #b07040'). Each answer is
 
 from __future__ import annotations
 
+import dataclasses
 import re
 
+from legdsl.lang import ast
 from legdsl.lang.context import in_expression
+from legdsl.lang.errors import Diagnostic
 from legdsl.lang.lookalikes import ascii_for, minus_sign
 from legdsl.lang.units import UnitError, parse_unit, suggest_unit, unit_pattern
 
@@ -178,4 +181,33 @@ def hex_color_line_before(text: str, pos: int) -> Found | None:
             found = hex_color_comment(text[start:end])
             return None if found is None else (start + found[0], found[1], found[2])
         end = start - 1
+    return None
+
+
+NOT_NUMBERS = ("nan", "inf", "infinity")
+
+
+def not_a_number(word: str) -> str:
+    """What 'nan' or 'inf' written as a value is told, wherever it is."""
+    return (
+        f"'{word}' is not a number legdsl reads: every quantity is a finite number with its "
+        "unit, as in '10 kg'"
+    )
+
+
+def not_a_number_name(tree: object) -> Diagnostic | None:
+    """The first 'nan' or 'inf' in ``tree`` that parsed as a name in an expression ('inf *
+    stroke'): it is no name to declare, but a number legdsl does not read."""
+    if isinstance(tree, ast.EName) and tree.ident.name.lower() in NOT_NUMBERS:
+        return Diagnostic(tree.span, not_a_number(tree.ident.name))
+    if isinstance(tree, tuple | list):
+        parts: list[object] = list(tree)
+    elif dataclasses.is_dataclass(tree) and not isinstance(tree, type):
+        parts = [getattr(tree, f.name) for f in dataclasses.fields(tree)]
+    else:
+        return None
+    for part in parts:
+        found = not_a_number_name(part)
+        if found is not None:
+            return found
     return None

@@ -1,0 +1,58 @@
+"""Slips an outside user's mutation corpus found told with a wrong fix: 'nan'/'inf' as a value
+anywhere, a declaration without its name or its kind, a missing value."""
+
+from __future__ import annotations
+
+import pytest
+
+from legdsl.lang.errors import LegError
+from legdsl.lang.parser import parse
+
+CREATURE = """\
+creature hopper {
+  planar
+  body trunk free {
+    mass 3 kg
+    inertia 0.03 kg*m^2
+    shape cylinder(0.04 m)
+  }
+}
+"""
+CONTROLLER = """\
+controller hop {
+  input speed = 1 m/s
+  param kv = 15 N*m*s/rad
+  param stroke = 3 cm
+  signal reach = select(abs(speed) < 1 mm/s, stroke, 2 * stroke)
+  table {
+    state GO on active.rate > 0: servo_pitch(active, trunk, 0 deg, 2 * stroke, kv)
+  }
+}
+"""
+
+
+def told(text: str) -> str:
+    with pytest.raises(LegError) as err:
+        parse(text, "f.leg")
+    return str(err.value)
+
+
+NAN = "is not a number legdsl reads: every quantity is a finite number with its unit"
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where"),
+    [
+        ("cylinder(0.04 m)", "cylinder(nan m)", "f.leg:6:20:"),  # in a call
+        ("param kv = 15 N*m*s/rad", "param kv = inf N*m*s/rad", "f.leg:11:14:"),  # a param
+        ("2 * stroke, kv)", "inf * stroke, kv)", "f.leg:15:"),  # in an expression
+    ],
+)
+def test_nan_and_inf_are_told_as_numbers_legdsl_does_not_read(
+    old: str, new: str, where: str
+) -> None:
+    message = told((CREATURE + CONTROLLER).replace(old, new))
+    assert message.startswith(where), message
+    assert NAN in message
+    assert "a unit follows a number, not a name" not in message
+    assert "declare it" not in message
