@@ -5,6 +5,7 @@ and what was recorded up to then is written."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -17,26 +18,26 @@ ROW = "state COMPRESSION on active.rate < 0:       servo_pitch(active, body, 0 d
 CASES = {
     # an apex speed sqrt(2 g (height - com.z)), here made negative mid-run
     "sqrt": ("hip_motor.force = 0.001 N*m*s/m * sqrt(2 * g * (height - com.z) - 20 m^2/s^2)",
-             "sqrt(-15.39) has no real value", "com.z = 0.7651, input height = 1"),
+             "sqrt(-15.39) has no real value", "com.z = 0.7651 m, input height = 1 m"),
     "asin": ("hip_servo.setpoint = asin(com.z / 0.5 m)",
-             "asin(1.53) is undefined", "com.z = 0.7651"),
+             "asin(1.53) is undefined", "com.z = 0.7651 m"),
     # a comparison with a select() in a condition is sympy's ITE: the explanation stopped on it
     # with an internal error (BooleanFalse has no evalf)
     "ite": ("hip_servo.setpoint = select(select(com.z > 0 m, 1 s, 2 s) == time or com.z > 9 m, "
-            "1 deg, 2 deg) + asin(com.z / 0.5 m)", "asin(1.53) is undefined", "com.z = 0.7651"),
+            "1 deg, 2 deg) + asin(com.z / 0.5 m)", "asin(1.53) is undefined", "com.z = 0.7651 m"),
     # sympy carries sqrt into the select (select(c, I, 1)): the file was refused as having "no
     # finite real number, whatever the state", though the branch may never be taken
     "select": ("hip_servo.setpoint = 1 deg * sqrt(select(com.z > 0.7 m, -1, 1))",
-               "sqrt(-1) has no real value", "com.z = 0.7651"),
+               "sqrt(-1) has no real value", "com.z = 0.7651 m"),
     # an overflow said "is undefined ((34, 'Numerical result out of range'))", Python's words
     "power": ("hip_servo.setpoint = 1 deg * (com.z / 1 m + 10) ^ 400",
               "x^y(10.77, 400) overflows a double (it would be about 1e413, past the largest, "
-              "1.8e308); bound what it reads, as in clamp(..., low, high)", "com.z = 0.7651"),
+              "1.8e308); bound what it reads, as in clamp(..., low, high)", "com.z = 0.7651 m"),
     "exp": ("hip_servo.setpoint = 1 deg * exp(com.z / 1 m * 1000)",
-            "exp(765.1) overflows a double (it would be about 1e332", "com.z = 0.7651"),
+            "exp(765.1) overflows a double (it would be about 1e332", "com.z = 0.7651 m"),
     "division": ("hip_motor.force = 1 N*m*s / time_in_state",
                  "a division by 0: its divisor 'time_in_state' is 0 here; give a value to use "
-                 "while it is, as in select(time_in_state != 0, ..., ...)", "time_in_state = 0"),
+                 "while it is, as in select(time_in_state != 0, ..., ...)", "time_in_state = 0 s"),
     # sign() of a NaN is NaN: it was 1 (math.copysign), a full deflection from a stance time
     # not measured yet
     "sign": ("hip_servo.setpoint = 10 deg * sign(active.stance_time)",
@@ -114,3 +115,44 @@ def test_a_division_by_0_in_a_signal_is_told_at_the_signal(
     )
     assert f"signal inverse (read by hip_motor.force = ... at {leg}:{row}:" in err
     assert "its divisor 'time_in_state' is 0 here" in err and "negative power" not in err
+
+
+ARM = """creature arms2 {
+  planar
+  body base fixed at (0 m, 2 m) { mass 1 kg  inertia 0.01 kg*m^2 }
+  body arm2 on base via revolute el at (0.5 m, 0 m) {
+    length 1 m  com 0.5 m  mass 1 kg  inertia 0.05 kg*m^2
+  }
+  actuator elsp on el spring(k = 200 N*m/rad, b = 2 N*m*s/rad, rest = 0 deg)
+}
+controller bad {
+  param tscale = 1000 ms
+  table {
+    state GO on time >= 0 s: elsp.rest = LAW
+  }
+}
+"""
+
+
+@pytest.mark.parametrize(
+    ("law", "told"),
+    [("asin(time / tscale - 0.5)", "asin(1.002)"), ("asin(2*(time/tscale) - 1)", "asin(1.004)"),
+     ("asin(-(time/tscale))", "asin(-1.002)"), ("atan(1) + asin(0.5 - time / tscale)",
+                                                "asin(-1.002)")],
+)  # fmt: skip
+def test_a_failed_law_tells_its_operands_as_written_with_units_and_its_line(
+    capsys: pytest.CaptureFixture[str], generated: Path, tmp_path: Path, law: str, told: str
+) -> None:
+    """sympy keeps asin(x - 0.5) as -asin(0.5 - x): the fault told asin(-1.002) of a law whose
+    argument was +1.002; the values it read had no units ('param tscale = 1'), and the law's
+    line was not shown."""
+    leg = tmp_path / "arm.leg"
+    leg.write_text(ARM.replace("LAW", law))
+    argv = ["run", str(leg), "--controller", "bad", "--time", "2", "--generated", str(generated),
+            "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert f"{told} is undefined" in err
+    assert "param tscale = 1000 ms" in err and re.search(r"time = 1\.\d+ s\n", err)
+    line = f"    state GO on time >= 0 s: elsp.rest = {law}\n"
+    assert line + " " * 33 + "^~~~" in err

@@ -50,7 +50,9 @@ def test_a_scaled_runs_failing_law_is_told_as_the_scaled_files(
         assert "it sets leg_spring.k = -7.442e+04 N/m" in scaled
     else:  # the values it read are the scaled creature's; the operation's own, the file's
         read = re.compile(r"; it read (.*)$")
-        assert read.search(scaled)[1] == read.search(told)[1] == "com.z = 3.06, input height = 4"
+        assert (
+            read.search(scaled)[1] == read.search(told)[1] == "com.z = 3.06 m, input height = 4 m"
+        )
         assert "sqrt(-15.39) has no real value (its operands are the unscaled file's numbers)" in (
             scaled
         )

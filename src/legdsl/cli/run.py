@@ -24,7 +24,7 @@ from legdsl.cli.common import (
     numeric,
 )
 from legdsl.cli.process import ENDING_SIGNALS, exit_status, sigterm_unwinds
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import Diagnostic, Span, UsageError
 from legdsl.signals import handled
 
 _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
@@ -184,7 +184,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         first = result.cause if result.status == "interrupted" else interrupts.late[0]
         return exit_status(first)
     if result.status == "diverged":
-        print(f"legdsl: {result.message}", file=sys.stderr)
+        print(f"legdsl: {result.message}{_quoted(result.fault_span)}", file=sys.stderr)
         return EXIT_DIVERGED
     if result.status == "fell":
         print(
@@ -193,6 +193,19 @@ def cmd_run(args: argparse.Namespace) -> int:
         )
         return EXIT_FELL
     return 0
+
+
+def _quoted(span: Span | None) -> str:
+    """The line of a failed control law and a caret under it, as a mistake in the file is
+    shown ('' where there is none, or its file cannot be read now)."""
+    if span is None or span.line <= 0:
+        return ""
+    try:
+        text = Path(span.file).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return ""
+    rendered = Diagnostic(span, "").render({span.file: text})
+    return rendered[rendered.index("\n") :] if "\n" in rendered else ""
 
 
 def _controller_repeated(scene: str, controller: str, chosen: str, switches: list[str]) -> str:

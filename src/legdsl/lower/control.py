@@ -150,8 +150,9 @@ class Lowerer:
         for b, binding in enumerate(self.ctl.bindings):
             roles = dict(binding)
             for s, state in enumerate(self.ctl.states):
-                events[(b, s)] = self.value(state.event, roles, (state.span,))
-                event_where[(b, s)] = (state.span,)
+                at = state.event_span if state.event_span.line > 0 else state.span
+                events[(b, s)] = self.value(state.event, roles, (at,))
+                event_where[(b, s)] = (at,)
                 records: list[tuple[str, Expr]] = []
                 settings: list[Setting] = []
                 places: list[Place] = []
@@ -297,6 +298,11 @@ class Lowerer:
         if key not in self._calls:
             self._calls[key] = FUNCTIONS[e.func](*args)
         return self._calls[key]
+
+    def calls(self) -> list[tuple[str, tuple[Any, ...], Any]]:
+        """Each built-in function's call lowered so far, as written (its name and arguments),
+        with what sympy made of it (``asin(x - 0.5)`` is ``-asin(0.5 - x)`` to it)."""
+        return [(func, args, result) for (func, args), result in self._calls.items()]
 
     def named(self, e: ir.Named, roles: Roles) -> Any:
         if e.kind in ("input", "param", "record"):

@@ -30,8 +30,9 @@ from legdsl.ir.controller import (
     TERRAIN_MEMBERS,
 )
 from legdsl.ir.model import Model, setting_kind
+from legdsl.lang.errors import Span
 from legdsl.lang.scaling import factor
-from legdsl.lang.units import KINDS, Dim
+from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim, parse_unit, unit_for
 from legdsl.lower.control import FUNCTIONS, EachPass, Lowerer, Where
 from legdsl.sim.run_loop import ControlFault
 
@@ -116,6 +117,23 @@ def _ev(e: Any, values: dict[Any, float]) -> Any:
     return out
 
 
+def _as_written(lowerer: Lowerer, bad: _Bad, values: dict[Any, float]) -> str:
+    """``bad``'s words with the operands of the call as the law writes it: sympy keeps an odd
+    function of a negated argument as the negated function (``asin(x - 0.5)`` as
+    ``-asin(0.5 - x)``), whose operand has the other sign than the one written."""
+    node = bad.node
+    for func, args, result in lowerer.calls():
+        if FUNCTIONS[func] is not node.func or not (result == -node or result == node):
+            continue
+        try:
+            written = [_ev(a, values) for a in args]
+        except (_Bad, KeyError, TypeError):
+            continue
+        if len(written) == len(bad.operands):
+            return bad.what.replace(_call_text(node, bad.operands), _call_text(node, written), 1)
+    return bad.what
+
+
 def _overflows(e: Any, args: Sequence[float]) -> str:
     """An operation of finite operands whose result is past the largest double, with the
     size it would have had (where that is simple to tell) and the way out."""
@@ -143,6 +161,11 @@ def _call_text(e: Any, args: Sequence[float]) -> str:
     if name.startswith("1/x"):
         return f"1/{args[0]:.4g} (a division)"
     return f"{name}({', '.join(f'{a:.4g}' for a in args)})"
+
+
+def _span(where: Where) -> Span | None:
+    """The statement's own span, where the law failed (its line is shown with a caret)."""
+    return where[0] if where and isinstance(where[0], Span) else None
 
 
 def _where(where: Where) -> str:
@@ -201,6 +224,8 @@ def explain(
     values[sympy.Symbol("time_in_state")] = tis
     dims = _dims(model, controller, module)
     shown = {x: v * factor(dims.get(names.get(x, "")), scale) for x, v in values.items()}
+    units = _units(controller, dims)
+    names = {x: _with_unit(name, units.get(name)) for x, name in names.items()}
     body = lc.bodies.get(key)
     candidates: list[tuple[str, Any, Where]] = []
     if kind == "event":
@@ -222,14 +247,14 @@ def explain(
             goals = (f"{a} = {_ev(g, values) * scale:.4g}"  # offsets from the hip: lengths
                      for a, g in zip(pl.axes, pl.goals, strict=True))  # fmt: skip
             return ControlFault(f"{_where(pl.where)}: {head}: place {pl.leg}: {error}; "
-                                f"goals {', '.join(goals)}")  # fmt: skip
+                                f"goals {', '.join(goals)}", _span(pl.where))  # fmt: skip
     if index is not None and kind != "place" and index < len(candidates):
         candidates = [candidates[index], *candidates]
     for label, expr, where in candidates:
         try:
             out = _ev(expr, values)
         except _Bad as bad:
-            what = _divisor_zero(bad, names) or bad.what
+            what = _divisor_zero(bad, names) or _as_written(lowerer, bad, values)
             if scale != 1.0 and bad.operands:  # an operand's dimension is not known here
                 what += " (its operands are the unscaled file's numbers)"
             roles = dict(controller.bindings[key[0]]) if key[0] < len(controller.bindings) else {}
@@ -238,15 +263,15 @@ def explain(
                 signal, expr = found
                 label = f"signal {signal.name} (read by {label} at {_where(where)})"
                 where = (signal.span,)
-            return ControlFault(_message(where, head, label, what, expr, names, shown))
+            text = _message(where, head, label, what, expr, names, shown)
+            return ControlFault(text, _span(where))
         except (KeyError, TypeError):
             continue
         if isinstance(out, float) and not math.isfinite(out):
-            return ControlFault(
-                _message(where, head, label, f"the value is {out}", expr, names, shown)
-            )
+            text = _message(where, head, label, f"the value is {out}", expr, names, shown)
+            return ControlFault(text, _span(where))
     first = candidates[0][2] if candidates else ()
-    return ControlFault(f"{_where(first)}: {head}: {error}")
+    return ControlFault(f"{_where(first)}: {head}: {error}", _span(first))
 
 
 # a sensor's dimension by its key's kind (``legdsl.sim.sensors``): the member's, where fixed
@@ -281,6 +306,47 @@ def _dims(model: Model, controller: ir.Controller, module: ModuleType) -> dict[s
             dim = (a, b, c + 1, d)
         dims[key] = dim
     return dims
+
+
+def _units(controller: ir.Controller, dims: dict[str, Dim | None]) -> dict[str, str]:
+    """The unit each value a statement reads is told in: an input's or parameter's as its
+    default is written ('ms', 'deg'), else its kind's ('s', 'deg', 'm/s'); none for a flag
+    or a bare number."""
+    written = {f"{kind} {c.name}": c.unit for kind, constants in
+               (("input", controller.inputs), ("param", controller.params))
+               for c in constants if c.unit}  # fmt: skip
+    units = {}
+    for name, dim in dims.items():
+        if name in written:
+            units[name] = written[name]
+        elif isinstance(dim, tuple) and dim != DIMENSIONLESS:
+            units[name] = unit_for(dim)
+    return units
+
+
+class _Named(str):
+    """A value's name in ``explain``'s words, carrying the unit it is told in: ``str`` is
+    the name, ``told(value)`` the value in that unit ('tscale = 500 ms')."""
+
+    unit: str
+    per: float
+
+    def told(self, value: float) -> str:
+        if not self.unit or not math.isfinite(value):
+            return f"{value:.4g}"
+        return f"{value / self.per:.4g} {self.unit}"
+
+
+def _with_unit(name: str, unit: str | None) -> _Named:
+    named = _Named(name)
+    named.unit, named.per = "", 1.0
+    if unit:
+        try:
+            named.per = parse_unit(unit)[0]
+            named.unit = unit
+        except ValueError:  # pragma: no cover - the checker read it
+            pass
+    return named
 
 
 def _divisor_zero(bad: _Bad, names: dict[Any, str]) -> str:
@@ -336,6 +402,10 @@ def _signal_at_fault(
     return None
 
 
+def _told(name: Any, value: float) -> str:
+    return name.told(value) if isinstance(name, _Named) else f"{value:.4g}"
+
+
 def _message(
     where: Where,
     head: str,
@@ -346,7 +416,8 @@ def _message(
     values: dict[Any, float],
 ) -> str:
     used = sorted(expr.free_symbols, key=lambda x: names.get(x, str(x)))
-    read = ", ".join(f"{names.get(x, str(x))} = {values[x]:.4g}" for x in used[:10] if x in values)
+    read = ", ".join(f"{names.get(x, str(x))} = {_told(names.get(x), values[x])}"
+                     for x in used[:10] if x in values)  # fmt: skip
     text = f"{_where(where)}: {head}: in {label}, {what}; it read {read or 'no values'}"
     unmeasured = [names[x] for x in used if x in names and x in values and values[x] != values[x]]
     if unmeasured:

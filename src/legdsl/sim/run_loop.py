@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from legdsl.lang.errors import Span
 from legdsl.sim.recorder import recording_budget
 from legdsl.sim.trajectory import Trajectory
 
@@ -97,6 +98,8 @@ class RunResult:
     stop_time: dict[str, float] = field(default_factory=dict)  # s on each joint stop
     # where an energy rise without a source ended, for a run told diverged after it ran on
     diverged_at: float | None = None
+    # the .leg statement of a control law that failed (its line is shown with a caret)
+    fault_span: Span | None = None
 
     @property
     def real_time_factor(self) -> float:
@@ -119,7 +122,14 @@ def signal_of(stop: BaseException) -> str:
 
 class ControlFault(Exception):
     """A control law that failed at run time; the message says where and why
-    (``legdsl.sim.control_faults`` makes it)."""
+    (``legdsl.sim.control_faults`` makes it), ``span`` is the law's in the ``.leg`` file."""
+
+    def __init__(self, message: str, span: Span | None = None):
+        super().__init__(message)
+        self.span = span
+
+    def __reduce__(self) -> tuple[type[ControlFault], tuple[str, Span | None]]:
+        return (ControlFault, (str(self), self.span))
 
 
 INITIAL_ROWS = 1024  # samples the recorder holds before it first grows

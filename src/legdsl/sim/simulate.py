@@ -22,6 +22,7 @@ from legdsl.sim.actuators import ActuatorBank
 from legdsl.sim.causes import cause_at
 from legdsl.sim.contact import ContactEvent, GroundContact
 from legdsl.sim.energy_check import own_speed, told
+from legdsl.sim.reachable import reachable_speed
 from legdsl.sim.recorder import Divergence, TooFast, empty_trajectory, record_row
 from legdsl.sim.run_loop import (
     CHECK_INTERVAL,
@@ -374,9 +375,9 @@ class Simulation:
         return None
 
     def likely_cause(self, err: BaseException | None = None, run: Trajectory | None = None) -> str:
-        """Why a run diverged at the state now, with what the ``run`` recorded (``cause_at``;
-        a speed past the limit that nothing grew to: ``own_speed``)."""
-        return cause_at(self, self.q, err, run, otherwise=own_speed(self, err, run))
+        """Why a run diverged now, by what ``run`` recorded (``cause_at``, ``reachable_speed``)."""
+        otherwise = reachable_speed(self, err, run) or own_speed(self, err, run)
+        return cause_at(self, self.q, err, run, otherwise=otherwise)
 
     # ------------------------------------------------------------ running
     def run(
@@ -390,7 +391,7 @@ class Simulation:
         opts = self.options
         loop = self.new_loop(INITIAL_ROWS)
         self.message = ""
-        cause = ""
+        cause, fault_span = "", None
         wall0 = time.perf_counter()
         report = progress if stop is None else _stopping(progress, stop)
         self._begin()
@@ -402,6 +403,7 @@ class Simulation:
             loop.status = "diverged"
             cause = str(fault)
             self.message = cause  # it names the time
+            fault_span = fault.span
         except (Divergence, OverflowError, ZeroDivisionError, ValueError) as err:
             loop.status = "diverged"
             cause = self.diverged(err, loop.traj.head(loop.recorded))
@@ -429,6 +431,7 @@ class Simulation:
             sim_time=self.t,
             cause=cause,
             stop_time={k: round(v, 9) for k, v in self.stop_time.items()},
+            fault_span=fault_span,
         )
         return told(self, result)  # an energy rise without a source is a divergence
 
