@@ -55,3 +55,35 @@ def test_a_giant_falling_past_the_limit_is_told_so_not_to_take_a_smaller_step(
     before = float(said[1]) - 1.0
     assert main([*common, "--time", f"{before:g}", "--out", str(tmp_path / "b")]) == 0
     assert json.loads((tmp_path / "b" / "run.json").read_text())["status"] == "ok"
+
+
+STIFF = """creature stiffsp {
+  planar
+  body base fixed at (0 m, 2 m) { mass 1 kg  inertia 0.01 kg*m^2 }
+  body arm on base via revolute sh {
+    length 1 m  com 0.8 m  mass 2 kg  inertia 0.05 kg*m^2
+    initial 90 deg
+  }
+  actuator clip on sh spring(k = 1e8 N*m/rad, rest = 80 deg)
+}
+"""
+
+
+@pytest.mark.parametrize(("backend", "dt"), [("python", "0.1ms"), ("c", "0.1ms"), ("c", "0.01ms")])
+def test_a_stiff_springs_real_speed_past_the_limit_is_told_from_its_energy(
+    backend: str, dt: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A pendulum on a 1e8 N*m/rad spring 10 deg from its rest: the spring's 1.52e6 J turn
+    it at up to 1513 rad/s. At 0.1 ms it passed the limit in its first step, before a sample
+    at half of it was recorded, and was told 'the state grew without bound; try a smaller
+    step', which changes nothing; it is told from the energy it has, and where that is."""
+    leg = tmp_path / "stiff.leg"
+    leg.write_text(STIFF)
+    argv = ["run", str(leg), "--time", "1", "--dt", dt, "--control-dt", dt, "--backend", backend,
+            "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "r")]  # fmt: skip
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert "grew without bound;" not in err and "rk4" not in err and "this large" not in err
+    assert "nothing grew without bound: the creature reached this speed in its own motion" in err
+    assert "its springs held 1.52e+06 J at the start (1.52e+06 J of it in 'clip')" in err
+    assert "enough for sh to reach 1513 rad/s" in err and "a softer spring" in err
