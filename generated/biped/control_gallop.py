@@ -80,7 +80,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(second)
 
     From the .leg file:
-        event  creatures/biped.leg:227:5
+        event  creatures/biped.leg:227:21
     """
     leg_right_touching = s[38]
     return (leg_right_touching < 0.5)
@@ -90,7 +90,7 @@ def event_SINGLE_1_0(s, u, p, r, tis):
     """Enter SINGLE_1 (waiting under binding 0) when: touchdown(first)
 
     From the .leg file:
-        event  creatures/biped.leg:235:5
+        event  creatures/biped.leg:235:23
     """
     leg_left_touching = s[29]
     return (leg_left_touching > 0.5)
@@ -100,7 +100,7 @@ def event_DOUBLE_0(s, u, p, r, tis):
     """Enter DOUBLE (waiting under binding 0) when: touchdown(second)
 
     From the .leg file:
-        event  creatures/biped.leg:242:5
+        event  creatures/biped.leg:242:21
     """
     leg_right_touching = s[38]
     return (leg_right_touching > 0.5)
@@ -110,7 +110,7 @@ def event_SINGLE_2_0(s, u, p, r, tis):
     """Enter SINGLE_2 (waiting under binding 0) when: liftoff(first)
 
     From the .leg file:
-        event  creatures/biped.leg:247:5
+        event  creatures/biped.leg:247:23
     """
     leg_left_touching = s[29]
     return (leg_left_touching < 0.5)

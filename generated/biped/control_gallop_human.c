@@ -57,7 +57,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(second) */
-/*   event: creatures/biped.leg:227:5 */
+/*   event: creatures/biped.leg:227:21 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[38];
@@ -66,7 +66,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_1 (waiting under binding 0) when: touchdown(first) */
-/*   event: creatures/biped.leg:235:5 */
+/*   event: creatures/biped.leg:235:23 */
 static int event_SINGLE_1_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[29];
@@ -75,7 +75,7 @@ static int event_SINGLE_1_0(const double *s, const double *u, const double *p, c
 }
 
 /* Enter DOUBLE (waiting under binding 0) when: touchdown(second) */
-/*   event: creatures/biped.leg:242:5 */
+/*   event: creatures/biped.leg:242:21 */
 static int event_DOUBLE_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_right_touching = s[38];
@@ -84,7 +84,7 @@ static int event_DOUBLE_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter SINGLE_2 (waiting under binding 0) when: liftoff(first) */
-/*   event: creatures/biped.leg:247:5 */
+/*   event: creatures/biped.leg:247:23 */
 static int event_SINGLE_2_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_left_touching = s[29];

@@ -91,7 +91,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:164:5
+        event  creatures/biped.leg:164:26
     """
     leg_left_touching = s[32]
     return (leg_left_touching < 0.5)
@@ -101,7 +101,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:173:5
+        event  creatures/biped.leg:173:26
     """
     leg_left_touching = s[32]
     return (leg_left_touching > 0.5)
@@ -111,7 +111,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:174:5
+        event  creatures/biped.leg:174:26
     """
     leg_left_rate = s[31]
     return (leg_left_rate < 0.0)
@@ -121,7 +121,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:175:5
+        event  creatures/biped.leg:175:26
     """
     leg_left_rate = s[31]
     return (leg_left_rate > 0.0)
@@ -131,7 +131,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:176:5
+        event  creatures/biped.leg:176:26
     """
     act_leg_l_spring_rest = s[2]
     leg_left_length = s[30]
@@ -143,7 +143,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/biped.leg:164:5
+        event  creatures/biped.leg:164:26
     """
     leg_right_touching = s[41]
     return (leg_right_touching < 0.5)
@@ -153,7 +153,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/biped.leg:173:5
+        event  creatures/biped.leg:173:26
     """
     leg_right_touching = s[41]
     return (leg_right_touching > 0.5)
@@ -163,7 +163,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/biped.leg:174:5
+        event  creatures/biped.leg:174:26
     """
     leg_right_rate = s[40]
     return (leg_right_rate < 0.0)
@@ -173,7 +173,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/biped.leg:175:5
+        event  creatures/biped.leg:175:26
     """
     leg_right_rate = s[40]
     return (leg_right_rate > 0.0)
@@ -183,7 +183,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + active.spring.rest
 
     From the .leg file:
-        event  creatures/biped.leg:176:5
+        event  creatures/biped.leg:176:26
     """
     act_leg_r_spring_rest = s[5]
     leg_right_length = s[39]

@@ -71,7 +71,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:82:5
+        event  creatures/hopper.leg:82:26
     """
     leg_main_touching = s[11]
     return (leg_main_touching < 0.5)
@@ -81,7 +81,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/hopper.leg:83:5
+        event  creatures/hopper.leg:83:26
     """
     leg_main_touching = s[11]
     return (leg_main_touching > 0.5)
@@ -91,7 +91,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/hopper.leg:84:5
+        event  creatures/hopper.leg:84:26
     """
     leg_main_rate = s[9]
     return (leg_main_rate < 0.0)
@@ -101,7 +101,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0
 
     From the .leg file:
-        event  creatures/hopper.leg:85:5
+        event  creatures/hopper.leg:85:26
     """
     leg_main_rate = s[9]
     return (leg_main_rate > 0.0)
@@ -111,7 +111,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full
 
     From the .leg file:
-        event  creatures/hopper.leg:86:5
+        event  creatures/hopper.leg:86:26
     """
     leg_main_length = s[8]
     full = p[11]

@@ -36,7 +36,7 @@ static void read_sensors(leg_sim *s, double *out, int *err)
 }
 
 /* Enter FLIGHT (waiting under binding 0) when: liftoff(main) */
-/*   event: creatures/kangaroo.leg:269:5 */
+/*   event: creatures/kangaroo.leg:269:26 */
 static int event_FLIGHT_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -45,7 +45,7 @@ static int event_FLIGHT_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter LOADING (waiting under binding 0) when: touchdown(main) */
-/*   event: creatures/kangaroo.leg:270:5 */
+/*   event: creatures/kangaroo.leg:270:26 */
 static int event_LOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double leg_main_touching = s[16];
@@ -54,7 +54,7 @@ static int event_LOADING_0(const double *s, const double *u, const double *p, co
 }
 
 /* Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0 */
-/*   event: creatures/kangaroo.leg:271:5 */
+/*   event: creatures/kangaroo.leg:271:26 */
 static int event_COMPRESSION_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -63,7 +63,7 @@ static int event_COMPRESSION_0(const double *s, const double *u, const double *p
 }
 
 /* Enter THRUST (waiting under binding 0) when: ankle.rate > 0 */
-/*   event: creatures/kangaroo.leg:272:5 */
+/*   event: creatures/kangaroo.leg:272:26 */
 static int event_THRUST_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_rate = s[7];
@@ -72,7 +72,7 @@ static int event_THRUST_0(const double *s, const double *u, const double *p, con
 }
 
 /* Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main) */
-/*   event: creatures/kangaroo.leg:273:5 */
+/*   event: creatures/kangaroo.leg:273:26 */
 static int event_UNLOADING_0(const double *s, const double *u, const double *p, const double *r, double tis, int *err)
 {
     const double coord_ankle_value = s[8];

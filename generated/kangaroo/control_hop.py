@@ -92,7 +92,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:269:5
+        event  creatures/kangaroo.leg:269:26
     """
     leg_main_touching = s[16]
     return (leg_main_touching < 0.5)
@@ -102,7 +102,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:270:5
+        event  creatures/kangaroo.leg:270:26
     """
     leg_main_touching = s[16]
     return (leg_main_touching > 0.5)
@@ -112,7 +112,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:271:5
+        event  creatures/kangaroo.leg:271:26
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate < 0.0)
@@ -122,7 +122,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:272:5
+        event  creatures/kangaroo.leg:272:26
     """
     coord_ankle_rate = s[7]
     return (coord_ankle_rate > 0.0)
@@ -132,7 +132,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:273:5
+        event  creatures/kangaroo.leg:273:26
     """
     coord_ankle_value = s[8]
     leg_main_touching = s[16]

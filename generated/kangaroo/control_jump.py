@@ -125,7 +125,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:392:5
+        event  creatures/kangaroo.leg:392:26
     """
     leg_main_touching = s[17]
     return (leg_main_touching < 0.5)
@@ -135,7 +135,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:393:5
+        event  creatures/kangaroo.leg:393:26
     """
     leg_main_touching = s[17]
     return (leg_main_touching > 0.5)
@@ -145,7 +145,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: ankle.rate < 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:394:5
+        event  creatures/kangaroo.leg:394:26
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate < 0.0)
@@ -155,7 +155,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: ankle.rate > 0
 
     From the .leg file:
-        event  creatures/kangaroo.leg:395:5
+        event  creatures/kangaroo.leg:395:26
     """
     coord_ankle_rate = s[8]
     return (coord_ankle_rate > 0.0)
@@ -165,7 +165,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: ankle.value > ankle_rest + unload + select(takeoff > 0, jump_unload, 0 deg) or liftoff(main)
 
     From the .leg file:
-        event  creatures/kangaroo.leg:396:5
+        event  creatures/kangaroo.leg:396:26
     """
     coord_ankle_value = s[9]
     leg_main_touching = s[17]

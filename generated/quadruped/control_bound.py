@@ -111,7 +111,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:353:5
+        event  creatures/quadruped.leg:353:26
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[24]
@@ -122,7 +122,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:369:5
+        event  creatures/quadruped.leg:369:26
     """
     leg_fl_touching = s[18]
     leg_fr_touching = s[24]
@@ -133,7 +133,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:380:5
+        event  creatures/quadruped.leg:380:26
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[23]
@@ -144,7 +144,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:383:5
+        event  creatures/quadruped.leg:383:26
     """
     leg_fl_rate = s[17]
     leg_fr_rate = s[23]
@@ -156,7 +156,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:387:5
+        event  creatures/quadruped.leg:387:26
     """
     leg_fl_length = s[16]
     leg_fl_touching = s[18]
@@ -172,7 +172,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:353:5
+        event  creatures/quadruped.leg:353:26
     """
     leg_rl_touching = s[30]
     leg_rr_touching = s[36]
@@ -183,7 +183,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:369:5
+        event  creatures/quadruped.leg:369:26
     """
     leg_rl_touching = s[30]
     leg_rr_touching = s[36]
@@ -194,7 +194,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:380:5
+        event  creatures/quadruped.leg:380:26
     """
     leg_rl_rate = s[29]
     leg_rr_rate = s[35]
@@ -205,7 +205,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:383:5
+        event  creatures/quadruped.leg:383:26
     """
     leg_rl_rate = s[29]
     leg_rr_rate = s[35]
@@ -217,7 +217,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:387:5
+        event  creatures/quadruped.leg:387:26
     """
     leg_rl_length = s[28]
     leg_rl_touching = s[30]

@@ -129,7 +129,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:484:5
+        event  creatures/quadruped.leg:484:26
     """
     leg_fl_touching = s[19]
     leg_fr_touching = s[26]
@@ -140,7 +140,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:500:5
+        event  creatures/quadruped.leg:500:26
     """
     leg_fl_touching = s[19]
     leg_fr_touching = s[26]
@@ -151,7 +151,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:510:5
+        event  creatures/quadruped.leg:510:26
     """
     leg_fl_rate = s[18]
     leg_fr_rate = s[25]
@@ -162,7 +162,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:513:5
+        event  creatures/quadruped.leg:513:26
     """
     leg_fl_rate = s[18]
     leg_fr_rate = s[25]
@@ -174,7 +174,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:517:5
+        event  creatures/quadruped.leg:517:26
     """
     leg_fl_length = s[17]
     leg_fl_touching = s[19]
@@ -190,7 +190,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:484:5
+        event  creatures/quadruped.leg:484:26
     """
     leg_rl_touching = s[33]
     leg_rr_touching = s[40]
@@ -201,7 +201,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:500:5
+        event  creatures/quadruped.leg:500:26
     """
     leg_rl_touching = s[33]
     leg_rr_touching = s[40]
@@ -212,7 +212,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:510:5
+        event  creatures/quadruped.leg:510:26
     """
     leg_rl_rate = s[32]
     leg_rr_rate = s[39]
@@ -223,7 +223,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:513:5
+        event  creatures/quadruped.leg:513:26
     """
     leg_rl_rate = s[32]
     leg_rr_rate = s[39]
@@ -235,7 +235,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:517:5
+        event  creatures/quadruped.leg:517:26
     """
     leg_rl_length = s[31]
     leg_rl_touching = s[33]

@@ -101,7 +101,7 @@ def event_FLIGHT_0(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 0) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:207:5
+        event  creatures/quadruped.leg:207:26
     """
     leg_fl_touching = s[22]
     leg_rr_touching = s[40]
@@ -112,7 +112,7 @@ def event_LOADING_0(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 0) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:223:5
+        event  creatures/quadruped.leg:223:26
     """
     leg_fl_touching = s[22]
     leg_rr_touching = s[40]
@@ -123,7 +123,7 @@ def event_COMPRESSION_0(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 0) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:230:5
+        event  creatures/quadruped.leg:230:26
     """
     leg_fl_rate = s[21]
     leg_rr_rate = s[39]
@@ -134,7 +134,7 @@ def event_THRUST_0(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 0) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:233:5
+        event  creatures/quadruped.leg:233:26
     """
     leg_fl_rate = s[21]
     leg_rr_rate = s[39]
@@ -146,7 +146,7 @@ def event_UNLOADING_0(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 0) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:237:5
+        event  creatures/quadruped.leg:237:26
     """
     leg_fl_length = s[20]
     leg_fl_touching = s[22]
@@ -162,7 +162,7 @@ def event_FLIGHT_1(s, u, p, r, tis):
     """Enter FLIGHT (waiting under binding 1) when: liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:207:5
+        event  creatures/quadruped.leg:207:26
     """
     leg_fr_touching = s[28]
     leg_rl_touching = s[34]
@@ -173,7 +173,7 @@ def event_LOADING_1(s, u, p, r, tis):
     """Enter LOADING (waiting under binding 1) when: touchdown(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:223:5
+        event  creatures/quadruped.leg:223:26
     """
     leg_fr_touching = s[28]
     leg_rl_touching = s[34]
@@ -184,7 +184,7 @@ def event_COMPRESSION_1(s, u, p, r, tis):
     """Enter COMPRESSION (waiting under binding 1) when: active.rate < 0
 
     From the .leg file:
-        event  creatures/quadruped.leg:230:5
+        event  creatures/quadruped.leg:230:26
     """
     leg_fr_rate = s[27]
     leg_rl_rate = s[33]
@@ -195,7 +195,7 @@ def event_THRUST_1(s, u, p, r, tis):
     """Enter THRUST (waiting under binding 1) when: active.rate > 0 and time_in_state > settle
 
     From the .leg file:
-        event  creatures/quadruped.leg:233:5
+        event  creatures/quadruped.leg:233:26
     """
     leg_fr_rate = s[27]
     leg_rl_rate = s[33]
@@ -207,7 +207,7 @@ def event_UNLOADING_1(s, u, p, r, tis):
     """Enter UNLOADING (waiting under binding 1) when: active.length > full + stand + thrust_stroke or liftoff(active)
 
     From the .leg file:
-        event  creatures/quadruped.leg:237:5
+        event  creatures/quadruped.leg:237:26
     """
     leg_fr_length = s[26]
     leg_fr_touching = s[28]

@@ -69,3 +69,20 @@ def test_the_docs_example_quotes_the_hoppers_generated_module() -> None:
     assert len(quoted) == 2
     for line in quoted:
         assert f"        {line}\n" in generated, line
+
+
+@pytest.mark.parametrize("module", MODULES, ids=lambda p: f"{p.parent.name}/{p.stem}")
+def test_an_event_names_its_condition_not_the_state_keyword(module: Path) -> None:
+    """An event's origin named its row's 'state' keyword (kneebiped.leg:55:5), not the
+    condition the function computes: it names where the condition starts, which is the
+    text its docstring shows."""
+    text = module.read_text(encoding="utf-8")
+    events = re.findall(r'def event_\w+\(s, u, p, r, tis\):\n    """.*? when: (.*?)\n(.*?)"""',
+                        text, re.S)  # fmt: skip
+    assert events
+    for condition, doc in events:
+        row = next(line for line in doc.splitlines() if line.strip().startswith("event "))
+        file, line, col = PLACE.findall(row)[0]
+        source = _text(file)[int(line) - 1]
+        assert source[int(col) - 1 :].startswith(condition[:12]), (row, condition)
+        assert not source[int(col) - 1 :].startswith("state "), row

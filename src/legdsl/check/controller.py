@@ -319,7 +319,9 @@ class ControllerChecker:
                 continue
             seen.add(row.state.name)
             text = _source_text(self.diag.sources, row.event.span)
-            states.append(ir.State(row.state.name, event, text, tuple(body), row.span))
+            states.append(
+                ir.State(row.state.name, event, text, tuple(body), row.span, row.event.span)
+            )
         for name in scope.signals:
             el.signal(name)
         return el, tuple(states)

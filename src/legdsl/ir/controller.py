@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from legdsl.ir.paths import PathSpec
-from legdsl.lang.errors import Span
+from legdsl.lang.errors import NOWHERE, Span
 from legdsl.lang.units import DIMENSIONLESS, KINDS, Dim
 
 BOOL = "bool"  # the type of a condition
@@ -322,6 +322,9 @@ class State:
     event_text: str  # the event as written, for comments in generated code
     body: tuple[Stmt, ...]
     span: Span
+    # the event expression's own, which generated code's comments name (the row's is its
+    # 'state' keyword); spelling, like the span, so left out of fingerprints
+    event_span: Span = field(default=NOWHERE, metadata={"spelling": True})
 
 
 @dataclass(frozen=True)
