@@ -136,16 +136,16 @@ def body(props: str, joint: str = "revolute hip") -> str:
 @pytest.mark.parametrize(
     ("props", "joint", "message"),
     [
-        ("length 1 kg/m", "revolute hip", "the link length is a length (m), but '1 kg/m' is in kg*m^-1"),
-        ("length 2 s", "revolute hip", "the link length is a length (m), but '2 s' is a time"),
+        ("length 1 kg/m", "revolute hip", "the link length is a length (m), but '1 kg/m' is a quantity in kg*m^-1; give it in m"),
+        ("length 2 s", "revolute hip", "the link length is a length (m), but '2 s' is a time; give it in m"),
         (
             "velocity 1 m/s",
             "revolute hip",
-            "the velocity hip is an angular velocity (rad/s), but '1 m/s' is a velocity",
+            "the velocity hip is an angular velocity (rad/s), but '1 m/s' is a velocity; give it in rad/s",
         ),
-        ("initial 5 deg", "prismatic hip", "the initial hip is a length (m), but '5 deg' is an angle"),
+        ("initial 5 deg", "prismatic hip", "the initial hip is a length (m), but '5 deg' is an angle; give it in m"),
         ("initial 5", "revolute hip", "the initial hip needs a unit: write e.g. '5 deg'"),
-        ("direction (1 m, 0)", "revolute hip", "a component of the link direction takes no unit, but '1 m' is a length"),
+        ("direction (1 m, 0)", "revolute hip", "a component of the link direction takes no unit, but '1 m' is a length; leave the unit out"),
     ],
 )  # fmt: skip
 def test_dimension_errors(tmp_path: Path, props: str, joint: str, message: str) -> None:

@@ -3,6 +3,8 @@ bodies."""
 
 from __future__ import annotations
 
+from collections.abc import Collection
+
 from legdsl.check.scope import CreaturePart
 from legdsl.check.values import article, did_you_mean, unit_hint
 from legdsl.ir.model import NON_NEGATIVE, Actuator, Body, Contact, Dof, setting_kind
@@ -19,20 +21,38 @@ ACTUATOR_ARGS = {
 class ActuatorChecker(CreaturePart):
     """Checks actuator and contact declarations."""
 
-    def _not_a_coordinate_hint(self, coord: str, dofs: dict[str, Dof]) -> str:
-        """How to name the coordinate meant: a gimbal's or ball's own, or none for the root's."""
+    def _not_a_coordinate_hint(
+        self, coord: str, dofs: dict[str, Dof], welded: Collection[str] = ()
+    ) -> str:
+        """How to name the coordinate meant: a gimbal's or ball's own, none for the root's or
+        a fixed joint's (``welded``: the names of the fixed joints)."""
         own = [d.name for d in dofs.values() if d.joint == coord]
         if len(own) > 1:
             return f"; joint '{coord}' has the coordinates {', '.join(own)}: put it on one of them"
+        if coord in welded:
+            shown = ", ".join(list(dofs)[:8]) + (", ..." if len(dofs) > 8 else "")
+            return (
+                f"; joint '{coord}' is fixed, which has no coordinate to drive: make it a "
+                f"revolute or prismatic joint, or put the actuator on another joint's "
+                f"coordinate ({shown or 'the creature has none'})"
+            )
         root = {"x", "z", "pitch"} if self.planar else {"x", "y", "z", "roll", "pitch", "yaw"}
         if coord in root:
             return (
                 f"; '{coord}' is the free root's, which no actuator drives: put it on a joint "
                 "and let the legs push the body"
             )
-        return did_you_mean(coord, dofs)
+        shown = ", ".join(list(dofs)[:8]) + (", ..." if len(dofs) > 8 else "")
+        return did_you_mean(coord, dofs) or (
+            f"; put it on one of the joints' coordinates ({shown})"
+            if dofs
+            else "; the creature has no joint to drive: hang a body from another by a joint"
+        )
 
-    def actuator(self, decl: ast.ActuatorDecl, dofs: dict[str, Dof]) -> Actuator | None:
+    def actuator(
+        self, decl: ast.ActuatorDecl, dofs: dict[str, Dof], welded: Collection[str] = ()
+    ) -> Actuator | None:
+        """The actuator ``decl`` on one of ``dofs``; ``welded``: the fixed joints' names."""
         self.declare(decl.name, "actuator")
         kind = decl.kind.name
         if kind == "torque":
@@ -52,7 +72,7 @@ class ActuatorChecker(CreaturePart):
             self.err(
                 decl.coordinate.span,
                 f"actuator '{decl.name.name}' is on '{decl.coordinate.name}', which is not a "
-                f"joint coordinate{self._not_a_coordinate_hint(coord, dofs)}",
+                f"joint coordinate{self._not_a_coordinate_hint(coord, dofs, welded)}",
             )
             return None
         rotary = dof.motion == "hinge"
@@ -85,11 +105,14 @@ class ActuatorChecker(CreaturePart):
             want = kinds[key]
             wrong = self.wrong_motion(arg.value, want)
             if wrong:
+                written = decl.kind.name  # 'torque' or 'force' as the file says it
+                other = "sliding" if rotary else "revolute"
                 self.err(
                     arg.value.span,
-                    f"'{key}' of a {kind} on the {joint_desc} must be {article(want)} {want} "
+                    f"'{key}' of a {written} on the {joint_desc} must be {article(want)} {want} "
                     f"({unit_hint(want)}); this is {article(wrong)} {wrong}, which belongs on a "
-                    f"{'sliding' if rotary else 'revolute'} joint",
+                    f"{other} joint: give it in {unit_hint(want)}, or put the actuator on a "
+                    f"{other} joint's coordinate",
                 )
                 continue
             v = self.scalar(arg.value, want, f"'{key}'")
@@ -153,9 +176,16 @@ class ActuatorChecker(CreaturePart):
         self.declare(decl.name, "contact")
         body = bodies.get(decl.body.name)
         if body is None:
+            names = list(bodies)
+            shown = ", ".join(names[:8]) + (", ..." if len(names) > 8 else "")
+            advice = did_you_mean(decl.body.name, bodies) or (
+                f"; put it on one of this creature's bodies ({shown})"
+                if names
+                else "; declare the body first"
+            )
             self.err(
                 decl.body.span,
-                f"contact '{decl.name.name}' is on an unknown body '{decl.body.name}'{did_you_mean(decl.body.name, bodies)}",
+                f"contact '{decl.name.name}' is on an unknown body '{decl.body.name}'{advice}",
             )
             return None
         point = (

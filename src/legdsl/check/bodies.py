@@ -83,7 +83,11 @@ class BodyChecker(CreaturePart):
         else:
             m = self.one_scalar(props["mass"], "mass", "the mass")
             if m is not None and m <= 0:
-                self.err(props["mass"].value.span, f"the mass of body '{name}' must be positive")
+                self.err(
+                    props["mass"].value.span,
+                    f"the mass of body '{name}' must be positive: give it one above 0, as in "
+                    "'mass 0.5 kg' (a part too light to matter still has some, as 'mass 10 g')",
+                )
             elif m is not None:
                 mass = m
 
@@ -91,7 +95,11 @@ class BodyChecker(CreaturePart):
         if "length" in props:
             length = self.one_scalar(props["length"], "length", "the link length")
             if length is not None and length <= 0:
-                self.err(props["length"].value.span, "a link length must be positive")
+                self.err(
+                    props["length"].value.span,
+                    "a link length must be positive: give it one above 0, as in 'length 0.3 m', "
+                    "or leave 'length' out of a body without a tip",
+                )
                 length = None
             if length is None:  # written, with a mistake told here: not missing elsewhere
                 self.diag.unknown.add(f"{name}.length")
@@ -149,7 +157,11 @@ class BodyChecker(CreaturePart):
             if i is None:
                 return fallback
             if i <= 0:
-                self.err(value.span, f"the inertia of body '{name}' must be positive")
+                self.err(
+                    value.span,
+                    f"the inertia of body '{name}' must be positive: give its moment about y "
+                    "above 0, as in 'inertia 0.01 kg*m^2'",
+                )
                 return fallback
             # Only the moment about y acts in a planar model; the others are set equal so
             # that exports (MJCF, URDF) carry a valid tensor.
@@ -178,7 +190,7 @@ class BodyChecker(CreaturePart):
                 return fallback
             mat = np.array(rows)
             if not np.allclose(mat / _scale(mat), mat.T / _scale(mat), rtol=1e-9, atol=1e-12):
-                self.err(value.span, f"the inertia matrix of body '{name}' must be symmetric")
+                self.err(value.span, _not_symmetric(name, mat))
                 return fallback
         else:
             diag = self.vector(value, "moment of inertia", 3, "the inertia (Ixx, Iyy, Izz)")
@@ -202,7 +214,8 @@ class BodyChecker(CreaturePart):
             self.err(
                 value.span,
                 f"the inertia of body '{name}' breaks the triangle inequality: principal moments "
-                f"{_apart(a, b, c)}, which no rigid body has",
+                f"{_apart(a, b, c)}, which no rigid body has; make the largest at most the "
+                "sum of the other two",
             )
             return fallback
         return (
@@ -296,3 +309,22 @@ def _apart(a: float, b: float, c: float) -> str:
         if x + y < z:
             return f"{a:.{digits}g} + {b:.{digits}g} < {c:.{digits}g}"
     return f"{a!r} + {b!r} < {c!r}"
+
+
+def _not_symmetric(name: str, mat: np.ndarray) -> str:
+    """The mistake of an inertia matrix that is not symmetric, naming the first pair of
+    entries that differ, and the way out."""
+    scale = _scale(mat)
+    pairs = [(i, j) for i in range(3) for j in range(i + 1, 3)]
+    row, col = next(
+        (p for p in pairs
+         if not np.isclose(mat[p] / scale, mat[p[::-1]] / scale, rtol=1e-9, atol=1e-12)),
+        (0, 1),
+    )  # fmt: skip
+    axes = "xyz"
+    return (
+        f"the inertia matrix of body '{name}' must be symmetric, but row {row + 1}, column "
+        f"{col + 1} is {mat[row, col]:.4g} and row {col + 1}, column {row + 1} is "
+        f"{mat[col, row]:.4g}: both are the product of inertia I{axes[row]}{axes[col]}; write "
+        "the same number in both places"
+    )

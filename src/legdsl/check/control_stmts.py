@@ -110,6 +110,10 @@ class Elaborator(ExprChecker, LegMotionProbe):
 
     def assign(self, s: ast.AssignStmt, local: dict[str, Value]) -> list[ir.Stmt]:
         value = self.number(s.value, local)
+        head = s.target[0]
+        if len(s.target) == 2 and not self._named(head.name, local):
+            self.err(head.span, self.not_an_actuator(head.name, local))
+            return []
         target = self.path(s.target[:-1], local) if len(s.target) > 1 else None
         key = s.target[-1]
         text = ".".join(t.name for t in s.target)
@@ -123,7 +127,12 @@ class Elaborator(ExprChecker, LegMotionProbe):
             return []
         actuator = self.actuator_of(target)
         if actuator is None:
-            self.err(key.span, _cannot_set(text))
+            model = self.scope.model
+            moving = {j.name for j in model.joints} | {d.name for d in model.dofs}
+            if len(s.target) == 2 and head.name in moving and head.name not in local:
+                self.err(head.span, self.not_an_actuator(head.name, local))
+            else:
+                self.err(key.span, _cannot_set(text))
             return []
         assert isinstance(target, ir.Part | ir.Alias)  # actuator_of found an actuator
         kind, rotary = actuator
@@ -162,6 +171,41 @@ class Elaborator(ExprChecker, LegMotionProbe):
             return []
         assert isinstance(target, ir.Part | ir.Alias)
         return [ir.Assign(target, key.name, value, s.span)]
+
+    def _named(self, name: str, local: dict[str, Value]) -> bool:
+        """Whether ``name`` names anything here (``lookup`` would find it)."""
+        return name in local or name in self.scope.signals or name in self.scope.names
+
+    def not_an_actuator(self, name: str, local: dict[str, Value]) -> str:
+        """An unknown name whose setting a statement sets (``ha.kp = ...``): only an actuator's
+        can be, so only actuators are suggested; a joint or coordinate of that name is told
+        with the actuators on it (or the way to declare one)."""
+        model = self.scope.model
+        actuators = [a.name for a in model.actuators]
+        joint = next((j for j in model.joints if j.name == name), None)
+        coords = [d.name for d in joint.dofs] if joint is not None else []
+        coords += [d.name for d in model.dofs if d.name == name]
+        if coords:
+            on = [f"{a.name} (on {a.dof})" for a in model.actuators if a.dof in coords]
+            what = "joint" if joint is not None else "coordinate"
+            if on:
+                return (
+                    f"'{name}' is a {what}, and a statement sets an actuator's settings: the "
+                    f"actuators on it are {', '.join(on)}; set one of those, as in "
+                    f"'{on[0].split(' ')[0]}.kp = ...'"
+                )
+            return (
+                f"'{name}' is a {what} that no actuator drives, and a statement sets an "
+                f"actuator's settings: declare one in the creature, as in 'actuator "
+                f"{coords[0]}_servo on {coords[0]} servo(kp = ...)', and set it"
+            )
+        advice = did_you_mean(name, [*actuators, *local])
+        shown = ", ".join(actuators[:8]) + (", ..." if len(actuators) > 8 else "")
+        known = f"its actuators: {shown}" if actuators else "it has no actuators"
+        return (
+            f"unknown actuator '{name}': a statement sets an actuator's settings, and creature "
+            f"'{model.name}' has no actuator '{name}' ({known}){advice}"
+        )
 
     def invoke(self, s: ast.InvokeStmt, local: dict[str, Value]) -> ir.Do | None:
         action = self.scope.actions.get(s.action.name)

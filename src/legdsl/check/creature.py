@@ -107,12 +107,13 @@ class CreatureChecker(ValueChecker):
         # The free root's coordinates (a planar creature's x, z, pitch) are no joint's:
         # the legs push the body, so no actuator may drive them.
         dofs = {dof.name: dof for j in joints if j.parent is not None for dof in j.dofs}
+        welded = {j.name for j in joints if j.parent is not None and not j.dofs}
 
         actuators = [
             a
             for i in items
             if isinstance(i, ast.ActuatorDecl)
-            for a in [attached.actuator(i, dofs)]
+            for a in [attached.actuator(i, dofs, welded)]
             if a is not None
         ]
         contacts = [

@@ -68,7 +68,8 @@ class GroundChecker(CreaturePart):
             if key == "torsion" and self.planar:
                 self.err(
                     p.key.span,
-                    "a planar creature has no torsional ground spring (it turns about the normal only in 3D)",
+                    "a planar creature has no torsional ground spring (it turns about the normal only in "
+                    "3D); leave 'torsion' out",
                 )
                 continue
             if value.func.name == "pad" and key == "normal":

@@ -212,7 +212,13 @@ class JointChecker(CreaturePart):
         axes = [a for a in out if a is not None]
         for a, b in zip(axes, axes[1:], strict=False):
             if abs(sum(p * q for p, q in zip(a, b, strict=True))) > 1 - 1e-9:
-                self.err(axes_prop.value.span, f"the axes of a {kind} joint must not be parallel")
+                other = ", ".join(("(1, 0, 0)", "(0, 1, 0)", "(0, 0, 1)")[:n])
+                self.err(
+                    axes_prop.value.span,
+                    f"the axes of a {kind} joint must not be parallel: each turns it about a "
+                    f"direction of its own; give each axis one not parallel to the one before "
+                    f"it, as in 'axes {other}'",
+                )
                 return default
         return axes
 

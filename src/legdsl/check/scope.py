@@ -51,7 +51,10 @@ class CreaturePart(ValueChecker):
         self, value: ast.Value, what: str, kind: str = "length", example: str | None = None
     ) -> Vec3 | None:
         """A point or direction: (x, z) in a planar creature, (x, y, z) otherwise."""
-        v = self.vector(value, kind, 2 if self.planar else 3, what, example=example)
+        if self.planar:
+            v = self.vector(value, kind, 2, what, example=example)
+        else:
+            v = self.vector(value, kind, 3, what, "x, y, z", example, " in a spatial creature")
         if v is None:
             return None
         return (v[0], 0.0, v[1]) if self.planar else (v[0], v[1], v[2])

@@ -64,7 +64,7 @@ class TreeChecker(CreaturePart):
                     self.err(parent.span, _unknown_parent(parent.name, b.name.name, by_name))
                     cut.append(b)
                 elif parent.name == b.name.name:
-                    self.err(parent.span, f"body '{b.name.name}' cannot hang from itself")
+                    self.err(parent.span, _self_parent(b.name.name, by_name))
                     cut.append(_unhung(b))
                 else:
                     children.setdefault(parent.name, []).append(b)
@@ -101,7 +101,8 @@ class TreeChecker(CreaturePart):
                         first.name.span,
                         "bodies form a cycle: "
                         + " -> ".join([*loop, loop[0]])
-                        + "; a creature is a tree",
+                        + f"; a creature is a tree: hang '{loop[0]}' from a body outside the "
+                        "cycle (or make it the root, 'free' or 'fixed')",
                     )
                     below(_unhung(first))
                     break
@@ -144,6 +145,16 @@ def _rooted(body: ast.BodyDecl) -> ast.BodyDecl:
         return body
     props = tuple(p for p in body.props if p.key.name not in ("initial", "velocity"))
     return replace(body, attach=ast.AttachFixed(None, body.attach.span), props=props)
+
+
+def _self_parent(child: str, bodies: dict[str, ast.BodyDecl]) -> str:
+    """A body written as its own parent, and the way out."""
+    others = [name for name in bodies if name != child]
+    head = f"body '{child}' cannot hang from itself"
+    if not others:
+        return head + f"; make it the root with 'body {child} free' (or 'fixed')"
+    shown = ", ".join(others[:6]) + (", ..." if len(others) > 6 else "")
+    return head + f"; hang it from another of this creature's bodies ({shown})"
 
 
 def _unknown_parent(parent: str, child: str, bodies: dict[str, ast.BodyDecl]) -> str:

@@ -188,10 +188,12 @@ class ValueChecker:
         what: str,
         axes: str | None = None,
         example: str | None = None,
+        within: str = "",
     ) -> tuple[float, ...] | None:
         """A tuple of ``n`` numbers of dimension ``kind``; a unit after ')' applies to all.
-        ``axes`` names the components in the error (a planar creature's (x, z) if n is 2);
-        ``example`` is the error's valid vector where zeros are not (a direction)."""
+        ``axes`` names the components in the error (a planar creature's (x, z) if n is 2),
+        ``within`` what asks for them (' in a spatial creature'); ``example`` is the error's
+        valid vector where zeros are not (a direction)."""
         if not isinstance(value, ast.Vector):
             self.err(
                 value.span,
@@ -200,11 +202,13 @@ class ValueChecker:
             )
             return None
         if len(value.items) != n:
+            names = (
+                f" ({axes}){within}" if axes else " (x, z) in a planar creature" if n == 2 else ""
+            )
             self.err(
                 value.span,
-                f"{what} needs {n} components"
-                f"{f' ({axes})' if axes else ' (x, z) in a planar creature' if n == 2 else ''}, "
-                f"got {len(value.items)}",
+                f"{what} needs {n} components{names}, got {len(value.items)}; write {n}, as in "
+                f"{example or example_vector(n, kind)}",
             )
             return None
         if value.unit is not None:
@@ -419,14 +423,20 @@ def wrong_dimension(what: str, kind: str, written: str, dim: Dim) -> str:
             )
             break
     else:
-        found = f"in {describe(dim)}"
+        found = f"a quantity in {describe(dim)}"
     if kind == "dimensionless":
-        return f"{what} takes no unit, but '{written}' is {found}"
+        return f"{what} takes no unit, but '{written}' is {found}; leave the unit out"
     told = f"{what} is {article(kind)} {kind} ({unit_hint(kind)}), but '{written}' is {found}"
     rate = per_second(unit, KINDS[kind][0])
+    number = written[: len(written) - len(unit)].strip()
     if rate is not None:
-        number = written[: len(written) - len(unit)].strip()
         told += f"; write e.g. '{number} {rate}'" if number else f"; write e.g. '{rate}'"
+    else:
+        told += (
+            f"; give it in {unit_hint(kind)}"
+            if number
+            else f"; write its unit as {unit_hint(kind)}"
+        )
     return told
 
 
