@@ -56,3 +56,29 @@ def test_nan_and_inf_are_told_as_numbers_legdsl_does_not_read(
     assert NAN in message
     assert "a unit follows a number, not a name" not in message
     assert "declare it" not in message
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "kind"),
+    [
+        ("signal reach = select(", "signal = select(", "signal"),
+        ("input speed = 1 m/s", "input = 1 m/s", "input"),
+        ("param stroke = 3 cm", "param = stroke 3 cm", "param"),
+        ("servo_pitch(active,", "let = 2 * stroke; servo_pitch(active,", "let"),
+    ],
+)
+def test_a_declaration_without_its_name_is_told_so(old: str, new: str, kind: str) -> None:
+    message = told((CREATURE + CONTROLLER).replace(old, new))
+    assert (
+        f"the {kind}'s name is missing: give the {kind} a name, as in '{kind} NAME = ...'"
+        in message
+    )
+    assert "takes no '='" not in message
+
+
+@pytest.mark.parametrize("name", ["reach", "ste", "kp2"])
+def test_a_declaration_without_its_kind_is_told_so_not_a_spelling(name: str) -> None:
+    message = told((CREATURE + CONTROLLER).replace("signal reach = ", f"{name} = "))
+    assert message.startswith("f.leg:13:3:"), message
+    assert f"a declaration starts with its kind: write 'param {name} = ...'" in message
+    assert "not a word of legdsl" not in message

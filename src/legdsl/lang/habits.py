@@ -115,6 +115,10 @@ def missing_semicolon(text: str, pos: int, token: Token | None, expected: set[st
 _TOP = ("creature", "controller", "shared", "action", "scene", "use")
 
 
+# the declarations written 'KIND NAME = ...'
+_NAMED = ("param", "input", "signal", "let", "record", "instance")
+
+
 def _structure(text: str, masked: str, pos: int, kind: str, expected: set[str]) -> Found | None:
     """Punctuation of another language where the parser expected legdsl's."""
     before = masked[:pos].rstrip()
@@ -153,6 +157,14 @@ def _structure(text: str, masked: str, pos: int, kind: str, expected: set[str]) 
             pos,
             1,
             "a table row reads 'state NAME on EVENT: action; action'; the 'on EVENT' is missing",
+        )
+    if kind == "EQUAL" and expected <= {"NAME"} and prev is not None and prev[1] in _NAMED:
+        kind_word = prev[1]  # 'signal = select(...)': the name is missing, not the '='
+        return (
+            pos,
+            1,
+            f"the {kind_word}'s name is missing: give the {kind_word} a name, as in "
+            f"'{kind_word} NAME = ...'",
         )
     if kind == "EQUAL" and expected <= {"NAME"} and prev is not None:
         after = masked[pos + 1 :].split()[:1]
@@ -497,6 +509,8 @@ def _keyword(text: str, masked: str, pos: int, kind: str) -> Found | None:
         word = m.group(1)
         if word in _KEYWORDS or word in ("state", "ground"):
             continue
+        if re.match(r"[ \t]*=(?!=)", masked[start + m.end(1) :]):
+            continue  # 'reach = ...': a declaration without its kind, not 'each' misspelt
         if word in _OTHER_KEYWORDS:
             right = _OTHER_KEYWORDS[word]
         else:
