@@ -14,7 +14,7 @@ import pytest
 
 from legdsl.analysis.rerun import rerun_command
 from legdsl.cli import main
-from legdsl.pipeline.settings import parse_path_option
+from legdsl.pipeline.path_option import parse_path_option
 
 ROOT = Path(__file__).resolve().parents[2]
 

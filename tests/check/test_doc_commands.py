@@ -35,9 +35,10 @@ from legdsl.export.animate import frame_rate, motion_format, parse_overlays, par
 from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.options import RUN_NUMERIC, read_seconds
+from legdsl.pipeline.path_option import parse_path_option
 from legdsl.pipeline.scaled import check_scale
 from legdsl.pipeline.scenes import find_scene, parse_switch
-from legdsl.pipeline.settings import parse_path_option, require_controller, sort_settings
+from legdsl.pipeline.settings import require_controller, sort_settings
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]

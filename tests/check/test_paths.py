@@ -17,7 +17,7 @@ from legdsl.cli import main
 from legdsl.ir.paths import PathSpec, read_waypoints, square_corners
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.lower.control import lower_controller
-from legdsl.pipeline.settings import parse_path_option
+from legdsl.pipeline.path_option import parse_path_option
 from legdsl.sim.machine import resolve_paths
 from legdsl.sim.path_tracking import PathGeometry, PathTracker
 from legdsl.sim.trajectory import Trajectory

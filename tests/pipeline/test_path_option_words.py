@@ -10,8 +10,9 @@ import pytest
 from conftest import CREATURES
 
 from legdsl.lang.errors import LegError, UsageError
+from legdsl.pipeline.path_option import parse_path_option
 from legdsl.pipeline.session import RunSession
-from legdsl.pipeline.settings import parse_path_option, sort_settings
+from legdsl.pipeline.settings import sort_settings
 
 
 def test_a_directory_given_as_the_path_is_said_to_be_one(tmp_path: Path) -> None:

@@ -30,8 +30,8 @@ from seeded import told_with_seed
 from legdsl.export.motion import path_points
 from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
+from legdsl.pipeline.path_option import parse_path_option
 from legdsl.pipeline.session import Run, RunSession
-from legdsl.pipeline.settings import parse_path_option
 from legdsl.sim.path_tracking import PathGeometry
 from legdsl.sim.run_loop import RunOptions
 

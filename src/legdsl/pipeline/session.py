@@ -36,6 +36,7 @@ from legdsl.pipeline import scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics, recorded_folder
 from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
+from legdsl.pipeline.path_option import path_specs
 from legdsl.pipeline.report import path_summary, run_path_reports, summary
 from legdsl.pipeline.run_notes import run_notes
 from legdsl.pipeline.scenes import (
@@ -46,7 +47,7 @@ from legdsl.pipeline.scenes import (
     switches_not_made,
     switches_to_the_running,
 )
-from legdsl.pipeline.settings import Settings, overwritten_notes, parse_path_option, sort_settings
+from legdsl.pipeline.settings import Settings, overwritten_notes, sort_settings
 from legdsl.pipeline.start_pose import check_fall_height, check_start, welded_root
 from legdsl.sim import switching
 from legdsl.sim.coupled import inverse_inertia
@@ -211,7 +212,6 @@ class RunSession:
             asked = replace(asked, fall_height=None)
         options = asked
         settings = [settings] if isinstance(settings, str) else list(settings)
-        paths = [paths] if isinstance(paths, str | PathSpec) else list(paths)
         control = self.control(controller) if controller is not None else None
         switches = [switches] if isinstance(switches, str | Switch) else list(switches)
         changes = [w if isinstance(w, Switch) else parse_switch(w, self.model) for w in switches]
@@ -240,7 +240,7 @@ class RunSession:
         if controller is not None and not changes:  # one controller: its own values are the run's
             s = sorted_settings
             s.inputs, s.params = s.for_controller(self.model.controller(controller))
-        specs = [p if isinstance(p, PathSpec) else parse_path_option(p) for p in paths]
+        specs = path_specs(paths)
         if control is not None and controller is not None:  # as given, before any --scale
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             told = [*sorted_settings.inputs, *(c.name for c in sorted_settings.schedule)]

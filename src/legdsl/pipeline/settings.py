@@ -17,13 +17,11 @@ import argparse
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
-from pathlib import Path
+from dataclasses import dataclass, field
 from typing import Any
 
 from legdsl.check.values import did_you_mean, measures, unit_to_write
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
-from legdsl.ir.paths import PathSpec
 from legdsl.lang.errors import UsageError
 from legdsl.lang.habits import unit_after_slash
 from legdsl.lang.units import (
@@ -389,48 +387,6 @@ def _check_actuator_setting(model: Model, name: str, given: Given, where: str) -
             f"{where}: '{key}' must not be negative (as in the .leg file); give 0 or more"
         )
     _check_named(where, name, given, KINDS[setting_kind(key, a.rotary)][0])
-
-
-def parse_path_option(text: str) -> PathSpec:
-    """``--path [NAME=]SHAPE`` (the .leg file's syntax) or ``--path FILE.csv`` (x,y per line).
-
-    Without ``NAME=`` the name is empty: the controller's only path (see
-    ``legdsl.sim.machine.resolve_paths``).
-    """
-    from legdsl.check.paths import check_path
-    from legdsl.ir.paths import read_waypoints
-    from legdsl.lang.errors import Diagnostics, LegError
-    from legdsl.lang.parser import parse_value
-
-    match = re.match(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)", text)
-    name, shape = ("", text) if match is None else (match.group(1), text[match.end() :])
-    # a waypoints file: named .csv or .txt (W.CSV too), or any file there without a shape's '('
-    file = Path(shape.strip())
-    named = re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape, re.IGNORECASE)
-    if named or ("(" not in shape and shape.strip() and file.exists()):  # a directory: told
-        if not file.is_file():
-            there = f"{file} is a directory" if file.is_dir() else f"no such file {file}"
-            raise UsageError(f"--path {text}: {there}; give a file of 'x,y' lines, or a shape, "
-                             "as in --path 'circle(center = (0, 5) m, radius = 5 m)'")  # fmt: skip
-        return read_waypoints(file, name)
-    if not shape.strip():
-        raise UsageError(
-            f"--path {text!r} gives no path: write a shape, as in --path 'circle(center = "
-            "(0, 5) m, radius = 5 m)', or a waypoints file, as in --path route.csv"
-        )
-    # parse the shape where it stands in the option, so the caret points into it
-    padded = " " * (len(text) - len(shape)) + shape
-    try:
-        value = parse_value(padded, "--path")
-    except LegError as e:  # the option's text, not a file, ends: said so ('circle(')
-        said = [replace(d, message=d.message.replace("end of the file", "end of the --path value"))
-                for d in e.diagnostics]  # fmt: skip
-        raise LegError(said, e.sources) from None
-    diag = Diagnostics({"--path": text})
-    spec = check_path(name, value, diag)
-    diag.raise_if_any()
-    assert spec is not None
-    return spec
 
 
 def refuse_repeated(texts: Sequence[str]) -> None:
