@@ -29,7 +29,7 @@ RUN_MISTAKES: list[tuple[dict[str, Any], str]] = [
     ({"set": {3: "1 m/s"}}, "set 3: a name is a text"),
     ({"time": True}, "time= is seconds"),
     ({"time": [1]}, "time= is seconds"),
-    ({"time": "2 kg"}, r"--time is a time \(s\)"),
+    ({"time": "2 kg"}, r"time='2 kg': time= is a time \(s\).*write e.g. time='2 s'"),
     ({"time": "x"}, "is not a number"),
 ]
 
@@ -90,10 +90,10 @@ def test_a_metrics_window_before_the_run_is_a_usage_error(
 
 
 OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
-    ({"record_rate": "100 m"}, r"--record-rate is a frequency .*, but 100m is a length"),
-    ({"drop": "1 s"}, r"--drop is a length .*, but 1s is a time"),
-    ({"fall_height": "0.3 kg"}, r"--fall-height is a length .*, but 0.3kg is a mass"),
-    ({"fall_tilt": "30 m"}, r"--fall-tilt is an angle .*, but 30m is a length"),
+    ({"record_rate": "100 m"}, r"record_rate= is a frequency .*, but 100m is a length"),
+    ({"drop": "1 s"}, r"drop= is a length .*, but 1s is a time.*drop='1 m'"),
+    ({"fall_height": "0.3 kg"}, r"fall_height= is a length .*, but 0.3kg is a mass"),
+    ({"fall_tilt": "30 m"}, r"fall_tilt= is an angle .*, but 30m is a length"),
     ({"fall_tilt": 60}, r"60 rad\) is past upside down .* write fall_tilt='60 deg'"),
     (
         {"fall_tilt": True},
