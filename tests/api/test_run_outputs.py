@@ -94,10 +94,10 @@ def test_a_run_without_samples_is_told_so_by_what_would_show_it(
     )
     told = "this run of 'hopper' recorded no samples (it ended interrupted before its first)"
     for call in (empty.animate, empty.plot, empty.metrics):
-        with pytest.raises(UsageError, match=rf"^{call.__name__}\(\) {re.escape(told)}"):
+        with pytest.raises(UsageError, match=rf"^{call.__name__}\(\): {re.escape(told)}"):
             call()
     # save() wrote a directory that open_run and legdsl metrics then refused
-    with pytest.raises(UsageError, match=rf"^save\(\) {re.escape(told)}"):
+    with pytest.raises(UsageError, match=rf"^save\(\): {re.escape(told)}"):
         empty.save(tmp_path / "empty")
     assert list(tmp_path.iterdir()) == []
     assert repr(empty) == "<legdsl run of 'hopper': interrupted, 0 samples>"  # not "to nan s"

@@ -437,7 +437,7 @@ class Run:
     def _recorded(self, call: str) -> None:
         """A run without a sample (a copy stopped before it started) has nothing to show."""
         if not len(self):
-            raise UsageError(f"{call} this run of '{self.model.name}' recorded no samples "
+            raise UsageError(f"{call}: this run of '{self.model.name}' recorded no samples "
                              f"(it ended {self.status} before its first); run it again")  # fmt: skip
 
     def _dynamics_module(self) -> Any:
