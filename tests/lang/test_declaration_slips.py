@@ -82,3 +82,42 @@ def test_a_declaration_without_its_kind_is_told_so_not_a_spelling(name: str) -> 
     assert message.startswith("f.leg:13:3:"), message
     assert f"a declaration starts with its kind: write 'param {name} = ...'" in message
     assert "not a word of legdsl" not in message
+
+
+TEMPLATE = """\
+creature c {
+  planar
+  body trunk free { mass 1 kg  inertia 0.1 kg*m^2 }
+  template arm(S) {
+    body arm_S on trunk via revolute j_S at (0 m, 0 m) { length 0.3 m  mass 0.1 kg  inertia 0.01 kg*m^2 }
+  }
+  instance a = arm(S = l)
+}
+"""
+
+
+@pytest.mark.parametrize("line", [3, 5], ids=["creature", "template"])
+def test_a_lookalike_letter_is_named_in_a_template_too(line: int) -> None:
+    lines = TEMPLATE.split("\n")
+    lines[line - 1] = lines[line - 1].replace("body", "b\u03bfdy", 1)
+    message = told("\n".join(lines))
+    col = lines[line - 1].index("\u03bf") + 1
+    assert message.startswith(
+        f"f.leg:{line}:{col}: error: '\u03bf' is GREEK SMALL LETTER OMICRON, U+03BF"
+    )
+
+
+def test_a_property_without_its_value_is_told_at_its_line() -> None:
+    message = told(CREATURE.replace("  planar\n", "  planar\n  gravity\n\n"))
+    assert message.startswith(
+        "f.leg:3:3: error: 'gravity' stands alone on its line: a property is a key"
+    )
+    assert "the next line's 'body' was read as the value of 'gravity'" in message
+
+
+def test_a_declaration_without_its_value_is_told_at_its_line() -> None:
+    message = told((CREATURE + CONTROLLER).replace("param kv = 15 N*m*s/rad", "param kv ="))
+    assert message.startswith(
+        "f.leg:11:12: error: the value of 'kv' is missing: write it after the '=' on the same "
+        "line, 'param kv = VALUE'; the next line's 'param' was read as its value"
+    ), message

@@ -23,7 +23,7 @@ from legdsl.lang.expression_slips import NUMBER as _NUMBER
 from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
 from legdsl.lang.stray_words import stray_word
-from legdsl.lang.structure_slips import structure_slip
+from legdsl.lang.structure_slips import missing_value, structure_slip
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import hex_color_comment, value_slip
 
@@ -82,6 +82,7 @@ def habit(text: str, pos: int, token: Token | None, expected: set[str]) -> Found
         or stray_word(text, masked, pos, kind, expected)
         or _keyword(text, masked, pos, kind)
         or structure_slip(text, masked, pos, kind, expected)
+        or missing_value(text, masked, pos, kind)
     )
 
 

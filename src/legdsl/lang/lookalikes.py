@@ -74,3 +74,17 @@ def letter_of_name(ch: str) -> str:
     if written is not None and (written.isalnum() or written == "_"):
         return f"{lookalike(ch)} ({rule})"
     return f"'{ch}' is not a letter of a name: {rule} (comments and strings may hold any text)"
+
+
+def odd_letter_in_word(text: str, pos: int) -> int | None:
+    """The offset of the first letter outside ASCII in the word that starts at ``pos`` with
+    ASCII ('bοdy' with a Greek omicron, read as a name 'b' the parser did not expect there),
+    or None."""
+    if pos >= len(text) or not (text[pos].isascii() and (text[pos].isalpha() or text[pos] == "_")):
+        return None
+    end = pos
+    while end < len(text) and (text[end].isalnum() or text[end] == "_"):
+        if not text[end].isascii() and text[end].isalpha():
+            return end
+        end += 1
+    return None

@@ -14,6 +14,7 @@ from lark.exceptions import UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from legdsl.lang.context import innermost
 from legdsl.lang.lalr import lark_parser
+from legdsl.lang.stray_words import alone_on_its_line
 from legdsl.lang.value_slips import hex_color_comment
 
 Found = tuple[int, int, str]
@@ -188,3 +189,36 @@ def _controller_line(masked: str, pos: int, kind: str, expected: set[str]) -> Fo
         f"'{written}' cannot start a line of {owner}: its lines start with {listed}"
         + (f"; did you mean '{meant[0]}'?" if len(meant) == 1 else ""),
     )
+
+
+_ALONE_ALLOWED = ("planar", "spatial")  # the lines that are one word
+
+
+def missing_value(text: str, masked: str, pos: int, kind: str) -> Found | None:
+    """A line without the value it needs ('gravity' alone, 'param kv ='): the parser took the
+    next line's first word as that value and failed on that next line (at ``pos``), where
+    what it says would be beside the point."""
+    line_start = masked.rfind("\n", 0, pos) + 1
+    before = masked[:line_start].rstrip()
+    last_start = before.rfind("\n") + 1
+    last = before[last_start:]
+    if masked.count("\n", last_start, pos) == 0 or not last.strip():
+        return None
+    nxt = re.match(r"\s*([A-Za-z_]\w*)", masked[line_start:])
+    taken = nxt.group(1) if nxt is not None else None
+    alone = re.fullmatch(r"[ \t]*([A-Za-z_]\w*)[ \t]*", last)
+    if alone is not None and alone.group(1) not in _ALONE_ALLOWED:
+        word = alone.group(1)
+        return last_start + alone.start(1), len(word), alone_on_its_line(word, taken)
+    assigned = re.fullmatch(r"[ \t]*(?:([A-Za-z_]\w*)[ \t]+)?([A-Za-z_]\w*)[ \t]*(=)[ \t]*", last)
+    if assigned is not None:
+        kind_word, name = assigned.group(1), assigned.group(2)
+        written = f"{kind_word} {name}" if kind_word else name
+        return (
+            last_start + assigned.start(3),
+            1,
+            f"the value of '{name}' is missing: write it after the '=' on the same line, "
+            f"'{written} = VALUE'"
+            + (f"; the next line's '{taken}' was read as its value" if taken else ""),
+        )
+    return None

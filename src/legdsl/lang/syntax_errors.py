@@ -21,7 +21,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.habits import habit, missing_semicolon, punctuation
 from legdsl.lang.lalr import friendly_entries, lark_parser
-from legdsl.lang.lookalikes import letter_of_name
+from legdsl.lang.lookalikes import letter_of_name, odd_letter_in_word
 from legdsl.lang.spellings import NUMBER_AND_WORD, mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
@@ -423,7 +423,8 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
     friendly = _friendly(context, _open_brace(text)) if context is not None else None
 
     not_a_number = _not_a_number(text, pos) if pos is not None else None
-    slip = _slip(text, pos) if pos is not None else None
+    odd = odd_letter_in_word(text, pos) if pos is not None else None  # 'bοdy', in a template
+    slip = _slip(text, pos if odd is None else odd) if pos is not None else None
     spelt = unit_spelling(text, pos) if pos is not None else None
     # the parser sees 'x = 0 m z = 1 m' as a property 'z' written with '=': say the comma
     comma = (
@@ -455,6 +456,7 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         span = offset_span(file, text, color[0], color[1])  # it misread the line after it
         message = color[2]
     elif slip is not None and unit is None:  # 'µm' is a unit before it is a name's letter
+        span = span if odd is None else offset_span(file, text, odd, 1)
         message = slip
     elif (
         other is not None
