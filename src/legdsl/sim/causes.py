@@ -26,6 +26,7 @@ from legdsl.sim.stability import (
     CLEAR_IT,
     PUSHED,
     TOPS_ONLY,
+    ground_too_stiff,
     likely_cause,
     stiff_now,
 )
@@ -35,6 +36,10 @@ from legdsl.sim.trajectory import Trajectory
 # height between two samples went under a top's edge; the last this many samples are looked at.
 EDGE = 0.1
 EDGE_SAMPLES = 4
+# Touchdowns since this many finite samples before the stop, and at least this long (s), are
+# looked at (``touched_deep``): the last three samples at the default rate, at any rate.
+DEEP_SAMPLES = 3
+DEEP_WINDOW = 0.015
 
 
 def contact_inverse_masses(sim: Any, q: Sequence[float]) -> list[tuple[float, float]] | None:
@@ -93,9 +98,77 @@ def cause_at(
             pose = run.q[finite[-1]].tolist()
     contacts = contact_inverse_masses(sim, pose)
     edge = under_edge(sim, through if through is not None else run)
-    return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff, run, contacts,
-                        [edge] if edge is not None else [], scale, otherwise,
+    found = [edge] if edge is not None else []
+    # A touchdown far under the surface, from the contacts' own events (the samples may miss
+    # it); the recorded samples' look (``likely_cause``'s) is then not asked again.
+    ground = ground_too_stiff(model, opts.dt, opts.integrator, contacts, scale, sim.step_flags)
+    deep = touched_deep(sim, run) if ground is None else None
+    if deep is not None:
+        found.append(deep)
+    return likely_cause(model, opts.dt, opts.integrator, q, mass, stiff,
+                        run if deep is None else None, contacts, found, scale, otherwise,
                         sim.step_flags)  # fmt: skip
+
+
+def touched_deep(sim: Any, run: Trajectory | None) -> str | None:
+    """A foot that touched down far under the surface (the ground pushing it past ``PUSHED``
+    weights at its touchdown), judged from the ground's touchdown events since the last
+    ``DEEP_SAMPLES`` finite samples or ``DEEP_WINDOW`` (a foot running into a box's side between two samples
+    touched down, and may have been thrown out and the run blown up, before the next one):
+    the push recorded at the touchdown's own step where it was sampled, else the ground's
+    spring alone at the depth the foot reached, moved on from the sample before at the
+    velocity it had there. The first such push, as ``legdsl.sim.stability``'s cause in its
+    words; None if there was none."""
+    model = sim.model
+    weight = model.total_mass * abs(model.gravity[2])
+    g = model.ground
+    if run is None or sim.ground is None or g is None or not weight > 0 or not len(run):
+        return None
+    finite = np.flatnonzero(np.all(np.isfinite(run.q), axis=1) & np.all(np.isfinite(run.v), axis=1))
+    if not len(finite):
+        return None
+    since = float(run.t[finite[max(0, len(finite) - DEEP_SAMPLES)]])
+    since = min(since, float(run.t[finite[-1]]) - DEEP_WINDOW)
+    names = list(sim.contact_names)
+    found: tuple[float, str, float, str] | None = None
+    for e in sim.events:
+        if e.kind != "touchdown" or e.t <= since or e.contact not in names:
+            continue
+        c = names.index(e.contact)
+        at = [i for i in finite if abs(run.t[i] - e.t) < 1e-9 and run.contact[i, c] != 0]
+        if at and np.all(np.isfinite(run.force[at[0], c])):
+            push, how = float(np.linalg.norm(run.force[at[0], c])), ""
+        else:
+            before = [i for i in finite if run.t[i] < e.t - 1e-12]
+            if not before or run.contact[before[-1], c] != 0:
+                continue
+            a = before[-1]
+            try:
+                q, v = run.q[a].tolist(), np.asarray(run.v[a], dtype=float)
+                p = np.asarray(sim.dyn.contact_positions(q)[c], dtype=float)
+                j = np.asarray(sim.dyn.contact_jacobians(q)[c], dtype=float)
+                depth = sim.ground.depth(tuple(p + (j @ v) * (e.t - float(run.t[a]))))[0]
+            except (ArithmeticError, ValueError, IndexError):
+                continue
+            normal = g.normal
+            spring = pad_force(normal, depth) if isinstance(normal, Pad) else normal.k * depth
+            push = spring if depth > 0 else 0.0
+            how = (f" at least (its spring alone, {depth * sim.size_scale * 100:.3g} cm under "
+                   "the surface)")  # fmt: skip
+        if push > PUSHED * weight:  # the first: the later ones follow from it
+            found = (push, how, e.t, e.contact)
+            break
+    if found is None:
+        return None
+    push, how, t, name = found
+    said = (
+        f"contact '{name}' touched down far under the surface: the ground pushed it with "
+        f"{push * sim.size_scale**3:.3g} N{how} at t = {t * math.sqrt(sim.size_scale):.4f} s, "
+        f"{push / weight:.0f} times the creature's weight"
+    )
+    if any(f.kind in ("step", "box") for f in g.terrain):
+        return f"{said}, as a foot that runs into the side of a step or box does ({TOPS_ONLY}); {CLEAR_IT}"
+    return f"{said}; land softer (a slower approach, a softer leg) or give the ground a pad"
 
 
 def under_edge(sim: Any, run: Trajectory | None) -> str | None:
