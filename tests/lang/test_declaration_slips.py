@@ -121,3 +121,17 @@ def test_a_declaration_without_its_value_is_told_at_its_line() -> None:
         "f.leg:11:12: error: the value of 'kv' is missing: write it after the '=' on the same "
         "line, 'param kv = VALUE'; the next line's 'param' was read as its value"
     ), message
+
+
+def test_an_extra_brace_at_the_block_s_own_indent_is_found_far_back() -> None:
+    # the '}' closes the controller at its own indentation; its actions parse at the top
+    # level, so the parse fails only at its table, lines further on
+    text = (CREATURE + CONTROLLER).replace(
+        "  signal reach = select(abs(speed) < 1 mm/s, stroke, 2 * stroke)\n",
+        "  signal reach = select(abs(speed) < 1 mm/s, stroke, 2 * stroke)\n}\n"
+        "  # a comment\n  action a() {\n    record r = 1\n  }\n  action b() {\n    record q = 2\n  }\n",
+    )
+    message = told(text)
+    assert message.startswith(
+        "f.leg:14:1: error: one '}' too many: this one closes controller 'hop' (line 9)"
+    ), message

@@ -103,6 +103,16 @@ def _passes(text: str, pos: int) -> bool:
     return True
 
 
+def _under_indented(masked: str, pos: int) -> list[int]:
+    """The '}'s before ``pos``, last first, that are alone on their line (but for what a
+    line may end with) and followed by a line indented deeper than they are."""
+    found = []
+    for m in re.finditer(r"(?m)^([ \t]*)\}[ \t;]*\n((?:[ \t]*\n)*)([ \t]*)\S", masked[:pos]):
+        if len(m.group(3).expandtabs()) > len(m.group(1).expandtabs()):
+            found.append(m.start() + len(m.group(1)))
+    return found[::-1]
+
+
 def _block_name(masked: str, opener: int) -> str:
     line_start = masked.rfind("\n", 0, opener) + 1
     words = re.findall(r"[A-Za-z_]\w*", masked[line_start:opener])
@@ -121,9 +131,12 @@ def _extra_brace(text: str, masked: str, pos: int, kind: str) -> Found | None:
     closes = [i for i in range(pos - 1, -1, -1) if masked[i] == "}"][:3]
     if kind == "RBRACE":  # the '}' the parse failed at, after those, which may have closed early
         closes.append(pos)
-    for close in closes:
+    # further back, a '}' on its own line whose next line is indented deeper: the file read on
+    # outside its block ('action' is at home there too) until something was not
+    under = _under_indented(masked, pos)[:10]
+    for close in closes + [i for i in under if i not in closes]:
         opener = _open_brace_before(masked, close)
-        if not _misplaced(masked, close, opener):
+        if close not in under and not _misplaced(masked, close, opener):
             continue
         if not _passes(text[:close] + " " + text[close + 1 :], pos):
             continue
