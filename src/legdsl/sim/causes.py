@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.ir.model import Pad
+from legdsl.sim.absurd_settings import absurd_setting
 from legdsl.sim.contact import pad_force
 from legdsl.sim.coupled import inverse_inertia
 from legdsl.sim.recorder import TooFast
@@ -99,6 +100,9 @@ def cause_at(
     contacts = contact_inverse_masses(sim, pose)
     edge = under_edge(sim, through if through is not None else run)
     found = [edge] if edge is not None else []
+    absurd = absurd_setting(sim, pose)  # a rest or setpoint the controller set past reason
+    if absurd is not None:
+        found.insert(0, absurd)
     # A touchdown far under the surface, from the contacts' own events (the samples may miss
     # it); the recorded samples' look (``likely_cause``'s) is then not asked again.
     ground = ground_too_stiff(model, opts.dt, opts.integrator, contacts, scale, sim.step_flags)
