@@ -135,3 +135,12 @@ def test_an_extra_brace_at_the_block_s_own_indent_is_found_far_back() -> None:
     assert message.startswith(
         "f.leg:14:1: error: one '}' too many: this one closes controller 'hop' (line 9)"
     ), message
+
+
+@pytest.mark.parametrize("ch", ["\u2028", "\u2029"])
+def test_a_line_separator_in_a_comment_is_named(ch: str) -> None:
+    message = told(f"# a hopper{ch}use raibert\n" + CREATURE)
+    assert message.startswith(
+        f"f.leg:1:11: error: an invisible character ({'LINE' if ch == chr(0x2028) else 'PARAGRAPH'} SEPARATOR"
+    )
+    assert "in a comment or a string, what follows it on its line is part of it" in message

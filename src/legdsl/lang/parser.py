@@ -19,7 +19,7 @@ from lark.exceptions import UnexpectedInput
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.lalr import grammar_dir, lark_parser
-from legdsl.lang.spellings import other_numbers, read_past_units, unshown_units
+from legdsl.lang.spellings import hidden_line_breaks, other_numbers, read_past_units, unshown_units
 from legdsl.lang.stray_words import stray_key
 from legdsl.lang.syntax_errors import repaired_unit, syntax_error
 from legdsl.lang.unit_words import unit_word
@@ -370,6 +370,8 @@ def parse(text: str, file: str = "<string>", recover: bool = False) -> ast.Sourc
 def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
     # what the parser reads: the text with numbers in other notations and misspelt units
     # repaired
+    if hidden := hidden_line_breaks(file, text):  # what follows each is misread
+        raise LegError(hidden, {file: text})
     pending, read = other_numbers(file, text)
     unshown: list[Diagnostic] = []  # a last word on the misspelt units read past unreported
     while True:

@@ -10,6 +10,7 @@ import re
 from dataclasses import dataclass
 
 from legdsl.lang.errors import Diagnostic, Span
+from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.units import UNITS, UnitError, looks_like_unit, parse_unit, suggest_unit
 
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
@@ -194,3 +195,24 @@ def unshown_units(file: str, text: str, count: int, line: int, shown: int) -> Di
         f"{count} more misspelt {units} not shown, from line {line} on (legdsl names the "
         f"first {shown} of a file): fix those shown and check again to see {them}",
     )
+
+
+_LINE_BREAKS = "\u2028\u2029"  # that editors draw as a line break: not one to the parser
+
+
+def hidden_line_breaks(file: str, text: str) -> list[Diagnostic]:
+    """Each line or paragraph separator in a comment or a string, named: the rest of its line
+    is still the comment ('# ...<U+2028>use raibert' uses nothing), though it shows as a line
+    of its own. (Elsewhere the parser stops at one, and names it.)"""
+    masked = mask(text)
+    found = []
+    for i in (i for i, ch in enumerate(text) if ch in _LINE_BREAKS and masked[i] != ch):
+        named = lookalike(text[i]) or f"U+{ord(text[i]):04X} stands here"
+        found.append(
+            Diagnostic(
+                offset_span(file, text, i, 1),
+                f"{named}; in a comment or a string, what follows it on its line is part of "
+                "it, though it shows as a line of its own",
+            )
+        )
+    return found
