@@ -20,7 +20,7 @@ from __future__ import annotations
 from legdsl.check.actuators import ActuatorChecker
 from legdsl.check.ground import GroundChecker
 from legdsl.check.legs import LegChecker
-from legdsl.check.magnitudes import overflow_message, past_a_double
+from legdsl.check.magnitudes import initial_past_reason, overflow_message, past_a_double
 from legdsl.check.mirror import mirror_parts
 from legdsl.check.scope import Scope
 from legdsl.check.simulation import SimulationChecker
@@ -155,6 +155,8 @@ class CreatureChecker(ValueChecker):
         blamed = past_a_double(bodies, joints, gravity)
         if blamed is not None:
             self.err(blamed, overflow_message(d.name.name))
+        for span, message in initial_past_reason(bodies, joints, gravity, tree.joints.given):
+            self.err(span, message)
         return Model(
             name=d.name.name,
             source=self.source,

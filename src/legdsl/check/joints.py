@@ -44,6 +44,14 @@ class JointChecker(CreaturePart):
     def __init__(self, scope: Scope):
         super().__init__(scope)
         self.stops: list[Stop] = []  # of every joint checked, in tree order
+        # each 'initial' value read: its coordinate, kind, value and span (magnitudes.py's)
+        self.given: list[tuple[str, str, float, Span]] = []
+
+    def scalar(self, value: ast.Value, kind: str, what: str) -> float | None:
+        v = super().scalar(value, kind, what)
+        if v is not None and what.startswith("the initial "):
+            self.given.append((what.removeprefix("the initial "), kind, v, value.span))
+        return v
 
     def joint(
         self,
