@@ -395,7 +395,7 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
         stray = stray_key(file, read, built)
         if stray is not None:  # what follows it is misread: the checker's errors would mislead
             raise LegError([*pending, stray], {file: text})
-        if (nan := not_a_number_name(built)) is not None:  # not 'declare it: param inf = ...'
+        if (nan := not_a_number_name(built, text)) is not None:  # not 'declare: param inf = ...'
             raise LegError([*pending, nan], {file: text})
         # a unit the parser read as the next property ('length 0.5 meters')
         word = unit_word(file, read, built) if len(pending) < MAX_REPAIRS else None

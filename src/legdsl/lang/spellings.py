@@ -204,6 +204,8 @@ def hidden_line_breaks(file: str, text: str) -> list[Diagnostic]:
     """Each line or paragraph separator in a comment or a string, named: the rest of its line
     is still the comment ('# ...<U+2028>use raibert' uses nothing), though it shows as a line
     of its own. (Elsewhere the parser stops at one, and names it.)"""
+    if "\u2028" not in text and "\u2029" not in text:
+        return []
     masked = mask(text)
     found = []
     for i in (i for i, ch in enumerate(text) if ch in _LINE_BREAKS and masked[i] != ch):

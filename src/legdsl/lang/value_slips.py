@@ -12,7 +12,7 @@ import re
 
 from legdsl.lang import ast
 from legdsl.lang.context import in_expression
-from legdsl.lang.errors import Diagnostic
+from legdsl.lang.errors import Diagnostic, Span
 from legdsl.lang.lookalikes import ascii_for, minus_sign
 from legdsl.lang.units import UnitError, parse_unit, suggest_unit, unit_pattern
 
@@ -195,11 +195,19 @@ def not_a_number(word: str) -> str:
     )
 
 
-def not_a_number_name(tree: object) -> Diagnostic | None:
-    """The first 'nan' or 'inf' in ``tree`` that parsed as a name in an expression ('inf *
-    stroke'): it is no name to declare, but a number legdsl does not read."""
+def not_a_number_name(tree: object, text: str) -> Diagnostic | None:
+    """The first 'nan' or 'inf' in ``tree`` (parsed from ``text``) that parsed as a name in an
+    expression ('inf * stroke'): it is no name to declare, but a number legdsl does not read."""
+    if re.search(r"(?<![\w.])(?:nan|inf)", text, re.IGNORECASE) is None:
+        return None  # the tree is not walked for nothing
+    return _not_a_number_name(tree)
+
+
+def _not_a_number_name(tree: object) -> Diagnostic | None:
     if isinstance(tree, ast.EName) and tree.ident.name.lower() in NOT_NUMBERS:
         return Diagnostic(tree.span, not_a_number(tree.ident.name))
+    if isinstance(tree, Span | str):
+        return None
     if isinstance(tree, tuple | list):
         parts: list[object] = list(tree)
     elif dataclasses.is_dataclass(tree) and not isinstance(tree, type):
@@ -207,7 +215,7 @@ def not_a_number_name(tree: object) -> Diagnostic | None:
     else:
         return None
     for part in parts:
-        found = not_a_number_name(part)
+        found = _not_a_number_name(part)
         if found is not None:
             return found
     return None
