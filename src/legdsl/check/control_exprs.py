@@ -34,6 +34,7 @@ from legdsl.check.control_names import (
     thing_kind,
 )
 from legdsl.check.control_words import describe_type, expression_text
+from legdsl.check.declared_unit import declared_unit
 from legdsl.check.plain_declared import plain_declared
 from legdsl.check.unit_hints import mismatch_hint, sqrt_hint, want_hint
 from legdsl.check.values import article, did_you_mean
@@ -263,6 +264,9 @@ class ExprChecker(NameResolver):
                 dims = " and ".join(
                     dict.fromkeys(describe_type(v.type) for v in values if v.type is not None)
                 )
+                if told := declared_unit(self.scope.declared, values, span, what, None, exprs):
+                    self.err(*told)  # one input or parameter declared in another unit
+                    return MISMATCH
                 hint = gram_for_gravity(exprs) or mismatch_hint(values, exprs)
                 self.err(span, f"{what} must have one dimension, but they are {dims}{hint}")
                 return MISMATCH

@@ -108,6 +108,7 @@ class Scope:
     lets: dict[str, Span] = field(default_factory=dict)  # every 'let NAME', where first given
     # input or parameter declared as a plain number -> its kind and value (plain_declared)
     unitless: dict[str, tuple[str, ast.Expr]] = field(default_factory=dict)
+    declared: dict[str, tuple[str, ast.Expr]] = field(default_factory=dict)  # all (declared_unit)
     # role -> each group of legs the table's swaps bind it to, the initial one first
     bound: dict[str, tuple[tuple[str, ...], ...]] = field(default_factory=dict)
 

@@ -11,6 +11,7 @@ from legdsl.check.control_depth import MAX_ACTION_DEPTH
 from legdsl.check.control_exprs import ExprChecker, fits, gram_for_gravity, unit_advice
 from legdsl.check.control_names import Opaque, Value, what_it_is
 from legdsl.check.control_words import describe_type, expression_text
+from legdsl.check.declared_unit import declared_unit
 from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
@@ -153,6 +154,10 @@ class Elaborator(ExprChecker, LegMotionProbe):
         told = plain_declared(self.scope.unitless, [value], want)
         if told is not None and not fits(value.type, want):
             self.err(*told)  # the unit left out where it is declared
+            return []
+        told = declared_unit(self.scope.declared, [value], s.value.span, f"'{text}'", want)
+        if told is not None and not fits(value.type, want):
+            self.err(*told)  # an input or parameter declared in another unit
             return []
         if not fits(value.type, want):
             self.err(

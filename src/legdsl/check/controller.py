@@ -125,6 +125,7 @@ class ControllerChecker:
         inputs: list[Constant] = []
         params: list[Constant] = []
         unitless: dict[str, tuple[str, ast.Expr]] = {}
+        constants: dict[str, tuple[str, ast.Expr]] = {}
         signals: dict[str, ast.SignalDecl] = {}
         tables: list[ast.TableDecl] = []
         starts: list[ast.StartDecl] = []
@@ -138,6 +139,7 @@ class ControllerChecker:
                 dim = constant.dim if constant is not None else None
                 if define(item.name, ir.Named(kind, item.name.name, dim)) and constant:
                     (inputs if kind == "input" else params).append(constant)
+                    constants[item.name.name] = (kind, item.value)
                     if constant.dim == ir.ONE and not constant.unit:  # perhaps a unit left out
                         unitless[item.name.name] = (kind, item.value)
             elif isinstance(item, ast.SignalDecl):
@@ -227,7 +229,7 @@ class ControllerChecker:
                 continue
             seen_states[row.state.name] = row
         scope = Scope(self.model, names, self.roles, self.actions, signals, {}, d.span.file)
-        scope.unitless = unitless
+        scope.unitless, scope.declared = unitless, constants
         # what the table calls: a library action's 'route.ahead_heading' tells nothing here
         scope.dotted = dotted_members((self.items, tuple(called)), lets=scope.lets)
         scope.recorders = unreached_recorders(self.actions, reachable)
@@ -362,6 +364,7 @@ class ControllerChecker:
             self.model, names, scope.roles, scope.actions, scope.signals, {}, scope.user_file
         )
         loose.dotted, loose.lets, loose.unitless = scope.dotted, scope.lets, scope.unitless
+        loose.declared = scope.declared
         for action in [*shadowed, *self.actions.values()]:
             called = action.name.name in reachable and action is self.actions[action.name.name]
             if called or id(action) not in own:
