@@ -72,8 +72,7 @@ function draw2d(t, note) {
   const w = view.clientWidth || 800, h = view.clientHeight || 500;
   flat.canvas.width = w; flat.canvas.height = h;
   const g = flat.canvas.getContext("2d");
-  let f = 0;
-  while (f + 1 < nFrames && times[f + 1] <= t) f++;
+  const f = frameAt(t)[0];
   const scale = h / (2.4 * data.size);
   const cx = com[3 * f], cz = data.lookHeight + lift[f] + slopeZ(cx);
   const X = (x) => w / 2 + (x - cx) * scale, Z = (z) => h / 2 - (z - cz) * scale;
@@ -410,12 +409,16 @@ const qb = new THREE.Quaternion();
 let time = 0;
 
 function frameAt(t) {
-  // Index of the last frame at or before t, and the fraction towards the next.
+  // Index of the last frame at or before t, and the fraction towards the next. A frame's
+  // time is stored as a float32, so a time within a rounding of it counts as reaching it
+  // (else the end of the run, or a time typed as 0.0833, reads the frame before's state).
   if (nFrames < 2) return [0, 0];
+  const reached = (i) => times[i] <= t + 1e-6 * Math.max(Math.abs(t), 1e-9);
+  if (reached(nFrames - 1)) return [nFrames - 1, 0];
   let lo = 0, hi = nFrames - 1;
   while (hi - lo > 1) {
     const mid = (lo + hi) >> 1;
-    if (times[mid] <= t) lo = mid; else hi = mid;
+    if (reached(mid)) lo = mid; else hi = mid;
   }
   const a = Math.min(1, Math.max(0, (t - times[lo]) / (times[lo + 1] - times[lo])));
   return [lo, a];
