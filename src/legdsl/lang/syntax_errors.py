@@ -19,9 +19,10 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from legdsl.lang.errors import Diagnostic, LegError, Span
-from legdsl.lang.habits import habit, missing_semicolon, punctuation
+from legdsl.lang.habits import habit, missing_semicolon
 from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.lookalikes import letter_of_name, odd_letter_in_word
+from legdsl.lang.punctuation_slips import punctuation
 from legdsl.lang.spellings import NUMBER_AND_WORD, mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
