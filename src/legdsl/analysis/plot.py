@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
 from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
@@ -107,6 +108,13 @@ def _command(speed: Any, t: np.ndarray, command: np.ndarray, forward: np.ndarray
                    "off the axis)")  # fmt: skip
 
 
+def _legend(ax: Any) -> None:
+    """A panel's legend beside it, on the right, where it hides none of the curves (inside,
+    at the lower right, it hid a kangaroo's third speed dip and its hip's trough)."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
+              borderaxespad=0.0, handlelength=2.5)  # fmt: skip
+
+
 def _stances_in(tr: Trajectory, t_from: float, end: float) -> list[tuple[float, float]]:
     """The first leg's stances that reach into the window (none without legs)."""
     if not tr.leg_names:
@@ -140,7 +148,8 @@ def plot_run(
     """Draw the Figure-6 panels of the run in directory ``run`` into ``out`` (PNG)."""
     plt = pyplot()
     tr = Trajectory.load(run)
-    drawn = Drawn(run.name, run, ground_under_com(run, tr), switch_times(run))
+    ending = run_ending(load_run_info(run)) if (run / "run.json").is_file() else None
+    drawn = Drawn(run.name, run, ground_under_com(run, tr), switch_times(run), ending)
     return draw_run(plt, tr, drawn, out, angles, t_from, t_to)
 
 
@@ -148,12 +157,14 @@ def plot_run(
 class Drawn:
     """What Figure 6 takes of a run besides its samples: its title, how its messages name it
     (its directory), the ground under its centre of mass (None: a flat floor) and its
-    controller changes (``switch_times``). The API's ``Run.plot`` gives them from memory."""
+    controller changes (``switch_times``), and how it ended where not ok (``run_ending``).
+    The API's ``Run.plot`` gives them from memory."""
 
     title: str
     named: Path | str
     ground: np.ndarray | None
     switches: list[tuple[float, str]]
+    ending: Ending | None = None
 
 
 def draw_run(
@@ -169,7 +180,7 @@ def draw_run(
     window = samples_in_window(tr, drawn.named, t_from, t_to, "draw", curve=True)
     end = tr.t[-1] if t_to is None else t_to
     t = tr.t[window]
-    fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    fig, axes = plt.subplots(4, 1, figsize=(9.5, 9), sharex=True)  # legends on the right
     height, pitch, speed, joints = axes
 
     height.plot(t, tr.com[window, 2], color="k")
@@ -177,7 +188,7 @@ def draw_run(
     ground = drawn.ground
     if ground is not None:  # heights are world z: on terrain, the ground they stand over too
         height.plot(t, ground[window], color="0.5", linewidth=1.0, label="ground under com")
-        height.legend(loc="lower right", fontsize=8)
+        _legend(height)
         height.set_ylabel("height, world z (m)")
     # unwrapped: a planar flip's pitch, read in (-180, 180], is drawn as the turn it makes
     pitch.plot(t, np.degrees(np.unwrap(tr.root_rpy[window, 1])), color="k", label="pitch")
@@ -189,14 +200,14 @@ def draw_run(
     speed.plot(t, forward, color="k", label="forward speed")
     if not tr.planar:  # a 3D run also tips and slides sideways: roll and sideways speed too
         pitch.plot(t, np.degrees(tr.root_rpy[window, 0]), color="k", linestyle=":", label="roll")
-        pitch.legend(loc="lower right", fontsize=8)
+        _legend(pitch)
         pitch.set_ylabel("body pitch, roll (deg)")
         sideways = -vx * np.sin(heading) + vy * np.cos(heading)
         speed.plot(t, sideways, color="k", linestyle=":", label="sideways speed")
     if np.isfinite(tr.speed_command[window]).any():
         _command(speed, t, tr.speed_command[window], forward)
     if not tr.planar or np.isfinite(tr.speed_command[window]).any():
-        speed.legend(loc="lower right", fontsize=8)
+        _legend(speed)
     speed.set_ylabel("forward speed (m/s)" if tr.planar else "speed (m/s)")
 
     names = [n for n in angles if n in tr.q_names]
@@ -205,7 +216,7 @@ def draw_run(
         style = LINE_STYLES[k % len(LINE_STYLES)]
         joints.plot(t, np.degrees(tr.q[window, column]), color="k", linestyle=style, label=name)
     if names:
-        joints.legend(loc="lower right", fontsize=8, ncol=len(names))
+        _legend(joints)
     joints.set_ylabel("leg joint angles (deg)")
     joints.set_xlabel("time (s)")
 
@@ -222,15 +233,23 @@ def draw_run(
             labels.append(height.text(t_switch, 1.0, f" {controller}", color="tab:red",
                                       fontsize=8, va="bottom",
                                       transform=height.get_xaxis_transform()))  # fmt: skip
-    if t[-1] > t[0]:  # the window's samples, not a stance begun before it or a --to past the end
-        height.set_xlim(t[0], t[-1])
+    # the window's samples (on to the run's end, where it ended early), not a stance begun
+    # before it or a --to past the end; the footfall diagram's axis is the same
+    first, last = shown_span(t, drawn.ending, t_to)
+    labels += mark_ending(axes, drawn.ending, first, last)
+    if last > first:
+        height.set_xlim(first, last)
     creature = drawn.title
     fig.suptitle(
-        creature
-        if not tr.leg_names
-        else f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
-        if len(stances) <= MOST_STANCES
-        else f"{creature}: {len(stances)} stances of leg '{tr.leg_names[0]}', too many to mark"
+        (drawn.ending.title(95) + "\n" if drawn.ending is not None else "")
+        + (
+            creature
+            if not tr.leg_names
+            else f"{creature}: stance phases of leg '{tr.leg_names[0]}' between dashed lines"
+            if len(stances) <= MOST_STANCES
+            else f"{creature}: {len(stances)} stances of leg '{tr.leg_names[0]}', too many to mark"
+        ),
+        fontsize=10 if drawn.ending is not None else None,
     )
     fig.tight_layout()
     if stack_labels(labels) > 1:  # rows of labels over the top panel: laid out again
@@ -264,7 +283,12 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     plt = pyplot()
 
     tr = Trajectory.load(run)
-    end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))  # as Figure 6's axis
+    ending = run_ending(load_run_info(run)) if (run / "run.json").is_file() else None
+    inside = tr.t[(tr.t >= t_from) & (tr.t <= (tr.t[-1] if t_to is None else t_to))]
+    if len(inside):  # Figure 6's axis: the window's samples, on to an early end
+        t_from, end = shown_span(inside, ending, t_to)
+    else:
+        end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))
     rows = footfall_bars(tr)
     fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
     ax.set_yticks(range(len(rows)), [name for name, _ in reversed(rows)])
@@ -278,7 +302,12 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
         ax.set_xlim(t_from, end)
     ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
     ax.set_xlabel("time (s)")
-    ax.set_title(f"{run.name}: footfalls (each foot's stance as a bar)", fontsize=10)
+    mark_ending([ax], ending, t_from, end, word=False)
+    ax.set_title(
+        (ending.title(110) + "\n" if ending is not None else "")
+        + f"{run.name}: footfalls (each foot's stance as a bar)",
+        fontsize=10,
+    )
     ax.set_axisbelow(True)  # the grid behind the bars
     ax.grid(True, axis="x", color="0.9")
     fig.tight_layout()
@@ -439,7 +468,10 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     ]
     # 6 inches of plot across; as tall as the ground covered is deep (within 3 to 7), plus
     # the title's lines above and the legend's below, so a long straight path is no strip
-    lines = sum(t.count("\n") + 1 for t in titles)
+    ending = run_ending(load_run_info(run)) if (run / "run.json").is_file() else None
+    lines = sum(t.count("\n") + 1 for t in titles) + (
+        ending.title(90).count("\n") + 1 if ending else 0
+    )
     tall = float(np.clip(6 * span[1] / span[0], 3, 7)) + 0.2 * lines + 1.8
     # laid out as drawn: the equal aspect moves the limits then, and their wider tick labels
     # pushed "y (m)" off the picture's edge after tight_layout had measured the old ones
@@ -458,7 +490,8 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     # it left a gap under a tall plot and came close to the label under a short one)
     fig.legend(loc="outside lower center", ncol=2, fontsize=8, frameon=False)
     ax.set_title(
-        f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
+        (ending.title(90) + "\n" if ending is not None else "")
+        + f"{run.name}: top view, {tr.t[window][0]:.1f} to {tr.t[window][-1]:.1f} s"
         + ("\n" + "\n".join(titles) if titles else ""),
         fontsize=9,
     )

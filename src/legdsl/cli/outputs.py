@@ -35,8 +35,9 @@ def cmd_plot(args: argparse.Namespace) -> int:
         plot_top,
         run_paths,
     )
+    from legdsl.analysis.plot_ending import run_ending
     from legdsl.pipeline.options import check_output_file
-    from legdsl.sim.trajectory import Trajectory
+    from legdsl.sim.trajectory import Trajectory, load_run_info
 
     read_window(args)
     run = Path(args.dir)
@@ -72,6 +73,8 @@ def cmd_plot(args: argparse.Namespace) -> int:
         print(f"wrote {top} (top view)", file=say)
     if (note := crowded(tr, args.t_from, args.t_to)) is not None:
         print(f"legdsl: note: {note}", file=sys.stderr)
+    if (ending := run_ending(load_run_info(run))) is not None:  # as animate says it
+        print(ending.note(run, f"{out} (and the pictures beside it)"), file=sys.stderr)
     return 0
 
 
