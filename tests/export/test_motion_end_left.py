@@ -47,3 +47,19 @@ def test_less_than_a_few_percent_short_is_not_said(
 ) -> None:
     said = export(run_dir, generated, tmp_path / "m.glb", capsys)
     assert "left out" not in said
+
+
+def test_the_player_and_the_video_say_it_too(
+    run_dir: Path, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """animate silently showed 3.33 s of a 4 s run at --fps 0.3 (0.03 s of a 0.04 s run)."""
+    argv = ["animate", str(run_dir), "--generated", str(generated), "-o", str(tmp_path / "a.html")]
+    assert main([*argv, "--fps", "1"]) == 0
+    said = capsys.readouterr()
+    said = said.out + said.err
+    assert "2 frames, 1.00 s" in said
+    assert "the run's last 0.30 s (to 1.30 s) falls short of a whole frame and is left out" in said
+    rate = re.search(r"--fps (\S+) ends at it", said).group(1)  # type: ignore[union-attr]
+    assert main([*argv, "--fps", rate]) == 0
+    said = capsys.readouterr()
+    assert "1.30 s" in said.out + said.err and "left out" not in said.out + said.err

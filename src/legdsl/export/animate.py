@@ -207,7 +207,9 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "
             f"frame{'s' if result.frames != 1 else ''} at "
-            f"{fps:g} fps, {seconds_text(motion.duration)} of motion{slowed}) in {result.seconds:.1f} s",
+            f"{fps:g} fps, {seconds_text(motion.duration)} of motion{slowed}) in {result.seconds:.1f} s"
+            # keyframes at 60 per second at least: --fps ends them at the last sample above it
+            + _end_left(motion, max(fps * slow, 60.0), slow if fps * slow >= 60.0 else None),
             file=messages_for(args.output, args.video),
         )
         if not args.output:
@@ -227,7 +229,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
     browse = "" if is_stream(out) else "; open it in a web browser"  # not /dev/null's
     print(
         f"legdsl: wrote {out} ({human_size(size_bytes)}, {motion.frames} frames, "
-        f"{seconds_text(motion.duration)}){browse}",
+        f"{seconds_text(motion.duration)}){browse}{_end_left(motion, args.fps or 60.0)}",
         file=messages_for(args.output),
     )
     return 0
@@ -364,17 +366,20 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     return 0
 
 
-def _end_left(motion: Any, fps: float) -> str:
+def _end_left(motion: Any, fps: float, slow: float | None = 1.0) -> str:
     """What the keyframes leave out of the run's end, where it is more than 5% of the run: a
     frame every 1/fps from the start stops at the last whole one (2 keyframes over 2.00 s of
-    a 2.995 s run at --fps 0.5 said nothing of the last second)."""
+    a 2.995 s run at --fps 0.5 said nothing of the last second; the player and the video of
+    a 0.04 s run showed 0.03 s of it, silently). The --fps that ends at the last sample is
+    the rate that does, divided by ``slow`` (a video's slow motion); None: no --fps does."""
     end, start = motion.last_sample, float(motion.times[0])
     if end is None or motion.frames < 2 or end - motion.duration <= 0.05 * (end - start):
         return ""  # a few percent short (2.98 s of a 2.995 s run at 60 per second): as usual
     rate = math.ceil((end - start) * fps - 1e-9) / (end - start)  # a whole number of frames
+    fix = f": --fps {rate / slow:.10g} ends at it" if slow else ""
     return (
         f"; the run's last {seconds_text(end - motion.duration)} (to {seconds_text(end)}) falls "
-        f"short of a whole frame and is left out: --fps {rate:.10g} ends at it"
+        f"short of a whole frame and is left out{fix}"
     )
 
 
