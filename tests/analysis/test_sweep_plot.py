@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import pytest
 from matplotlib.figure import Figure
 
 from legdsl.analysis.sweep_plot import MOST_PANELS, plot_sweep
@@ -125,3 +126,23 @@ def test_a_grid_name_beside_random_ones_is_the_panels(tmp_path: Path, drawn: lis
     assert [ax.get_title() for ax in panels] == ["speed = 1 m/s", "speed = 2 m/s"]
     assert all(ax.collections[0].__class__.__name__ == "PathCollection" for ax in panels)
     assert panels[0].get_xlabel() == "kp" and panels[0].get_ylabel() == "kv"
+
+
+def test_a_signed_metric_is_drawn_on_a_diverging_map_centred_on_zero(
+    tmp_path: Path, drawn: list[Figure]
+) -> None:
+    """viridis drew a signed speed_error's most negative value darkest, which reads best; a
+    magnitude keeps viridis over its range."""
+    rows = [
+        {"speed": s, "kp": p, "outcome": "ok", "speed_error": -0.4 + 0.1 * s * p / 100,
+         "stride_length": 0.1 * s * p / 100}
+        for s in (0.5, 1.0, 1.5) for p in (100, 200)
+    ]  # fmt: skip
+    plot_sweep(rows, ["speed", "kp"], "speed_error", tmp_path / "e.png")
+    (mesh,) = drawn[0].axes[0].collections
+    assert mesh.get_cmap().name == "PuOr"
+    assert mesh.norm.vmin == -mesh.norm.vmax == pytest.approx(-0.35)  # zero in the middle: white
+    plot_sweep(rows, ["speed", "kp"], "stride_length", tmp_path / "l.png")
+    (mesh,) = drawn[1].axes[0].collections
+    assert mesh.get_cmap().name == "viridis"
+    assert (mesh.norm.vmin, mesh.norm.vmax) == pytest.approx((0.05, 0.3))

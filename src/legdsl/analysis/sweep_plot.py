@@ -66,7 +66,7 @@ def plot_sweep(
                                  dpi=110, squeeze=False, layout="constrained")  # fmt: skip
         values = [as_number(r.get(metric)) for r, good in zip(rows, ok, strict=True) if good]
         finite = [v for v in values if math.isfinite(v)] or [0.0]
-        scale = {"vmin": min(finite), "vmax": max(finite), "cmap": "viridis"}
+        scale = colour_scale(metric, finite)
         image = None
         for ax, group in zip(axes.flat, groups, strict=False):
             inside = [r for r in rows if tuple(as_number(r.get(n)) for n in others) == group]
@@ -85,6 +85,23 @@ def plot_sweep(
     fig.savefig(out)
     plt.close(fig)
     return out
+
+
+# Metrics whose sign says something (over or under the command): drawn on a diverging colour
+# map centred on zero. Any metric with values of both signs is drawn so too.
+SIGNED_METRICS = frozenset({"speed_error"})
+
+
+def colour_scale(metric: str, finite: Sequence[float]) -> dict[str, Any]:
+    """The heat map's colours for ``metric``'s ``finite`` values: a signed one (or one with
+    values both sides of zero) on a diverging map (PuOr: not the red of the falls' crosses)
+    whose white is zero, its limits as far either side; a magnitude on viridis over its
+    range. (viridis drew a signed speed_error's most negative value darkest, read as best.)"""
+    low, high = min(finite), max(finite)
+    if metric in SIGNED_METRICS or (low < 0.0 < high):
+        most = max(abs(low), abs(high)) or 1.0
+        return {"vmin": -most, "vmax": most, "cmap": "PuOr"}
+    return {"vmin": low, "vmax": high, "cmap": "viridis"}
 
 
 def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> None:
