@@ -97,11 +97,14 @@ def colour_scale(metric: str, finite: Sequence[float]) -> dict[str, Any]:
     values both sides of zero) on a diverging map (PuOr: not the red of the falls' crosses)
     whose white is zero, its limits as far either side; a magnitude on viridis over its
     range. (viridis drew a signed speed_error's most negative value darkest, read as best.)"""
+    from matplotlib import colormaps
+
     low, high = min(finite), max(finite)
+    # a cell with no value (its run fell) grey: PuOr's white is zero
     if metric in SIGNED_METRICS or (low < 0.0 < high):
         most = max(abs(low), abs(high)) or 1.0
-        return {"vmin": -most, "vmax": most, "cmap": "PuOr"}
-    return {"vmin": low, "vmax": high, "cmap": "viridis"}
+        return {"vmin": -most, "vmax": most, "cmap": colormaps["PuOr"].with_extremes(bad="0.8")}
+    return {"vmin": low, "vmax": high, "cmap": colormaps["viridis"].with_extremes(bad="0.8")}
 
 
 def _lines(ax: Any, rows: Sequence[dict[str, Any]], name: str, metric: str) -> None:
