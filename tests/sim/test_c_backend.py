@@ -386,7 +386,9 @@ def test_two_builds_at_once_both_load(tmp_path: Path) -> None:
     assert [p.returncode for p in procs] == [0, 0]
     assert outs[0] == outs[1]
     cache = tmp_path / "cache"
-    assert sorted(p.name for p in cache.iterdir()) == sorted([Path(outs[0]).name, "objects"])
+    assert sorted(p.name for p in cache.iterdir()) == sorted(
+        [Path(outs[0]).name, "compilers", "objects"]
+    )
     kept = sorted(p.name.split("-")[0] for p in (cache / "objects").iterdir())
     assert kept == sorted(f"{unit}" for unit in UNITS)  # whole objects, no temporary left
 

@@ -46,7 +46,10 @@ CASES = {
     "missing": ("/nonexistent/cc", "LEGDSL_CC=/nonexistent/cc: no such program"),
     "options": ("gcc -O0", "LEGDSL_CC=gcc -O0: no such program (name the program alone, "),
     "false": ("/bin/false", "LEGDSL_CC=/bin/false: '/bin/false --version' failed"),
-    "true": ("/bin/true", "/bin/true cannot build a C library here (exit 0, no library written)"),
+    "true": (
+        "/bin/true",
+        "/bin/true (LEGDSL_CC) cannot build a C library here (exit 0, no library written)",
+    ),
 }
 
 
@@ -83,7 +86,7 @@ def test_a_compiler_that_fails_is_the_users_to_fix_not_an_internal_error(
     )  # fmt: skip
     monkeypatch.setenv("LEGDSL_CC", cc)
     err = _falls_back(tmp_path, capsys)
-    assert f"{cc} cannot build a C library here (fatal: licence expired)" in err, err
+    assert f"{cc} (LEGDSL_CC) cannot build a C library here (fatal: licence expired)" in err, err
     assert main(_run(tmp_path, "c")) == 2
     err = capsys.readouterr().err
     assert "fatal: licence expired" in err and "Traceback" not in err, err
@@ -101,7 +104,7 @@ def test_a_compiler_without_its_headers_is_told_to_install_them(
     monkeypatch.setenv("LEGDSL_CC", cc)
     assert main(_run(tmp_path, "c")) == 2
     err = capsys.readouterr().err
-    assert f"{cc} cannot build a C library here (probe.c:1:" in err, err
+    assert f"{cc} (LEGDSL_CC) cannot build a C library here (probe.c:1:" in err, err
     assert "libc6-dev" in err and "Traceback" not in err
 
 

@@ -36,27 +36,34 @@ import errno
 import hashlib
 import os
 import re
-import shutil
 import signal
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
-from typing import Any
 
 from legdsl.codegen.c.cache import (
     OBJECTS,
+    elf_problem,
     keep_object,
     reuse_object,
     seal,
-    sealed,
     trim,
+    unsealed,
+)
+from legdsl.codegen.c.compiler import (  # noqa: F401 (_compiler, _probe_run: tests clear, use)
+    Compiler,
+    _compiler,
+    _probe_run,
+    _processes,
+    _spawn,
+    find_compiler,
+    native,
+    no_compiler,
 )
 from legdsl.files import cache_dir
-from legdsl.signals import signals_held
 
 RUNTIME = Path(__file__).parent / "runtime"
 RUNTIME_FILES = (
@@ -108,65 +115,10 @@ class CompilerUnusable(Exception):
 
 
 @dataclass(frozen=True)
-class Compiler:
-    path: str
-    version: str  # the first line of ``--version``
-
-
-@dataclass(frozen=True)
 class Built:
     path: Path  # the shared library
     cached: bool  # reused from the cache (no compiler run)
     seconds: float  # time spent in the compiler (0 when cached)
-
-
-# why each compiler was passed over, said if none is found (a failing cc was just "none found")
-_PASSED_OVER: dict[str, str] = {}
-
-
-@lru_cache(maxsize=8)
-def _compiler(wanted: str | None) -> Compiler | None:
-    names = [wanted] if wanted else ["cc", "gcc", "clang"]
-    for name in names:
-        path = shutil.which(name)
-        if path is None:
-            continue
-        try:
-            done = _probe_run([path, "--version"], timeout=10)
-            if done.returncode != 0:
-                _PASSED_OVER[name] = f"'{path} --version' failed (exit {done.returncode})"
-                continue
-            out = done.stdout
-        except OSError as e:
-            if e.errno in (errno.EMFILE, errno.ENFILE):  # the process's limit, not the compiler
-                raise
-            _PASSED_OVER[name] = f"{path}: {e.strerror or e}"
-            continue
-        except subprocess.SubprocessError:
-            _PASSED_OVER[name] = f"'{path} --version' did not answer in 10 s"
-            continue
-        return Compiler(path, out.splitlines()[0] if out else "")
-    return None
-
-
-def find_compiler() -> Compiler | None:
-    """The C compiler to build with, or None when there is none."""
-    return _compiler(os.environ.get("LEGDSL_CC") or None)
-
-
-def no_compiler() -> str | None:
-    """None when a compiler is found, else why not, in one line that says what to do."""
-    if find_compiler() is not None:
-        return None
-    wanted = os.environ.get("LEGDSL_CC") or None
-    if wanted is None:
-        why = "".join(f": {_PASSED_OVER[n]}" for n in ("cc", "gcc", "clang") if n in _PASSED_OVER)
-        return f"no C compiler found (cc, gcc or clang; or set LEGDSL_CC){why}"
-    fix = "set LEGDSL_CC to a C compiler (gcc, clang) or unset it"
-    if shutil.which(wanted) is None:
-        alone = " (name the program alone, without options)" if " " in wanted.strip() else ""
-        return f"LEGDSL_CC={wanted}: no such program{alone}; {fix}"
-    return f"LEGDSL_CC={wanted}: '{wanted} --version' failed, not a C compiler; {fix}"
 
 
 def sources(generated_dir: Path, controller: str | None = None) -> dict[str, str]:
@@ -194,19 +146,6 @@ def sizes_header(dynamics_h: str, path: Path) -> str:
     lines = [f"/* {SIZES_FILE}: the creature's sizes, from its dynamics.h (codegen/c/build.py) */"]
     lines += [found[name] for name in SIZES]
     return "\n".join(lines) + "\n"
-
-
-@lru_cache(maxsize=8)
-def native(compiler: Compiler) -> tuple[str, str]:
-    """(``-march=native``, a digest of what it means on this processor: the macros it defines,
-    ``__AVX2__`` and the like) where ``compiler`` takes it, else two empty strings."""
-    try:
-        out = _probe_run([compiler.path, "-march=native", "-dM", "-E", "-x", "c", os.devnull], 30)
-    except (OSError, subprocess.SubprocessError):
-        return "", ""
-    if out.returncode != 0:
-        return "", ""
-    return "-march=native", hashlib.sha256(out.stdout.encode()).hexdigest()[:16]
 
 
 def flags(compiler: Compiler) -> tuple[str, ...]:
@@ -290,7 +229,8 @@ def build(
     root.mkdir(parents=True, exist_ok=True)
     final = root / f"{name}-{library_key(files, compiler)}.so"
     if final.is_file():
-        if sealed(final):
+        body = unsealed(final)  # sealed, and an ELF file that holds all it maps
+        if body is not None and elf_problem(body) is None:
             with contextlib.suppress(OSError):  # a cache shared read-only stays untouched
                 os.utime(final)  # used now: the last to go when the cache is trimmed
             return Built(final, cached=True, seconds=0.0)
@@ -348,23 +288,27 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 commands.append(command)
                 _start(command, compiler, work, started)
             # all, failed or not; their files named as the units are (control.c:37:37: ...)
-            errors = [p.communicate()[1].replace(f"{work}{os.sep}", "") for p in started]
+            errors = [_said(p.communicate()).replace(f"{work}{os.sep}", "") for p in started]
             codes = [process.returncode for process in started]
             for command, code, err in zip(commands, codes, errors, strict=True):
                 _check(code, command, err, name, compiler)
             for unit in compiled:  # an object that is none (a wrapper's, exit 0) is not kept
-                if _is_elf(Path(work) / f"{unit}.o"):
+                if _whole(Path(work) / f"{unit}.o") is None:
                     keep_object(Path(work) / f"{unit}.o", kept[unit])
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
             linker = _start(command, compiler, work, started)
-            err = linker.communicate()[1]
+            err = _said(linker.communicate())
             if linker.returncode != 0:  # the kept objects may be why: built again next time
                 for unit in set(UNITS) - set(compiled):
                     kept[unit].unlink(missing_ok=True)
             _check(linker.returncode, command, err, name, compiler)
-            if not _is_elf(partial):  # exit 0 and no library: /bin/true, a wrapper gone wrong
+            if not partial.exists():  # exit 0 and no library: /bin/true (``probe`` says so)
                 _check(1, command, "it wrote no shared library", name, compiler)
+            wrong = _whole(partial)  # garbage, or cut short: a wrapper gone wrong
+            if wrong is not None:  # the compiler's failure, whatever the C: it said it was done
+                raise CompilerUnusable(f"{_named(compiler)} wrote no loadable library for {name} "
+                                       f"({wrong}), though it exited 0; {_fix(compiler, True)}")  # fmt: skip
             seal(partial)
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
@@ -388,17 +332,24 @@ def probe(compiler: Compiler, root: Path) -> str | None:
         except (OSError, subprocess.SubprocessError) as e:
             said = str(e)
         else:
-            if done.returncode == 0 and _is_elf(out):
+            wrong = _whole(out)
+            if done.returncode == 0 and wrong is None:
                 return None
             lines = [line for line in done.stderr.splitlines() if line.strip()]
-            said = lines[0].strip() if lines else f"exit {done.returncode}, no library written"
+            said = lines[0].strip() if lines and done.returncode else ""
+            if not said:  # exit 0 and garbage, or a library cut short: no loadable one
+                none = not out.exists() or wrong == "not an ELF file"
+                said = f"exit {done.returncode}, " + (
+                    "no library written" if not out.exists() else "no loadable library written"
+                    if none else f"its library {wrong}"
+                )  # fmt: skip
             said = said.replace(f"{work}{os.sep}", "")  # probe.c:1:19: error: ...
-    fix = "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
+    fix = _fix(compiler, garbage=said.startswith("exit 0,"))
     tool = re.search(r"cannot (?:find|execute) \W(as|ld)\W", said)  # it runs them from PATH
     if tool:  # the compiler is there: not a compiler to install
         path = _temporaries_in(work)["PATH"]  # the one it ran with
         fix = f"put the folder of '{tool[1]}' (binutils) on PATH, which is {path}"
-    return f"{compiler.path} cannot build a C library here ({said[:200]}); {fix}"
+    return f"{_named(compiler)} cannot build a C library here ({said[:200]}); {fix}"
 
 
 def _temporaries_in(work: str) -> dict[str, str]:
@@ -409,84 +360,45 @@ def _temporaries_in(work: str) -> dict[str, str]:
     return {"PATH": os.defpath, **os.environ, "TMPDIR": work}
 
 
-def _stop(processes: list[subprocess.Popen[str]]) -> None:
-    """End the compiler processes of a build cut short and reap them: after a KeyboardInterrupt
-    caught in a notebook they compiled on into a directory being removed, and stayed zombies."""
-    for process in processes:
-        with contextlib.suppress(OSError):  # its group: gcc's cc1 and as wrote on after gcc died
-            os.killpg(process.pid, signal.SIGKILL)
-    for process in processes:
-        while True:
-            try:
-                process.wait()
-                break
-            except KeyboardInterrupt:  # another Ctrl-C: the first is already unwinding
-                continue
-
-
-def _probe_run(
-    command: list[str], timeout: float, env: dict[str, str] | None = None
-) -> subprocess.CompletedProcess[str]:
-    """``subprocess.run`` of a short look at the compiler (its version, what ``-march=native``
-    means, the probe's tiny build), its process reaped whatever ends the wait: on a Ctrl-C
-    ``subprocess.run`` waits for it a quarter of a second at most, and a compiler still
-    starting stayed a zombie after the call (random API interrupts, seed 21090)."""
-    with _processes() as started:  # the timeout, a Ctrl-C: ended and reaped, then raised
-        _spawn(command, started, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
-        out, err = started[0].communicate(timeout=timeout)
-        code = started[0].returncode
-    return subprocess.CompletedProcess(command, code, out, err)
-
-
-@contextlib.contextmanager
-def _processes() -> Iterator[list[subprocess.Popen[str]]]:
-    """The list of the processes started meanwhile (``_spawn``): whatever ends this early, they
-    are ended and reaped (``_stop``); in any case they are dropped with the signals held, their
-    last references, so that each one's finalizer runs where a Ctrl-C held down cannot land in
-    it ("Exception ignored in Popen.__del__" and a traceback, the Ctrl-C lost: random API
-    interrupts, seed 21182)."""
-    started: list[subprocess.Popen[str]] = []
-    try:
-        yield started
-    except BaseException:
-        _stop(started)
-        raise
-    finally:
-        with signals_held():
-            started.clear()
-
-
 def _start(
     command: list[str], compiler: Compiler, work: str, started: list[subprocess.Popen[str]]
 ) -> subprocess.Popen[str]:
     """A compiler process of the build, noted in ``started``."""
     try:
-        return _spawn(command, started, stderr=subprocess.PIPE, env=_temporaries_in(work))
+        # its output kept, both streams (said when it fails): a wrapper's chatter is not the
+        # run's, and a pipe to ``head`` that closes early is not the compiler's to die of
+        streams = {"stdout": subprocess.PIPE, "stderr": subprocess.PIPE}
+        return _spawn(command, started, env=_temporaries_in(work), **streams)
     except OSError as e:  # removed or made unrunnable since it was found
         limit = "; raise the limit of open files (ulimit -n)" if e.errno == errno.EMFILE else ""
         raise CompilerUnusable(f"cannot run {compiler.path} ({e.strerror or e}){limit}") from e
 
 
-def _spawn(
-    command: list[str], started: list[subprocess.Popen[str]], **streams: Any
-) -> subprocess.Popen[str]:
-    """``command`` started in a process group of its own (its compiler's passes with it:
-    ``_stop`` ends them all) and noted in ``started``, with the signals held: a Ctrl-C inside
-    ``Popen`` left a compiler running that nobody knew of, a zombie after the call (random API
-    interrupts, seed 21090). It starts with them blocked, and keeps them so: ``_stop`` ends it
-    with SIGKILL, and its group is never the terminal's."""
-    with signals_held():
-        process = subprocess.Popen(command, text=True, process_group=0, **streams)
-        started.append(process)
-        return process
+def _said(streams: tuple[str, str]) -> str:
+    """What a compiler process wrote: its errors, then its output (a wrapper's) if any."""
+    out, err = streams
+    return err + (f"(and on its standard output:)\n{out}" if out and out.strip() else "")
 
 
-def _is_elf(path: Path) -> bool:
+def _whole(path: Path) -> str | None:
+    """None when ``path`` is a whole ELF file (``elf_problem``), else what is wrong with it."""
     try:
-        with open(path, "rb") as f:
-            return f.read(4) == b"\x7fELF"
-    except OSError:
-        return False
+        return elf_problem(path.read_bytes())
+    except OSError as e:
+        return f"none written ({e.strerror or e})"
+
+
+def _named(compiler: Compiler) -> str:
+    """The compiler as the user knows it: the LEGDSL_CC they set, if they did."""
+    return f"{compiler.path} (LEGDSL_CC)" if os.environ.get("LEGDSL_CC") else compiler.path
+
+
+def _fix(compiler: Compiler, garbage: bool) -> str:
+    """What to do about a compiler that cannot build a library: the LEGDSL_CC the user set, if
+    it exited 0 and wrote none that loads (no headers to install would make it do that)."""
+    if garbage and os.environ.get("LEGDSL_CC"):
+        return "set LEGDSL_CC to a working C compiler (gcc, clang) or unset it"
+    return "install a C compiler with its headers (gcc and libc6-dev) or set LEGDSL_CC to one"
 
 
 def _check(code: int, command: list[str], stderr: str, name: str, compiler: Compiler) -> None:
@@ -495,6 +407,9 @@ def _check(code: int, command: list[str], stderr: str, name: str, compiler: Comp
             f"{compiler.path} was killed (SIGKILL) building the C of {name}, most likely out "
             "of memory; close other programs and run again"
         )
+    if code == -signal.SIGPIPE:  # a pipe of its own closed (its output is legdsl's to read)
+        raise CompilerUnusable(f"{_named(compiler)} died building the C of {name} (ended by "
+                               f"SIGPIPE, a pipe it wrote to was closed):\n{stderr[-2000:]}")  # fmt: skip
     died = _died_of_a_limit(code, stderr)
     if died is not None:  # cc1 killed by SIGXFSZ or SIGSEGV for want of memory: not our C
         raise CompilerUnusable(f"{compiler.path} died building the C of {name} ({died}): a limit "

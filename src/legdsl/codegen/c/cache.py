@@ -24,6 +24,7 @@ import contextlib
 import hashlib
 import os
 import shutil
+import struct
 import time
 from pathlib import Path
 
@@ -33,6 +34,7 @@ SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 OBJECTS = "objects"  # the cache's folder of compiled translation units
 MODULES = "modules"  # the cache's folder of generated modules (legdsl.codegen.kept)
+COMPILERS = "compilers"  # the compilers' answers, by their identity (codegen/c/compiler.py)
 LEFTOVER_SECONDS = 3600.0  # a build's sources older than this are a killed build's
 
 
@@ -104,6 +106,37 @@ def unsealed(path: Path) -> bytes | None:
     return body if mark and mark + digest == _seal_of(body) else None
 
 
+def elf_problem(data: bytes) -> str | None:
+    """None when ``data`` is a whole ELF file (a library or an object), else what is wrong: its
+    header, its section header table, its program headers and each segment it loads (and each
+    section with bytes in the file) must lie within it. A library cut short (a full disk under
+    a compiler that says nothing, a wrapper gone wrong) maps pages past its end, and the first
+    touch of one is a SIGBUS that kills the process, no error to catch."""
+    if len(data) < 16 or data[:4] != b"\x7fELF" or data[4] not in (1, 2) or data[5] not in (1, 2):
+        return "not an ELF file"
+    wide, order = data[4] == 2, "<" if data[5] == 1 else ">"
+    head = struct.Struct(order + ("HHIQQQIHHHHHH" if wide else "HHIIIIIHHHHHH"))
+    if len(data) < 16 + head.size:
+        return f"cut short: {len(data)} bytes, in its ELF header"
+    _, _, _, _, phoff, shoff, _, _, phsize, phnum, shsize, shnum, _ = head.unpack_from(data, 16)
+    if shoff + shnum * shsize > len(data):
+        return f"cut short: {len(data)} bytes, its section headers end at {shoff + shnum * shsize}"
+    if phoff + phnum * phsize > len(data):
+        return f"cut short: {len(data)} bytes, its program headers end at {phoff + phnum * phsize}"
+    program = struct.Struct(order + ("IIQQQQQQ" if wide else "IIIIIIII"))
+    for i in range(phnum if phsize >= program.size else 0):
+        entry = program.unpack_from(data, phoff + i * phsize)
+        kind, offset, size = (entry[0], entry[2], entry[5]) if wide else entry[0:2] + entry[4:5]
+        if kind == 1 and offset + size > len(data):  # PT_LOAD
+            return f"cut short: {len(data)} bytes, a segment it loads ends at {offset + size}"
+    section = struct.Struct(order + ("IIQQQQIIQQ" if wide else "IIIIIIIIII"))
+    for i in range(shnum if shsize >= section.size else 0):
+        _, kind, _, _, offset, size, *_ = section.unpack_from(data, shoff + i * shsize)
+        if kind != 8 and offset + size > len(data):  # SHT_NOBITS (.bss) has none in the file
+            return f"cut short: {len(data)} bytes, a section ends at {offset + size}"
+    return None
+
+
 def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
     """Remove the least recently used libraries, objects and kept modules while the cache
     holds more than ``most`` bytes. A process that has a removed library loaded keeps it (the
@@ -111,7 +144,7 @@ def trim(root: Path, keep: Path, most: int = CACHE_BYTES) -> None:
     (``legdsl.sim.c_library.load_library``). The sources of a build killed outright (SIGKILL, a
     power cut), and a killed ``keep_sealed``'s temporary file, are removed after
     ``LEFTOVER_SECONDS``."""
-    builds = [*root.glob(".*-src-*"), *root.glob(".probe-*")]
+    builds = [*root.glob(".*-src-*"), *root.glob(".probe-*"), *root.glob(f"{COMPILERS}/.*")]
     for work in [*builds, *root.glob(f"{OBJECTS}/.*"), *root.glob(f"{MODULES}/.*")]:
         with contextlib.suppress(OSError):  # another process's, just removed
             if time.time() - work.stat().st_mtime > LEFTOVER_SECONDS:
