@@ -306,7 +306,7 @@ def test_generated_c_edited_by_hand_that_cannot_build_is_the_users_to_fix(
         f"differs from what legdsl generates from {CREATURES / 'hopper.leg'} (edited by hand?): "
     ) in err, err
     assert said in err and err.rstrip().endswith(
-        f"; run 'legdsl compile {CREATURES / 'hopper.leg'}' to write it again"
+        f"; run 'legdsl compile {CREATURES / 'hopper.leg'} -o {generated}' to write it again"
     )
     if "error:" in said:  # located in the file edited, not in the build's deleted copy control.c
         assert f"(edited by hand?): {generated}/hopper/control_hop.c:" in err, err

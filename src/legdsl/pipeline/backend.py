@@ -11,6 +11,7 @@ from __future__ import annotations
 import errno
 import numbers
 import os
+import shlex
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
@@ -201,10 +202,12 @@ def _build_failed(
     if not edited:
         return InternalError(f"the C compiler refused the C legdsl generated in {folder}{said}")
     said = _in_generated(said, folder, controller)  # where an editor can go to the line
+    # into the folder the run read (--generated gen2), not generated/
+    out = "" if folder.parent == Path("generated") else f" -o {shlex.quote(str(folder.parent))}"
     return UsageError(
         f"the C library cannot be built from {folder / edited[0]}, which differs from what "
         f"legdsl generates from {source} (edited by hand?){said}; run "
-        f"'legdsl compile {source}' to write it again"
+        f"'legdsl compile {shlex.quote(str(source))}{out}' to write it again"
     )
 
 
