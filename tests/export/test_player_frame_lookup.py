@@ -41,3 +41,27 @@ def test_the_panel_shows_the_frame_at_the_time_shown(tmp_path: Path) -> None:
                 if 0 <= motion.state[f] < len(motion.state_names):
                     name = motion.state_names[motion.state[f]]
                     assert f"state: {name}" in text, (f, t, text)
+
+
+def test_a_tiny_run_s_readouts_are_in_ms_and_mm_per_s(tmp_path: Path) -> None:
+    """A hopper scaled by 0.0001 read 'speed: 0.00 m/s' and '0.00 / 0.03 s'."""
+    import dataclasses
+
+    motion = creature_motion("kangaroo", tmp_path / "run", duration=0.5)
+    small = dataclasses.replace(
+        motion,
+        times=motion.times * 0.05,
+        speed=motion.speed * 0.01,
+        speed_command=motion.speed_command * 0.01,
+    )
+    page = tmp_path / "animation.html"
+    write_player(small, page)
+    with Chromium(chromium(), 900, 600) as browser:
+        browser.open_player(page)
+        last = small.frames - 1
+        browser.evaluate(f"legdsl.setTime({float(small.times[last])!r})")
+        text = browser.evaluate("document.getElementById('hud').innerText")
+        assert f"t = {small.times[last] * 1e3:.3f} ms" in text, text
+        assert f"speed: {small.speed[last] * 1e3:.2f} mm/s" in text, text
+        clock = browser.evaluate("document.getElementById('clock').textContent")
+        assert clock == f"{small.times[last] * 1e3:.2f} / {small.times[last] * 1e3:.2f} ms"
