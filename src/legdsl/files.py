@@ -66,13 +66,15 @@ REFUSED_WRITES = {
 def cache_dir() -> Path:
     """Where legdsl keeps what it can always build again (compiled C, generated modules, the
     parser's tables):
-    ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``."""
+    ``$LEGDSL_CACHE`` if set, else ``$XDG_CACHE_HOME/legdsl`` or ``~/.cache/legdsl``. A relative
+    ``$XDG_CACHE_HOME`` is ignored, as the XDG spec says (it named a folder in whatever directory
+    a command ran in: ./relx/legdsl/); ``~/`` is expanded first (a settings file no shell read)."""
     # "~/x" from a file of settings that no shell expanded: not a directory named "~" here
     try:
         if os.environ.get("LEGDSL_CACHE"):
             return Path(os.environ["LEGDSL_CACHE"]).expanduser()
-        base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-        return Path(base).expanduser() / "legdsl"
+        xdg = Path(os.environ.get("XDG_CACHE_HOME") or ".").expanduser()
+        return (xdg if xdg.is_absolute() else Path.home() / ".cache") / "legdsl"
     except RuntimeError:  # no HOME, and a user the system does not know (a container's bare uid)
         raise FileNotFoundError(errno.ENOENT, NO_CACHE) from None
 

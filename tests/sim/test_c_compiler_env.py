@@ -235,6 +235,22 @@ def test_a_cache_given_with_a_tilde_is_in_the_home_directory(
     assert cache_dir() == tmp_path / ".cache" / "legdsl"
 
 
+def test_a_relative_xdg_cache_home_is_ignored(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """XDG_CACHE_HOME=relx made a cache in each directory a command ran in (./relx/legdsl/):
+    the XDG spec says a relative path is to be ignored."""
+    from legdsl.files import cache_dir
+
+    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.delenv("LEGDSL_CACHE", raising=False)
+    for relative in ("relx", "./relx", "relx/a"):
+        monkeypatch.setenv("XDG_CACHE_HOME", relative)
+        assert cache_dir() == tmp_path / ".cache" / "legdsl"
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache_dir() == tmp_path / "xdg" / "legdsl"
+
+
 def test_with_no_home_the_run_says_where_to_keep_the_library(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], fresh: None
 ) -> None:
