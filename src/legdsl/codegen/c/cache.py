@@ -1,6 +1,7 @@
 """The cache of compiled C: libraries and the objects of their translation units.
 
-The cache: ``legdsl.files.cache_dir()`` (``$LEGDSL_CACHE`` if set, else ``~/.cache/legdsl``).
+The cache: ``legdsl.files.cache_dir()`` (``$LEGDSL_CACHE`` if set, else ``~/.cache/legdsl``);
+deleting it is safe, everything in it is built again when next needed.
 A library is named by the hash of its sources, the compiler's path and version, the flags and
 the processor's features,
 so an edit of any of them builds a new one and nothing is ever stale; an unchanged one is
@@ -9,7 +10,9 @@ renamed to the final name: two runs that build the same library at once each ren
 complete file, and a reader never sees a half-written one. A library ends with its own
 SHA-256 after its last ELF byte (``seal``; the loader reads no further than the ELF says), and
 one whose digest does not match, cut short or damaged on the disk, is built again: loading it
-could crash the process (a truncated library is a SIGBUS, not an error). Each use touches the
+could crash the process (a truncated library is a SIGBUS, not an error); a library or object
+is kept only when it is a whole ELF file, and a library loaded only when it still is
+(``elf_problem``: a compiler may exit 0 having written one cut short). Each use touches the
 file, and the cache keeps the most recently used libraries up to ``CACHE_BYTES``.
 
 Each translation unit's object is kept too (``objects/``, sealed alike), by the hash of its

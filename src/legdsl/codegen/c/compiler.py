@@ -3,7 +3,7 @@ what ``-march=native`` means for it (``native``), and the processes it runs in.
 
 ``$LEGDSL_CC`` if set, else the first of ``cc``, ``gcc``, ``clang`` on the PATH. A cache key
 names the compiler by its path and its ``--version`` line and the processor by what
-``-march=native`` defines (``cc -march=native -dM -E``): two compiler runs, some 20 ms, that a
+``-march=native`` defines (``cc -march=native -dM -E``): two compiler runs, 15 ms, that a
 run whose library is cached would pay in each new process. They are remembered in the cache
 (``compilers/``) under the compiler program's identity (its real path, size, modification
 time, inode and device) and, for ``-march=native``, the processor's (``/proc/cpuinfo``'s model
