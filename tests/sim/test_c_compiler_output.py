@@ -175,3 +175,21 @@ def test_a_compilers_identity_changes_with_its_file(tmp_path: Path) -> None:
     assert one and compiler._identity(str(program)) not in ("", one)
     program.write_bytes(b"#!/bin/sh\nexec gcc\n")  # a script may run any compiler: not kept
     assert compiler._identity(str(program)) == ""
+
+
+@needs_cc
+def test_deleting_the_cache_directory_is_safe(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fresh: None
+) -> None:
+    """docs/runtime.md says the cache may be deleted: all in it is built again when needed."""
+    monkeypatch.delenv("LEGDSL_CC", raising=False)
+    files = build.sources(GENERATED / "hopper", "hop")
+    first = build.build("hopper", files)
+    assert (tmp_path / "cache" / "compilers").is_dir()
+    shutil.rmtree(tmp_path / "cache")
+    build._compiler.cache_clear()  # a new process
+    build.native.cache_clear()
+    again = build.build("hopper", files)
+    assert not again.cached and again.path == first.path and again.path.is_file()
+    assert (tmp_path / "cache" / "compilers").is_dir()
+    assert build.build("hopper", files).cached
