@@ -32,7 +32,8 @@ def test_a_long_status_message_is_wrapped_within_the_frame(
     import matplotlib.pyplot as plt
 
     from legdsl.export.player import OVERLAYS
-    from legdsl.export.video_views import CAPTION_LINES, SideView
+    from legdsl.export.video_caption import CAPTION_LINES
+    from legdsl.export.video_views import SideView
 
     diverged = dataclasses.replace(kangaroo, status="diverged", message=LONG)
     fig = plt.figure(figsize=size, dpi=100)

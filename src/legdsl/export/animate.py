@@ -367,20 +367,16 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
 
 
 def _end_left(motion: Any, fps: float, slow: float | None = 1.0) -> str:
-    """What the keyframes leave out of the run's end, where it is more than 5% of the run: a
-    frame every 1/fps from the start stops at the last whole one (2 keyframes over 2.00 s of
-    a 2.995 s run at --fps 0.5 said nothing of the last second; the player and the video of
-    a 0.04 s run showed 0.03 s of it, silently). The --fps that ends at the last sample is
-    the rate that does, divided by ``slow`` (a video's slow motion); None: no --fps does."""
+    """What the keyframes leave out of the run's end (frames every 1/fps stop at the last
+    whole one), where over 5% of the run, with the --fps that ends at it: that rate divided
+    by ``slow`` (a video's slow motion; None: no --fps does)."""
     end, start = motion.last_sample, float(motion.times[0])
     if end is None or motion.frames < 2 or end - motion.duration <= 0.05 * (end - start):
         return ""  # a few percent short (2.98 s of a 2.995 s run at 60 per second): as usual
     rate = math.ceil((end - start) * fps - 1e-9) / (end - start)  # a whole number of frames
     fix = f": --fps {rate / slow:.10g} ends at it" if slow else ""
-    return (
-        f"; the run's last {seconds_text(end - motion.duration)} (to {seconds_text(end)}) falls "
-        f"short of a whole frame and is left out{fix}"
-    )
+    left = f"{seconds_text(end - motion.duration)} (to {seconds_text(end)})"
+    return f"; the run's last {left} falls short of a whole frame and is left out{fix}"
 
 
 def _rate_kept(motion: Any, fps: float) -> str:

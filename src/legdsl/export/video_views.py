@@ -26,6 +26,7 @@ from legdsl.export.motion import Footprint, Motion, Snapshot, slope_tangent, ter
 from legdsl.export.player import camera_hints, grid_step
 from legdsl.export.player.camera import camera_lift
 from legdsl.export.shapes import Mesh, body_mesh, hex_rgb, side_outline
+from legdsl.export.video_caption import CAPTION_SIZE, caption_chars, wrapped
 from legdsl.export.video_order import Face, Wall, back_to_front, seen_faces
 from legdsl.export.video_shadows import ground_shadows
 
@@ -38,25 +39,6 @@ FORCE = "#d2401e"
 TRAIL = "#c0208a"
 FOOTPRINT_COLORS = ("#1f5fbf", "#2a9d4b", "#b8860b", "#8e44ad", "#16a085", "#c0392b")
 FIELD_OF_VIEW = 35.0  # degrees, vertical, as in the player
-
-
-CAPTION_SIZE = 11  # points
-CHAR_WIDTH = 0.62  # DejaVu Sans' widest usual characters, in ems (its average is some 0.55)
-CAPTION_LINES = 6  # of the status message at most: the rest is on standard error
-
-
-def wrapped(text: str, width: int) -> list[str]:
-    """``text`` in lines of at most ``width`` characters, ``CAPTION_LINES`` of them at most
-    (the last then ending in '...')."""
-    import textwrap
-
-    lines = textwrap.wrap(text, width, break_long_words=True) or [""]
-    if len(lines) > CAPTION_LINES:
-        lines = lines[:CAPTION_LINES]
-        lines[-1] = textwrap.shorten(lines[-1] + " ...", width, placeholder=" ...")
-        if not lines[-1].endswith("..."):
-            lines[-1] = lines[-1][: width - 4] + " ..."
-    return lines
 
 
 def _shade(color: tuple[float, float, float], factor: float) -> tuple[float, float, float]:
@@ -104,7 +86,7 @@ class View:
         m = self.motion
         lines = [f"{m.creature}   t = {snap.t:6.3f} s"]
         if m.status != "ok":  # wrapped to the frame (a long message ran off its right edge)
-            lines.extend(wrapped(f"{m.status}: {m.message}", self.caption_chars()))
+            lines.extend(wrapped(f"{m.status}: {m.message}", caption_chars(self.ax)))
         if "state" in self.overlays:
             lines.append(f"state: {snap.state or '(no controller)'}")
         if "speed" in self.overlays:
@@ -113,12 +95,6 @@ class View:
             )
             lines.append(f"speed: {snap.speed:.2f} m/s   command: {command}")
         return "\n".join(lines)
-
-    def caption_chars(self) -> int:
-        """How many characters of the caption's text fit on a line across the frame."""
-        fig = self.ax.figure
-        width = self.ax.get_position().width * fig.get_figwidth() * 72  # points
-        return max(16, int((0.96 * width - 12) / (CAPTION_SIZE * CHAR_WIDTH)))
 
     def update(self, snap: Snapshot) -> None:
         self.text.set_text(self.caption(snap))
