@@ -101,3 +101,27 @@ def test_figure6_and_the_footfall_share_a_window_s_time_axis(
     figure6, footfall = figures
     assert figure6.axes[0].get_xlim() == pytest.approx(footfall.axes[0].get_xlim())
     assert figure6.axes[0].get_xlim()[1] == pytest.approx(71 * STEP)  # the last sample in it
+
+
+def test_a_tiny_creature_s_axes_are_in_mm_um_and_ms(tmp_path: Path, figures: list[Any]) -> None:
+    """A hopper scaled by 0.0001 was drawn in m and s: '1e-5' over its height ticks, time
+    ticks of 0.01025 s."""
+    from legdsl.sim.trajectory import Trajectory
+
+    run = _run(tmp_path / "run", {"status": "ok"})
+    tr = Trajectory.load(run)
+    tr.t[:] *= 0.05
+    tr.com[:, 2] *= 2e-4
+    tr.com_vel[:] *= 0.01
+    tr.speed_command[:] *= 0.01
+    tr.save(run)
+    assert main(["plot", str(run), "-o", str(tmp_path / "f.png")]) == 0
+    figure6, footfall = figures
+    figure6.canvas.draw()
+    height, _, speed, joints = figure6.axes[:4]
+    assert height.get_ylabel() == "body height (\u00b5m)"
+    assert speed.get_ylabel() == "forward speed (mm/s)"
+    assert joints.get_xlabel() == "time (ms)" and footfall.axes[0].get_xlabel() == "time (ms)"
+    ticks = [t.get_text() for t in height.get_yticklabels() if t.get_text()]
+    assert all(80 <= float(t) <= 120 for t in ticks), ticks  # 0.09 to 0.11 mm
+    assert not height.yaxis.get_offset_text().get_text()

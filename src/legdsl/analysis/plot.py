@@ -16,6 +16,7 @@ import numpy as np
 
 from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
+from legdsl.analysis.plot_units import scale_axes, scale_axis
 from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
 from legdsl.signals import import_held
@@ -239,6 +240,7 @@ def draw_run(
     labels += mark_ending(axes, drawn.ending, first, last)
     if last > first:
         height.set_xlim(first, last)
+    scale_axes(axes, joints)  # mm, ms for a tiny creature (the x axis is shared)
     creature = drawn.title
     fig.suptitle(
         (drawn.ending.title(95) + "\n" if drawn.ending is not None else "")
@@ -302,6 +304,7 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
         ax.set_xlim(t_from, end)
     ax.set_ylim(-0.6, len(rows) - 0.4 + (0.5 if switch_times(run) else 0))
     ax.set_xlabel("time (s)")
+    scale_axis(ax.xaxis, ax.xaxis.label, (t_from, end))  # ms for a tiny creature's run
     mark_ending([ax], ending, t_from, end, word=False)
     ax.set_title(
         (ending.title(110) + "\n" if ending is not None else "")

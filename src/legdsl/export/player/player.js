@@ -429,7 +429,7 @@ const mix = (arr, i, j, a, k) => arr[i + k] + a * (arr[j + k] - arr[i + k]);
 // "0.00 / 0.03 s" and "speed: 0.00 m/s"; its times are in ms and its speeds in mm/s or um/s.
 function unitFor(most, unit) {
   if (!(most > 0) || most >= 0.1) return { factor: 1, unit }; // 0, NaN, or large enough
-  if (most >= 1e-4) return { factor: 1e3, unit: `m${unit}` };
+  if (most >= 1e-3) return { factor: 1e3, unit: `m${unit}` };
   return { factor: 1e6, unit: `\u00b5${unit}` };
 }
 const timeUnit = unitFor(duration, "s");
