@@ -482,8 +482,10 @@ def test_a_c_library_builds_with_tmpdir_unwritable(tmp_path: Path) -> None:
     assert done.code == 0 and "Traceback" not in done.err, done.err
     cache = scratch / "cache"
     assert "built" in done.err and sorted(p.name for p in cache.iterdir()) == sorted(
-        [*(p.name for p in cache.glob("hopper-*.so")), "objects", "grammar"]
-    )  # the library, its units' objects and the parser's tables, and no temporary file left
+        [*(p.name for p in cache.glob("hopper-*.so")), "objects", "grammar", "compilers"]
+    )  # the library, its units' objects, the parser's tables and the compiler's answers, and
+    # no temporary file left
+    assert all(p.suffix == ".json" for p in (cache / "compilers").iterdir())
     assert all(p.suffix == ".o" for p in (cache / "objects").iterdir())
     assert all(p.suffix == ".lark-tables" for p in (cache / "grammar").iterdir())
 
