@@ -68,3 +68,18 @@ def test_a_window_past_the_end_is_told_in_the_call_s_words(generated: Path) -> N
     with pytest.raises(UsageError, match=r"^plot\(\): nothing of this run to draw: start=1 s is "
                                          r"after its last sample, at .* s; give a start within"):  # fmt: skip
         run.plot(start=1)
+
+
+def test_a_fallen_run_s_picture_says_so_as_the_command_s_does(
+    tmp_path: Path, generated: Path
+) -> None:
+    """legdsl plot titles a run that fell with how it ended and marks the end; Run.plot drew
+    the same run as if it had ended ok."""
+    hopper = legdsl.load(ROOT / "creatures" / "hopper.leg", generated=generated)
+    run = hopper.run(controller="hop", set={"speed": "1 m/s"}, time=3, fall_tilt="5 deg")
+    assert run.status == "fell"
+    saved = run.save(tmp_path / "r")
+    svg = plot_run(saved, tmp_path / "cli.svg", first_leg_angles(saved))
+    assert b"fell at" in svg.read_bytes()
+    cli = plot_run(saved, tmp_path / "cli.png", first_leg_angles(saved))
+    assert run.plot(tmp_path / "api.png").read_bytes() == cli.read_bytes()
