@@ -197,25 +197,35 @@ def not_a_number(word: str) -> str:
 
 def not_a_number_name(tree: object, text: str) -> Diagnostic | None:
     """The first 'nan' or 'inf' in ``tree`` (parsed from ``text``) that parsed as a name in an
-    expression ('inf * stroke'): it is no name to declare, but a number legdsl does not read."""
+    expression ('inf * stroke') and is declared nowhere in it: it is no name to declare, but a
+    number legdsl does not read. A file that declares one ('param NAN = 2', as C names go)
+    uses its own."""
     if re.search(r"(?<![\w.])(?:nan|inf)", text, re.IGNORECASE) is None:
         return None  # the tree is not walked for nothing
-    return _not_a_number_name(tree)
+    declared: set[str] = set()
+    used: list[ast.EName] = []
+    _names(tree, declared, used)
+    return next((Diagnostic(e.span, not_a_number(e.ident.name)) for e in used
+                 if e.ident.name not in declared), None)  # fmt: skip
 
 
-def _not_a_number_name(tree: object) -> Diagnostic | None:
-    if isinstance(tree, ast.EName) and tree.ident.name.lower() in NOT_NUMBERS:
-        return Diagnostic(tree.span, not_a_number(tree.ident.name))
+def _names(tree: object, declared: set[str], used: list[ast.EName]) -> None:
+    """The names ``tree`` declares (every name outside an expression's) and the expressions'
+    names that read as a number legdsl does not read."""
+    if isinstance(tree, ast.EName):
+        if tree.ident.name.lower() in NOT_NUMBERS:
+            used.append(tree)
+        return
+    if isinstance(tree, ast.Ident):
+        declared.add(tree.name)
+        return
     if isinstance(tree, Span | str):
-        return None
+        return
     if isinstance(tree, tuple | list):
         parts: list[object] = list(tree)
     elif dataclasses.is_dataclass(tree) and not isinstance(tree, type):
         parts = [getattr(tree, f.name) for f in dataclasses.fields(tree)]
     else:
-        return None
+        return
     for part in parts:
-        found = _not_a_number_name(part)
-        if found is not None:
-            return found
-    return None
+        _names(part, declared, used)
