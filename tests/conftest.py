@@ -45,16 +45,19 @@ def _c_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
 @pytest.fixture(scope="session", autouse=True)
 def _ctrl_c_as_at_a_terminal() -> Iterator[None]:
     """Ctrl-C handled as at a terminal, though the suite was started as a background job
-    (``bash .ci/run &``), which starts every process with SIGINT ignored: the tests that send
-    one, to this process or to a ``legdsl`` it starts, ran on to their ends and failed."""
+    (``bash .ci/run &``), which starts every process with SIGINT and SIGQUIT ignored, or under
+    ``nohup`` (SIGHUP ignored): the tests that send one, to this process or to a ``legdsl`` it
+    starts (which inherits what is ignored), ran on to their ends and failed, and a legdsl told
+    to run for 1e9 s ran on after its test, for an hour."""
     import signal
 
-    ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
-    if ignored:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+    ignored = [s for s in (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP)
+               if signal.getsignal(s) is signal.SIG_IGN]  # fmt: skip
+    for sig in ignored:
+        signal.signal(sig, signal.default_int_handler if sig == signal.SIGINT else signal.SIG_DFL)
     yield
-    if ignored:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for sig in ignored:
+        signal.signal(sig, signal.SIG_IGN)
 
 
 def _project_files() -> dict[str, tuple[int, int]]:
