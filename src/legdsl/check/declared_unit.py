@@ -16,6 +16,7 @@ import re
 from collections.abc import Mapping, Sequence
 
 from legdsl.check.control_words import describe_type
+from legdsl.check.plain_declared import number_text
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE
 from legdsl.lang import ast
@@ -77,10 +78,9 @@ NUMBER = re.compile(r"[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?")
 def _number_of(value: ast.Expr) -> str | None:
     """The number a declaration's value is written with, without its unit ('200' of '200
     N*m'); None if it is not a number."""
-    if isinstance(value, ast.EUnary) and value.op == "-":
-        inner = _number_of(value.operand)
-        return None if inner is None else f"-{inner}"
-    if not isinstance(value, ast.EQuantity):
+    text = number_text(value)
+    if text is None:
         return None
-    found = NUMBER.match(value.text.strip())
-    return found.group(0) if found else None
+    sign = text[: len(text) - len(text.lstrip("-"))]
+    found = NUMBER.match(text.lstrip("-").strip())
+    return sign + found.group(0) if found else None

@@ -42,7 +42,7 @@ def plain_declared(
     name = plain[0].name
     kind, value = unitless[name]
     unit = next((u for d, u in KINDS.values() if d == want), None)
-    text = _number_text(value)
+    text = number_text(value)
     advice = (
         f"as in '{kind} {name} = {text} {unit}'"
         if unit is not None and text is not None
@@ -56,8 +56,10 @@ def plain_declared(
     )
 
 
-def _number_text(value: ast.Expr) -> str | None:
+def number_text(value: ast.Expr) -> str | None:
+    """A declaration's value as written, its sign too ('-3', '200 N*m'); None if it is no
+    number."""
     if isinstance(value, ast.EUnary) and value.op == "-":
-        inner = _number_text(value.operand)
+        inner = number_text(value.operand)
         return None if inner is None else f"-{inner}"
     return value.text if isinstance(value, ast.EQuantity) else None
