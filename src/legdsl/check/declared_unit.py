@@ -16,12 +16,10 @@ import re
 from collections.abc import Mapping, Sequence
 
 from legdsl.check.control_words import describe_type
-from legdsl.check.plain_declared import number_text
+from legdsl.check.plain_declared import advice, lone_declared, number_text
 from legdsl.ir import controller as ir
-from legdsl.ir.controller import BOOL, ONE
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import KINDS, describe
 
 # input or parameter -> its kind ('input' or 'param') and the value it is declared with
 Declared = Mapping[str, tuple[str, ast.Expr]]
@@ -41,34 +39,21 @@ def declared_unit(
     ``written`` beside it at the use (``w > 1 Hz``: that number may be the mistake)."""
     if any(_number_of(e) is not None for e in written):
         return None
-    named = [
-        v
-        for v in values
-        if isinstance(v, ir.Named) and v.kind in ("input", "param") and v.name in declared
-    ]
-    others = {t for t in [needed, *(v.type for v in values if v not in named)] if t is not None}
-    if len(named) != 1 or len(others) != 1 or others & {ONE, BOOL}:
+    found = lone_declared(declared, values, needed)
+    if found is None:
         return None
-    (want,) = others
-    culprit = named[0]
-    assert isinstance(culprit, ir.Named)
-    if not isinstance(want, tuple) or not isinstance(culprit.type, tuple) or culprit.type == want:
+    culprit, want = found
+    if not isinstance(culprit.type, tuple) or culprit.type == want:
         return None
     kind, value = declared[culprit.name]
-    unit = next((u for d, u in KINDS.values() if d == want), None)
-    text = _number_of(value)
-    advice = (
-        f"as in '{kind} {culprit.name} = {text} {unit}'"
-        if unit is not None and text is not None
-        else f"in a unit of {describe(want)}"
-    )
     word = "parameter" if kind == "param" else kind
     at = str(used_at) if used_at.file != value.span.file else f"{used_at.line}:{used_at.col}"
     return (
         value.span,
         f"{word} '{culprit.name}' is declared as {describe_type(culprit.type)}, but it is used "
         f"as {describe_type(want)} at {at}{used_at.within} ({what}); declare it in "
-        f"that unit, {advice}, or, if another value was meant there, write that one",
+        f"that unit, {advice(kind, culprit.name, _number_of(value), want, 'in')}, or, if "
+        "another value was meant there, write that one",
     )
 
 

@@ -16,7 +16,7 @@ from legdsl.ir import controller as ir
 from legdsl.ir.controller import BOOL, ONE
 from legdsl.lang import ast
 from legdsl.lang.errors import Span
-from legdsl.lang.units import KINDS, describe
+from legdsl.lang.units import KINDS, Dim, describe
 
 # input or parameter -> its kind and the value it is declared with, for those declared as a
 # plain number (no unit written)
@@ -29,31 +29,46 @@ def plain_declared(
     """The error at the declaration of the one input or parameter among ``values`` declared
     as a plain number, where the others (and what is ``needed`` of them all) have one
     dimension that is not a plain number; None if there is no such one."""
-    plain = [
-        v
-        for v in values
-        if isinstance(v, ir.Named) and v.kind in ("input", "param") and v.name in unitless
-    ]
-    others = {t for t in [needed, *(v.type for v in values if v not in plain)] if t is not None}
-    if len(plain) != 1 or len(others) != 1 or others & {ONE, BOOL}:
+    found = lone_declared(unitless, values, needed)
+    if found is None:
         return None
-    (want,) = others
-    assert isinstance(want, tuple) and isinstance(plain[0], ir.Named)
-    name = plain[0].name
-    kind, value = unitless[name]
-    unit = next((u for d, u in KINDS.values() if d == want), None)
-    text = number_text(value)
-    advice = (
-        f"as in '{kind} {name} = {text} {unit}'"
-        if unit is not None and text is not None
-        else f"with a unit of {describe(want)}"
-    )
+    named, want = found
+    kind, value = unitless[named.name]
     word = "parameter" if kind == "param" else kind
     return (
         value.span,
-        f"{word} '{name}' is declared as a plain number (no unit), but it is used as "
-        f"{describe_type(want)}; declare it with its unit, {advice}",
+        f"{word} '{named.name}' is declared as a plain number (no unit), but it is used as "
+        f"{describe_type(want)}; declare it with its unit, "
+        f"{advice(kind, named.name, number_text(value), want, 'with')}",
     )
+
+
+def lone_declared(
+    declared: Mapping[str, object], values: Sequence[ir.Expr], needed: ir.Type
+) -> tuple[ir.Named, Dim] | None:
+    """The one input or parameter among ``values`` named in ``declared``, and the dimension
+    the others (and ``needed``) all have, where that is one dimension and not a plain number
+    or a truth value; None otherwise (two such names are not blamed on one declaration)."""
+    named = [
+        v
+        for v in values
+        if isinstance(v, ir.Named) and v.kind in ("input", "param") and v.name in declared
+    ]
+    others = {t for t in [needed, *(v.type for v in values if v not in named)] if t is not None}
+    if len(named) != 1 or len(others) != 1 or others & {ONE, BOOL}:
+        return None
+    (want,) = others
+    assert isinstance(want, tuple) and isinstance(named[0], ir.Named)
+    return named[0], want
+
+
+def advice(kind: str, name: str, number: str | None, want: Dim, word: str) -> str:
+    """How to declare ``name`` in a unit of ``want``: the declaration written out where
+    ``number`` and a unit of that kind are known, else the dimension."""
+    unit = next((u for d, u in KINDS.values() if d == want), None)
+    if unit is not None and number is not None:
+        return f"as in '{kind} {name} = {number} {unit}'"
+    return f"{word} a unit of {describe(want)}"
 
 
 def number_text(value: ast.Expr) -> str | None:
