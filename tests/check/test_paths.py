@@ -14,7 +14,8 @@ from conftest import CREATURES, ROOT
 from legdsl.analysis.path_report import path_report
 from legdsl.check.source import check_file, check_model
 from legdsl.cli import main
-from legdsl.ir.paths import PathSpec, read_waypoints, square_corners
+from legdsl.ir.paths import PathSpec, square_corners
+from legdsl.ir.waypoints import read_waypoints
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.lower.control import lower_controller
 from legdsl.pipeline.path_option import parse_path_option
@@ -152,7 +153,7 @@ def test_path_option_parses_like_the_file(tmp_path: Path) -> None:
     assert spec == read_waypoints(csv, "route")
     assert spec.points == ((0.0, 0.0), (5.0, 0.0), (5.0, 5.0))
     csv.write_text("0,0\n5\n")
-    with pytest.raises(UsageError, match="line 2"):
+    with pytest.raises(UsageError, match="waypoints.csv:2:2: this line has x alone"):
         parse_path_option(str(csv))
     for empty in ("", "  ", "route="):  # was 'unexpected end of the file' at '--path:1:1'
         with pytest.raises(UsageError, match="gives no path: write a shape"):
@@ -192,7 +193,10 @@ def test_a_degenerate_or_far_path_is_an_error_at_its_place(shape: str, says: str
 
 @pytest.mark.parametrize(
     ("rows", "says"),
-    [("0,0\n1e-13,0\n", "line 2 repeats"), ("0,0\n1e300,0\n", "line 2 is more than 1e+09 m")],
+    [
+        ("0,0\n1e-13,0\n", "waypoints.csv:2:1: this point repeats"),
+        ("0,0\n1e300,0\n", "waypoints.csv:2:1: x is more than 1e+09 m"),
+    ],
 )
 def test_a_degenerate_or_far_waypoint_is_a_usage_error(
     tmp_path: Path, rows: str, says: str

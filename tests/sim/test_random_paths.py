@@ -339,27 +339,37 @@ def test_a_path_the_language_refuses_is_told_with_its_place(
     assert len(lines) == 1 or (lines[0].startswith("--path:1:") and "^" in lines[-1]), err
 
 
-WAYPOINTS_REFUSED = [  # (a waypoints file, what the message must say)
-    ("x,y\r\n1,2\r\n", "at least 2 points"),
-    ("\n\n# nothing\n", "give one 'x,y' line (metres) per point"),
-    ("0,0\n1,0\n1,0\n", "repeats the point before it"),
-    ("0,0\n1,nan\n", "not finite"),
-    ("0,0\n1,2,3\n", "is not 'x,y'"),
-    ("0,0,0\n1,1\n2,2\n", "line 1 is not 'x,y'"),  # numbers only: a point, not a header
-    ("0 0\n5,0\n5,5\n", "line 1 is not 'x,y'"),  # so too with spaces (it was dropped)
-    ("0\t0;\n5,0\n5,5\n", "line 1 is not 'x,y'"),
-    ("0,0\n5e9,0\n", "from the origin"),
+WAYPOINTS_REFUSED = [  # (a waypoints file, what the message must say, and where: line:col)
+    ("x,y\r\n1,2\r\n", "at least 2 points", None),
+    ("\n\n# nothing\n", "give one 'x,y' line (metres) per point", None),
+    ("0,0\n1,0\n1,0\n", "repeats the one before it", "3:1"),
+    ("0,0\n1,nan\n", "not a finite number", "2:3"),
+    ("0,0\n1,2,3\n", "this line has 3 fields", "2:5"),
+    ("0,0,0\n1,1\n2,2\n", "this line has 3 fields", "1:5"),  # numbers only: not a header
+    ("0 0\n5,0\n5,5\n", "apart by a space", "1:3"),  # so too with spaces (it was dropped)
+    ("0\t0;\n5,0\n5,5\n", "'0\t0' is not a number", "1:1"),
+    ("0,0\n5e9,0\n", "from the origin", "2:1"),
 ]
 
 
-@pytest.mark.parametrize(("content", "said"), WAYPOINTS_REFUSED)
-def test_a_waypoints_file_the_runtime_refuses_is_told_in_one_line(
-    content: str, said: str, tmp_path: Path
+@pytest.mark.parametrize(("content", "said", "where"), WAYPOINTS_REFUSED)
+def test_a_waypoints_file_the_runtime_refuses_is_told_at_its_place(
+    content: str, said: str, where: str | None, tmp_path: Path
 ) -> None:
+    """Told in one line where the file has too few points, else at the line and column (it
+    was one line without a column), with the line and a caret under the column."""
     (tmp_path / "w.csv").write_bytes(content.encode())
     with pytest.raises(UsageError) as told:
         parse_path_option(str(tmp_path / "w.csv"))
-    assert said in str(told.value) and "\n" not in str(told.value)
+    message = str(told.value)
+    assert said in message, message
+    if where is None:
+        assert "\n" not in message
+        return
+    head, line, caret = message.splitlines()
+    n, col = (int(v) for v in where.split(":"))
+    assert head.startswith(f"{tmp_path / 'w.csv'}:{where}: ")
+    assert line[4:] == content.splitlines()[n - 1] and caret.index("^") == 4 + col - 1
 
 
 @pytest.mark.parametrize(
@@ -376,6 +386,12 @@ def test_a_waypoints_file_is_read_as_a_spreadsheet_writes_it(
     (tmp_path / name).write_bytes(content.encode())
     monkeypatch.chdir(tmp_path)
     assert parse_path_option(name).points == ((0.0, 0.0), (1.0, 0.0))
+
+
+def test_a_device_given_as_waypoints_is_told_so() -> None:
+    """It said "no such file /dev/null": it is there, and is no file of waypoints."""
+    with pytest.raises(UsageError, match="/dev/null is a character device, not a file of way"):
+        parse_path_option("/dev/null")
 
 
 def test_a_directory_given_as_waypoints_is_told_so(tmp_path: Path) -> None:

@@ -17,9 +17,7 @@ counted without wrapping (a closed path's second lap goes on from its length).
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
-from pathlib import Path
 
 Point = tuple[float, float]
 
@@ -122,91 +120,3 @@ def square_corners(corner: Point, side: float, turn: int) -> tuple[Point, ...]:
     x, y = corner
     d = side * turn
     return ((x, y), (x + side, y), (x + side, y + d), (x, y + d))
-
-
-def read_waypoints(path: Path, name: str) -> PathSpec:
-    """``x,y`` per line (metres, or lengths with their unit: ``30 cm``; ``#`` comments and a
-    first line of words alone, ``x,y``, are skipped: a first line with a number is a point)."""
-    from legdsl.lang.errors import UsageError
-
-    try:  # utf-8-sig: a spreadsheet's byte-order mark would hide the first point as a header
-        lines = path.read_bytes().decode("utf-8-sig").splitlines()
-    except UnicodeDecodeError as e:
-        raise UsageError(
-            f"--path {path}: not a text file of 'x,y' lines (byte {e.start}: {e.reason}); "
-            "save it as UTF-8 text"
-        ) from None
-    points: list[Point] = []
-    header_allowed = True  # the first line with text, after any comments and blank lines
-    for n, line in enumerate(lines, 1):
-        text = line.split("#", 1)[0].strip()
-        if not text:
-            continue
-        first, header_allowed = header_allowed, False
-        if first and not _NUMBER.search(text):
-            continue  # a header: words alone ('0 0' or '3 km,4 km' is a point, read or refused)
-        parts = text.replace(";", ",").split(",")
-        if len(parts) != 2:
-            raise UsageError(
-                f"--path {path}: line {n} is not 'x,y' (two numbers in metres): {line!r}"
-            )
-        point = (_metres(path, n, line, parts[0], 0), _metres(path, n, line, parts[1], 1))
-        if not all(math.isfinite(c) for c in point):
-            raise UsageError(f"--path {path}: line {n} is not finite: {line!r}")
-        if far(point[0]) or far(point[1]):
-            raise UsageError(
-                f"--path {path}: line {n} is more than {FARTHEST:g} m from the origin: "
-                f"{line!r}; give the path in metres near where the creature runs"
-            )
-        if points and same_point(point, points[-1]):
-            raise UsageError(
-                f"--path {path}: line {n} repeats the point before it; remove the repeat"
-            )
-        points.append(point)
-    if len(points) < 2:
-        raise UsageError(
-            f"--path {path}: a path needs at least 2 points, got {len(points)}; "
-            "give one 'x,y' line (metres) per point"
-        )
-    return PathSpec(name=name, shape="polyline", points=tuple(points))
-
-
-# a number as a field of a waypoint line starts (a word such as 'x1' does not)
-_NUMBER = re.compile(r"(?:^|[\s,;])[-+]?(?:\d|\.\d)")
-_QUANTITY = re.compile(
-    r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:inf|nan))\s*([^\d\s.+-].*?)?\s*"
-)
-
-
-def _metres(path: Path, n: int, line: str, field: str, index: int) -> float:
-    """One coordinate of line ``n``: a number in metres, or a length with its unit (3 km);
-    anything else refused at its column, with the line and a caret."""
-    from legdsl.lang.errors import UsageError
-    from legdsl.lang.units import KINDS, UnitError, a_kind, parse_unit
-
-    col = len(line) - len(line.lstrip()) + 1  # where the field starts in the line
-    if index:
-        col = line.replace(";", ",").index(",", col - 1) + 2
-    col += len(field) - len(field.lstrip())
-    shown = f"\n    {line}\n    {' ' * (col - 1)}^"
-    where = f"{path}:{n}:{col}"
-    match = _QUANTITY.fullmatch(field)
-    if match is None:  # '0 0', 'abc': the line's shape is wrong (told in one line)
-        raise UsageError(
-            f"--path {path}: line {n} is not 'x,y' (two numbers in metres, or lengths with "
-            f"their unit): {line!r}"
-        )
-    number, unit = match.groups()
-    if not unit:
-        return float(number)
-    try:
-        factor, dim = parse_unit(unit)
-    except UnitError:
-        dim = None
-    if dim != KINDS["length"][0]:
-        said = f"is {a_kind(dim)}" if dim is not None else f"has the unknown unit {unit!r}"
-        raise UsageError(
-            f"{where}: {field.strip()!r} {said}, and a waypoint is a length; write it in metres "
-            f"({number}) or with a unit of length ({number} cm, {number} km){shown}"
-        )
-    return float(number) * factor

@@ -4,12 +4,14 @@ syntax or a file of waypoints, checked as the file's own paths are."""
 from __future__ import annotations
 
 import re
+import stat
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
 from legdsl.check.paths import check_path
-from legdsl.ir.paths import PathSpec, read_waypoints
+from legdsl.ir.paths import PathSpec
+from legdsl.ir.waypoints import read_waypoints
 from legdsl.lang.errors import Diagnostics, LegError, UsageError
 from legdsl.lang.parser import parse_value
 
@@ -27,9 +29,8 @@ def parse_path_option(text: str) -> PathSpec:
     named = re.fullmatch(r"\s*[^()]*\.(csv|txt)\s*", shape, re.IGNORECASE)
     if named or ("(" not in shape and shape.strip() and file.exists()):  # a directory: told
         if not file.is_file():
-            there = f"{file} is a directory" if file.is_dir() else f"no such file {file}"
-            raise UsageError(f"--path {text}: {there}; give a file of 'x,y' lines, or a shape, "
-                             "as in --path 'circle(center = (0, 5) m, radius = 5 m)'")  # fmt: skip
+            raise UsageError(f"--path {text}: {_not_a_file(file)}; give a file of 'x,y' lines, "
+                             "or a shape, as in --path 'circle(center = (0, 5) m, radius = 5 m)'")  # fmt: skip
         return read_waypoints(file, name)
     if not shape.strip():
         raise UsageError(
@@ -49,6 +50,23 @@ def parse_path_option(text: str) -> PathSpec:
     diag.raise_if_any()
     assert spec is not None
     return spec
+
+
+def _not_a_file(file: Path) -> str:
+    """What ``file``, not a regular file, is: none, a directory, or another kind (a device such
+    as /dev/null, a pipe, a socket), which is not read (a pipe could wait for ever)."""
+    try:
+        mode = file.stat().st_mode
+    except FileNotFoundError:
+        return f"no such file {file}"
+    except OSError as e:
+        return f"{file} cannot be read ({e.strerror or e})"
+    if stat.S_ISDIR(mode):
+        return f"{file} is a directory"
+    kinds = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+             (stat.S_ISFIFO, "a pipe"), (stat.S_ISSOCK, "a socket"))  # fmt: skip
+    kind = next((said for test, said in kinds if test(mode)), "not a regular file")
+    return f"{file} is {kind}, not a file of waypoints"
 
 
 def path_specs(paths: str | PathSpec | Sequence[str | PathSpec]) -> list[PathSpec]:
