@@ -86,6 +86,17 @@ def test_square_corners_and_wrap_around() -> None:
     assert values["heading"] == pytest.approx(0.0)
 
 
+@pytest.mark.parametrize("spec", [LEFT_CIRCLE, RIGHT_CIRCLE, SQUARE])
+def test_run_json_says_a_circle_is_closed_as_its_report_does(spec: PathSpec) -> None:
+    """run.json's paths[].closed was false for a circle, where its path_reports[].closed
+    (the tracker's: a circle goes round) was true; it reads back as the same path."""
+    data = spec.as_json()
+    assert data["closed"] is PathGeometry(spec).closed is True
+    assert PathSpec.from_json(data) == spec
+    line = PathSpec("route", "polyline", ((0.0, 0.0), (1.0, 0.0)))
+    assert line.as_json()["closed"] is False and PathSpec.from_json(line.as_json()) == line
+
+
 def test_no_path_reads_zero() -> None:
     values = PathTracker(PathSpec("route", "none")).update(3.0, 4.0)
     assert values["given"] == 0.0 and values["lateral"] == 0.0

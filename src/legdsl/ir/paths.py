@@ -87,7 +87,7 @@ class PathSpec:
             "name": self.name,
             "shape": self.shape,
             "points": [list(p) for p in self.points],
-            "closed": self.closed,
+            "closed": self.closed or self.shape == "circle",  # as a path report says it
             "center": list(self.center),
             "radius": self.radius,
             "turn": self.turn,
@@ -107,7 +107,7 @@ class PathSpec:
             name=str(data["name"]),
             shape=str(data["shape"]),
             points=tuple(pt(p) for p in points),
-            closed=bool(data.get("closed", False)),
+            closed=bool(data.get("closed", False)) and data["shape"] != "circle",  # its own
             center=pt(data.get("center", [0.0, 0.0])),
             radius=float(data.get("radius", 0.0)),  # type: ignore[arg-type]
             turn=int(data.get("turn", 1)),  # type: ignore[call-overload]
