@@ -37,7 +37,7 @@ def batches(workers: int, batch: int, runs: int, seconds: float) -> list[tuple[f
 @pytest.mark.parametrize("workers", [1, 2, 4])
 def test_the_time_left_holds_within_a_batch_and_is_near_the_truth(workers: int) -> None:
     rows = batches(workers, 8, 160, 3.0)
-    pace = SweepPace(len(rows), workers)
+    pace = SweepPace(len(rows), workers, 8)
     end, said = rows[-1][0], []
     ticks = [(0.5 * k, None) for k in range(int(end / 0.5))]  # the waits' calls between rows
     for t, sim in sorted([*rows, *ticks], key=lambda e: e[0]):
@@ -99,3 +99,30 @@ def test_nothing_before_the_second_batch() -> None:
     for j in range(8):
         pace.row(10.0, 5.0 + 0.001 * j)
     assert pace.left(6.0) is None and math.isnan(pace.pace)
+
+
+@pytest.mark.parametrize(
+    ("workers", "batch", "seconds"),
+    [(2, 8, 0.4), (2, 1, 0.04), (8, 8, 0.3), (1, 1, 0.01), (4, 2, 0.15)],
+)
+def test_rows_coming_back_steadily_still_tell_the_time_left(
+    workers: int, batch: int, seconds: float
+) -> None:
+    """An outside user's sweep of 400 runs on 2 workers (11 s), and one of 10,000 runs of
+    0.5 s (90 s), said 'time left not yet known' to their ends: their rows came back less than
+    0.5 s apart, so every row joined one arrival, and a pace needs two. Now, whatever the rows'
+    rate, an estimate comes within the first tenth (or 2.5 s of rows), and is near the truth
+    after a third."""
+    rows = batches(workers, batch, 2000, seconds)
+    pace = SweepPace(len(rows), workers, batch)
+    end, said = rows[-1][0], []
+    for t, sim in rows:
+        pace.row(sim, t)
+        said.append((t, pace.left(t)))
+    known = [(t, left) for t, left in said if left is not None]
+    soon = max(rows[len(rows) // 10][0], rows[0][0] + 2.5)
+    assert known and known[0][0] < soon, (known[:1], soon)
+    assert all(left is not None for t, left in said if soon < t < end - 1)
+    for t, left in known:
+        if t > rows[len(rows) // 3][0]:  # within a third (and 1 s) of the truth
+            assert abs(left - (end - t)) <= max(1.0, 0.34 * (end - t)), (t, left)
