@@ -5,15 +5,17 @@ A part holds anything a controller holds (declarations, actions, roles, paths, a
 table, ``own`` lines) and includes of other parts. ``include gains`` puts the part's
 declarations where the ``include`` stands, in the part's order; a controller's own
 declaration of a name the part declares (of the same kind) gives it another value in the
-part's place, so several controllers share their common gains and state only what differs.
-Two included parts may not declare one name, nor may one part declare a name twice.
+part's place, so several controllers share their common gains and state only what differs;
+its own action replaces the part's of that name. Two included parts may not declare one name,
+nor may one part declare a name twice.
 
 ``controller pace extends trot { ... }`` starts from trot's items (its includes too) and puts
 each of its own declarations, roles, start, table and actions in the place of trot's of the
 same name (or kind), the rest after them; so pace states only what differs, and the order of
 its inputs and parameters, which run.json and the generated code follow, stays trot's. The
 parts pace includes are its own text too: they replace trot's items of their names (in the
-include's place), and pace's own items replace theirs.
+include's place), and pace's own items replace theirs (an action too, where trot took it
+from a part).
 """
 
 from __future__ import annotations
@@ -102,6 +104,7 @@ def _expanded(
 ) -> tuple[tuple[ast.ControllerItem, ...], dict[int, str]]:
     """The items expanded, and the part each one that is not an action came from."""
     included: dict[tuple[str, ...], tuple[str, ast.ControllerItem]] = {}  # key -> (part, item)
+    part_actions: set[int] = set()  # the actions the parts bring
     items: list[ast.ControllerItem] = []
     for item in written:
         if not isinstance(item, ast.IncludeDecl):
@@ -132,6 +135,8 @@ def _expanded(
             for shared in _expanded(part.items, parts, diag, (*chain, ident.name))[0]:
                 if isinstance(shared, ast.ActionDef | ast.OwnDecl):
                     items.append(shared)  # two of one name: 'defined twice' later
+                    if isinstance(shared, ast.ActionDef):
+                        part_actions.add(id(shared))
                     continue
                 key = _key(shared)
                 other = included.get(key)
@@ -150,9 +155,22 @@ def _expanded(
     for item in written:
         if not isinstance(item, ast.IncludeDecl | ast.ActionDef) and _key(item) in included:
             own.setdefault(_key(item), item)  # a second one is 'defined twice' later
-    moved = {id(item) for item in own.values()}
+    # an own action replaces the parts' of its name, in the (first) part's place
+    own_actions: dict[str, ast.ActionDef] = {}
+    for item in written:
+        if isinstance(item, ast.ActionDef):
+            own_actions.setdefault(item.name.name, item)  # a second: 'defined twice' later
+    brought = {i.name.name for i in items if isinstance(i, ast.ActionDef) and id(i) in part_actions}
+    replacing = {name: action for name, action in own_actions.items() if name in brought}
+    moved = {id(item) for item in (*own.values(), *replacing.values())}
     out: list[ast.ControllerItem] = []
     for item in items:
+        if isinstance(item, ast.ActionDef) and id(item) in part_actions:
+            action = replacing.get(item.name.name)
+            if action is not None:
+                if all(placed is not action for placed in out):
+                    out.append(action)
+                continue
         if id(item) in moved:
             continue  # moved into the part's place below
         override = own.get(_key(item)) if not isinstance(item, ast.ActionDef) else None
@@ -345,7 +363,7 @@ def _included_keys(
                 continue
             keys |= _included_keys(part.items, parts, seen | {ident.name})
             keys |= {_key(i) for i in part.items
-                     if not isinstance(i, ast.IncludeDecl | ast.ActionDef | ast.OwnDecl)}  # fmt: skip
+                     if not isinstance(i, ast.IncludeDecl | ast.OwnDecl)}  # fmt: skip
     return keys
 
 
