@@ -98,3 +98,22 @@ def test_the_stuck_note_wants_a_long_share_of_the_run() -> None:
     early[-1]["t"] = 7.0
     late_switch = [*early, {"t": 9.0, "kind": "switch", "controller": "d"}]  # a takeover: moving
     assert run_notes(_run(speed, command, late_switch)) == []
+
+
+def test_a_speed_still_rising_toward_the_command_is_told_to_run_longer() -> None:
+    """A kangaroo told 5 m/s and run 3 s was still speeding up (2.86 m/s mean from 1.9 s, and
+    rising) and the note said the controller "did not follow this command"; a 20 s run holds
+    5.07 m/s. A speed changing toward the command at the end is told so, with the advice to
+    run longer; a flat miss, or one drifting away, is still "did not follow"."""
+    n, states = 601, [{"t": 0.1 * k, "kind": "state", "state": "A"} for k in range(60)]
+    t = np.arange(n) * 0.01
+    wobble = 0.4 * np.sin(2 * np.pi * t / 0.37)  # a hop's rise and fall within each stride
+    rising = _run(0.6 * t + wobble, np.full(n, 5.0), states)
+    (note,) = run_notes(rising)
+    assert "still speeding up toward it at the end" in note and "run longer" in note
+    assert "did not follow" not in note
+    slowing = _run(6.0 - 0.6 * t + wobble, np.full(n, 1.0), states)
+    assert "still slowing down toward it" in run_notes(slowing)[0]
+    for speed in (np.full(n, 2.86) + wobble, 2.5 - 0.2 * t + wobble):  # flat, or drifting away
+        (note,) = run_notes(_run(speed, np.full(n, 5.0), states))
+        assert "did not follow this command" in note and "still" not in note
