@@ -145,3 +145,35 @@ def test_a_player_written_to_a_device_is_not_to_be_opened_in_a_browser(
     assert main(["animate", str(hopper), "-o", "/dev/null", *GEN]) == 0
     said = capsys.readouterr().out
     assert "legdsl: wrote /dev/null" in said and "browser" not in said
+
+
+def test_replay_and_scale_say_the_folder_they_make(
+    hopper: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """`legdsl replay RUN --mujoco -o r2/sub/h1.mp4` and `legdsl scale FILE --by 2 -o
+    sc/new/h2.leg` made their missing folders without a word, where plot, animate and the
+    exports say `made directory DIR/`: they say it too."""
+    from legdsl.export import mjreplay
+
+    def render(run: Path, out: Path, *rest: object) -> int:  # MuJoCo's renderer stood in for
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_bytes(b"mp4")
+        return 1
+
+    monkeypatch.setattr(mjreplay, "render_mp4", render)
+    capsys.readouterr()
+    video = tmp_path / "r2" / "sub" / "h1.mp4"
+    assert main(["replay", str(hopper), "--mujoco", "-o", str(video), "--fps", "10"]) == 0
+    said = capsys.readouterr().out
+    assert f"legdsl: made directories {tmp_path / 'r2'}/ to {video.parent}/" in said
+    scaled = tmp_path / "sc" / "new" / "h2.leg"
+    assert main(["scale", str(CREATURES / "hopper.leg"), "--by", "2", "-o", str(scaled)]) == 0
+    said = capsys.readouterr().out
+    assert said.index(f"made directories {tmp_path / 'sc'}/ to {scaled.parent}/") < said.index(
+        f"wrote {scaled}"
+    )
+    assert main(["scale", str(CREATURES / "hopper.leg"), "--by", "3", "-o", str(scaled)]) == 0
+    assert "made" not in capsys.readouterr().out  # its folder was there

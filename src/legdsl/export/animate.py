@@ -457,9 +457,11 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         print(
             "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
         )
+    made = new_directory(out)
     frames = mjreplay.render_mp4(
         run, out, video_fps(args.fps, 30.0), parse_size(args.size or "960x540"), source
     )
+    _say_made(made, out, messages_for(out))
     counted = f"{frames} frame{'s' if frames != 1 else ''}"  # a one-sample run: "1 frame"
     print(f"legdsl: wrote {out} ({counted}, MuJoCo's renderer)", file=messages_for(out))
     return 0

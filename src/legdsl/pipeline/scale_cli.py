@@ -19,7 +19,7 @@ from legdsl.lang.errors import Diagnostics, LegError, UsageError
 from legdsl.lang.parser import parse, parse_file
 from legdsl.lang.scaling import scale_name, scale_source, scales_anything
 from legdsl.pipeline.options import check_output_file
-from legdsl.pipeline.outputs import is_stream, named_as
+from legdsl.pipeline.outputs import is_stream, made_note, named_as, new_directory
 from legdsl.pipeline.scaled import scale_factor
 
 
@@ -65,7 +65,7 @@ def cmd_scale(args: argparse.Namespace) -> int:
         raise UsageError(f"--name {args.name[0]}: {args.file} has no creature to name")
     if not tree.creatures and (tree.actions or tree.shared):
         # a file of actions and shared parts, for a scaled file to 'use': checked where used
-        write_atomic(out, scale_source(text, args.by, args.file, out))
+        _write(out, scale_source(text, args.by, args.file, out))
         print(
             f"wrote {out} (the actions and shared parts of {args.file}, scaled by {args.by:g}); "
             "point the scaled creature's 'use' at it"
@@ -75,7 +75,7 @@ def cmd_scale(args: argparse.Namespace) -> int:
     names = _new_names([c.name.name for c in tree.creatures], args.name, args.by, args.file)
     scaled = scale_source(text, args.by, args.file, out, names)
     models = _checked(scaled, out)  # before it is written: a file that fails is never left
-    write_atomic(out, scaled)
+    _write(out, scaled)
     written = ", ".join(m.name for m in models)
     print(f"wrote {out} (creature {written}, scaled by {args.by:g}); legdsl check passes on it")
     for old, new in names.items():
@@ -98,6 +98,15 @@ def cmd_scale(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     return 0
+
+
+def _write(out: Path, text: str) -> None:
+    """``text`` written to ``out``, a folder it makes said as every ``-o`` says it
+    (``made directory sc/new/``), before the "wrote" line."""
+    made = new_directory(out)
+    write_atomic(out, text)
+    if made is not None:
+        print(made_note(made, out))
 
 
 def _users(trees: list[ast.SourceFile]) -> dict[Path, Path]:
