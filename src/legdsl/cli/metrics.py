@@ -144,7 +144,8 @@ def add_metrics_parser(sub: Any) -> Command:
     )
     m.add_argument("--json", action="store_true", help="print JSON instead of the table")
     m.add_argument("--generated", default=None, metavar="DIR",
-                   help="where the run's generated modules live, for the foot clearance at the apex "
-                   "(default: the folder the run was made with, which run.json records, found from "
-                   "the run directory or where it was; else generated/; never compiled here)")  # fmt: skip
+                   help="where the run's generated modules live, for the foot clearance at the apex, "
+                   "the foot speed at touchdown and the margins to the terrain (default: the "
+                   "folder the run was made with, which run.json records, found from the run "
+                   "directory or where it was; else generated/; never compiled here)")  # fmt: skip
     return cmd_metrics

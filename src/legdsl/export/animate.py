@@ -480,7 +480,12 @@ def add_replay_parser(sub: Any) -> Command:
     r.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
     r.add_argument("--mujoco", action="store_true", help="play it in MuJoCo")
     r.add_argument("-o", "--output", metavar="FILE.mp4", help="render to this mp4 instead")
-    r.add_argument("--fps", default=None, metavar="N", help="frames per second, or 30Hz")
+    r.add_argument(
+        "--fps",
+        default=None,
+        metavar="N",
+        help="frames per second, or 30Hz (default 30 in an mp4, 60 in the viewer)",
+    )
     r.add_argument("--size", metavar="WxH", help="mp4 size in pixels (default 960x540)")
     r.add_argument(
         "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
