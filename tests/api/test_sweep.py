@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from legdsl.api.sweep import Axis, parse_axis, points
+from legdsl.api.sweep import points
+from legdsl.api.sweep_axes import Axis, parse_axis
 from legdsl.cli import main
 from legdsl.lang.errors import UsageError
 
@@ -105,7 +106,7 @@ def test_axes_take_units_and_check_them() -> None:
     assert parse_axis("grid", "speed=3.6km/s:7.2km/s:2", DIMS).values == pytest.approx(
         (3600.0, 7200.0)
     )
-    assert parse_axis("grid", "k_speed=50ms,0.1", DIMS).values == pytest.approx((0.05, 0.1))
+    assert parse_axis("grid", "k_speed=50ms,100ms", DIMS).values == pytest.approx((0.05, 0.1))
     with pytest.raises(UsageError, match="speed is a velocity .*, but '2kg' is a mass"):
         parse_axis("grid", "speed=2kg:6kg:3", DIMS)
     with pytest.raises(UsageError, match="not an input or parameter"):

@@ -150,8 +150,8 @@ controller hold {
         (["--speeds", "0"], r"--speeds 0: a speed of 0 has no relative speed error .* add a speed other than 0"),
         (["--speeds", "1kg"], r"--speeds 1kg: speed is a velocity"),
         # it ran, scored and printed every row twice
-        (["--speeds", "1,2,1m/s"], r"--speeds 1,2,1m/s: 1 m/s is given more than once; give each speed once"),
-        (["--speeds", "1:2:0"], r"--speeds 1:2:0: write the speeds as V,V"),
+        (["--speeds", "1,2,1"], r"--speeds '1,2,1': 1 is given twice \(1 before it is the same value, and its runs would be alike\); give each speed once"),
+        (["--speeds", "1:2:0"], r"--speeds '1:2:0': N, the number of values from LO to HI, is a whole number"),
         (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
         (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller; did you mean .k_speed.\? \(it has k_speed,"),

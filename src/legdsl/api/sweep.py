@@ -24,7 +24,6 @@ import csv
 import itertools
 import math
 import os
-import re
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
@@ -34,15 +33,17 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.sweep_plot import as_number
+from legdsl.api.sweep_axes import Axis, _at_most
+from legdsl.api.sweep_axes import bare_in_si as bare_in_si  # (read from here before)
+from legdsl.api.sweep_axes import parse_axis as parse_axis
 from legdsl.api.sweep_pace import SweepPace
 from legdsl.api.workers import Workers
 from legdsl.files import atomic_path, refused
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
-from legdsl.lang.units import KINDS, Dim, a_kind, named_si_unit, unit_for
+from legdsl.lang.units import KINDS, Dim, named_si_unit
 from legdsl.pipeline.options import read_seconds
 from legdsl.pipeline.report import progress_line
-from legdsl.pipeline.settings import NUMBER_AND_UNIT, parse_given
 
 # The metrics kept in every row (keys of legdsl.analysis.metrics' summaries).
 METRICS = (
@@ -56,122 +57,6 @@ METRIC_UNITS = {
     "pitch_magnitude": "deg", "peak_vertical_acceleration": "g", "positive_work": "J",
     "energy_per_metre": "J/m", "cost_of_transport": "-",
 }  # fmt: skip
-
-
-@dataclass(frozen=True)
-class Axis:
-    """One swept name and how its values are chosen."""
-
-    name: str
-    kind: str  # grid, random, lhs
-    values: tuple[float, ...] = ()  # grid: the values; random and lhs: (low, high)
-    written: str = ""  # the unit its values were given in (the picture shows them in it)
-
-
-def bare_in_si(text: str, name: str, dim: Dim, written: str | None = None) -> str:
-    """``NAME=LO:HI`` (or a grid) written without units is in SI units: for a quantity whose
-    usual unit (or the unit the file ``written`` it in: ``stroke = 1.5 cm``) is not SI (an
-    angle: ``stand=-50:-30`` meant in degrees is radians) say so, and how to write it in that
-    unit; "" otherwise."""
-    spec = text.partition("=")[2]
-    si, usual = units_of({name: dim})[name], written or unit_for(dim)
-    if any(c.isalpha() for c in spec) or usual in ("", si):
-        return ""
-    numbers = re.split(r"([:,])", spec)
-    last = len(numbers) - 1 if ":" in spec and spec.count(":") == 2 else len(numbers)  # a grid's N
-    written = "".join(p + usual if i % 2 == 0 and i < last else p for i, p in enumerate(numbers))
-    return f"; a bare number is in {si}: to give them in {usual}, write {name}={written.replace(' ', '')}"
-
-
-def parse_axis(kind: str, text: str, dims: dict[str, Dim]) -> Axis:
-    """``NAME=LO:HI:N``, ``NAME=A,B,C`` (grid) or ``NAME=LO:HI`` (random, lhs), in SI units."""
-    name, eq, spec = text.partition("=")
-    name = name.strip()
-    if not eq or not name:
-        raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI{':N' if kind == 'grid' else ''}")
-    if name not in dims:
-        known = ", ".join(n for n in dims if "." not in n) or "none"
-        settings = [n for n in dims if "." in n]
-        also = f"; or an actuator setting, ACTUATOR.KEY ({', '.join(settings)})" if settings else ""
-        what = "a parameter" if kind == "param" else "an input or parameter"  # tune: parameters
-        raise UsageError(f"--{kind} {name}: not {what} of the controller ({known}){also}")
-    want = dims[name]
-    axis = _parse_values(kind, text, name, spec, want)
-    units = [m[2] for m in map(NUMBER_AND_UNIT.fullmatch, re.split("[:,]", spec)) if m and m[2]]
-    return Axis(axis.name, axis.kind, axis.values, units[0] if units else "")
-
-
-def _parse_values(kind: str, text: str, name: str, spec: str, want: Dim) -> Axis:
-    """``parse_axis``'s values in SI units."""
-    if kind == "grid" and ("," in spec or ":" not in spec):
-        return Axis(name, kind, tuple(_number(v, want, kind, name) for v in spec.split(",")))
-    parts = spec.split(":")
-    if kind == "grid":
-        if len(parts) != 3 or not parts[2].strip().isdigit() or int(parts[2]) < 1:
-            raise UsageError(f"--grid {text!r}: write NAME=LO:HI:N (N values) or NAME=A,B,C")
-        _at_most(int(parts[2]), f"--grid {text}")
-        lo, hi = (_number(v, want, kind, name) for v in parts[:2])
-        if int(parts[2]) == 1 and lo != hi:  # linspace would keep LO and drop HI unsaid
-            raise UsageError(
-                f"--grid {text!r}: 1 value from LO to HI is LO alone; write {name}={parts[0].strip()} for "
-                "one value, or give N of 2 or more"
-            )
-        return Axis(name, kind, tuple(float(v) for v in np.linspace(lo, hi, int(parts[2]))))
-    if len(parts) != 2:
-        raise UsageError(f"--{kind} {text!r}: write NAME=LO:HI")
-    lo, hi = (_number(v, want, kind, name) for v in parts)
-    if not lo < hi:  # said with the range that is meant, or one value's own option
-        low, high = parts[0].strip(), parts[1].strip()
-        fix = (f"write {name}={high}:{low}" if lo > hi else "give HI above LO"
-               + (f", or --grid {name}={low} for one value" if kind != "param" else ""))  # fmt: skip
-        one = _one_end_bare(low, high)
-        if one is not None:  # '-30cm:-10': the bare end is SI, not the other's unit
-            bare, unit = one
-            ends = [v + unit if v == bare else v for v in (low, high)]
-            if _number(ends[0], want, kind, name) < _number(ends[1], want, kind, name):
-                fix = (f"{fix}; or, '{bare}' being read in SI units for want of one, "
-                       f"{name}={ends[0]}:{ends[1]}")  # fmt: skip
-        raise UsageError(f"--{kind} {text!r}: the range needs LO < HI; {fix}")
-    return Axis(name, kind, (lo, hi))
-
-
-def _one_end_bare(low: str, high: str) -> tuple[str, str] | None:
-    """(the bare end, the other's unit) of a range with a unit on one end alone, or None."""
-    split = [NUMBER_AND_UNIT.fullmatch(v) for v in (low, high)]
-    if split[0] is None or split[1] is None or bool(split[0][2]) == bool(split[1][2]):
-        return None
-    return (low, split[1][2]) if not split[0][2] else (high, split[0][2])
-
-
-def _number(text: str, want: Dim, kind: str, name: str) -> float:
-    """A value of a swept name, read as ``--set`` reads one (``2 s^-1``, ``60 N*m/rad``); a
-    bare number is in the quantity's SI unit."""
-    given = parse_given(text, f"--{kind} {name}")
-    if given.dim is not None and given.dim != want:
-        raise UsageError(
-            f"--{kind} {name}: {name} is {a_kind(want)}, but {text.strip()!r} is "
-            f"{a_kind(given.dim)}; {_in_which_unit(want)}"
-        )
-    return given.value
-
-
-def _in_which_unit(want: Dim) -> str:
-    """How to write a value of ``want``: its SI unit, and the usual one where that differs."""
-    si, usual = named_si_unit(want), unit_for(want)
-    if not si:
-        return "write it without a unit"
-    return f"give it in {si}" + ("" if usual in ("", si) else f" or {usual}")
-
-
-MAX_RUNS = 1_000_000  # a sweep's plan is laid out whole, in memory and in sweep.json
-
-
-def _at_most(runs: int, what: str) -> None:
-    if runs > MAX_RUNS:
-        raise UsageError(
-            f"{what}: {runs:,} runs, more than a sweep takes ({MAX_RUNS:,}); sweep fewer "
-            "values, or split it into sweeps of their own --out"
-        )
 
 
 def points(axes: Sequence[Axis], samples: int, seed: int) -> list[dict[str, float]]:
@@ -345,7 +230,7 @@ def run_sweep(
                 _append(fresh, columns, {**row, **dict.fromkeys(METRICS if fell else (), math.nan)})
     # never more processes than runs (--jobs 100000 forked 100000 processes for two runs)
     workers = min(workers, len(todo))
-    pace = SweepPace(len(todo), workers)
+    pace = SweepPace(len(todo), workers, batch_size(len(todo), workers))
     count = 0
 
     def report() -> None:  # at the start, at each row, and about every second between

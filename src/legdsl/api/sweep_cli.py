@@ -21,10 +21,8 @@ from legdsl.api.sweep import (
     METRIC_UNITS,
     METRICS,
     actuator_settings,
-    bare_in_si,
     check_not_negative,
     iter_jobs,
-    parse_axis,
     points,
     progress_bar,
     read_planned,
@@ -33,6 +31,7 @@ from legdsl.api.sweep import (
     seconds,
     units_of,
 )
+from legdsl.api.sweep_axes import bare_in_si, parse_axis, same_value
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
@@ -129,8 +128,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     args.time = seconds("--time", args.time)
     if args.t_from is not None:
         args.t_from = seconds("--from", args.t_from, "nonnegative")
-    if args.samples < 1 or args.jobs < 1 or args.time <= 0:
-        raise UsageError("sweep: --samples, --jobs and --time must be positive")
+    for flag, value, what in (
+        ("--samples", args.samples, "draws"),
+        ("--jobs", args.jobs, "runs at once"),
+    ):
+        if value < 1:  # which one, and its value pointed at ('sweep: --samples, --jobs and
+            # --time must be positive' named all three)
+            raise UsageError(f"{flag} {value}: must be more than zero; give 1 or more ({what})")
     dask_address(args.dask)
     if args.seed < 0:  # numpy's generator takes none
         raise UsageError(f"sweep: --seed {args.seed}: give a whole number, 0 or more")
@@ -242,7 +246,7 @@ def _sweep_into(
     before_plan = _plan_in(plan_file) if planned_before else plan
     if isinstance(before_plan, dict):  # an older legdsl's plan names no creature: its digest
         before_plan = {"creature": model.name, **before_plan}
-    if _comparable(before_plan) != _comparable(plan):
+    if not _alike(_comparable(before_plan), _comparable(plan)):
         digests = ("creature_digest", "controller_digest", "simulation")
         edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
             isinstance(before_plan, dict)
@@ -252,6 +256,11 @@ def _sweep_into(
         why = ("the .leg file's creature or controller has changed since its rows were run"
                if edited else _plan_differs(before_plan, plan))  # fmt: skip
         raise UsageError(f"{out} holds another sweep ({why}); choose another --out or remove it")
+    if planned_before and isinstance(before_plan, dict):  # its values as first run, to the bit
+        # (57cm is 0.5700000000000001 m, the same sweep as 0.57 m: its runs take the 0.57)
+        combos = [{n: float(v) for n, v in r.items()} for r in before_plan["runs"]]
+        args.set = list(before_plan["set"])
+        plan = {**plan, "runs": combos, "set": args.set}
     base = {
         "source": str(args.file),
         "creature": args.creature,
@@ -405,11 +414,25 @@ def _plan_differs(before: object, plan: dict[str, Any]) -> str:
     if not isinstance(before, dict):
         return "its sweep.json is damaged"
     mine, theirs = _comparable(plan), _comparable(before)
-    keys = [k for k in plan if theirs.get(k) != mine[k]]
+    keys = [k for k in plan if not _alike(theirs.get(k), mine[k])]
     if "file" in keys or "creature" in keys:  # whose digests differ with them, unsaid
         keys = [k for k in keys if not k.endswith("_digest")]
     other = [_PLAN_WORDS.get(k, k) for k in keys]
     return f"other {', '.join(other)}" if other else "its sweep.json differs"
+
+
+def _alike(a: Any, b: Any) -> bool:
+    """Two plans (or parts) alike, their numbers to a relative 1e-12: a value written in
+    other units is the same (``57cm/s`` is 0.5700000000000001 m/s; it was refused as another
+    sweep of ``0.57``)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_alike(a[k], b[k]) for k in a)
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return len(a) == len(b) and all(map(_alike, a, b))
+    numbers = (int, float)
+    if isinstance(a, numbers) and isinstance(b, numbers) and not isinstance(a, bool):
+        return not isinstance(b, bool) and same_value(float(a), float(b))
+    return bool(a == b)
 
 
 def _comparable(plan: Any) -> Any:

@@ -12,7 +12,8 @@ from typing import Any
 
 from legdsl.analysis.results import MetricsError
 from legdsl.analysis.table2 import virtual_legs
-from legdsl.api.sweep import bare_in_si, parse_axis, seconds, units_of
+from legdsl.api.sweep import seconds, units_of
+from legdsl.api.sweep_axes import PointedError, bare_in_si, parse_axis
 from legdsl.api.tune import Bound
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, written_unit
 from legdsl.api.workers import dask_address
@@ -65,11 +66,15 @@ def _bounds(
             unit = units_of({axis.name: params[axis.name].dim})[axis.name]  # the bounds' SI unit
             unit = f" {unit}" if unit else ""  # a plain number's: no space before nothing
             written = written_unit(source, controller, axis.name)  # the file's own ("cm")
-            raise UsageError(
-                f"--param {text}: the file's value {start:g}{unit} is outside the bounds "
-                f"({low:g} to {high:g}{unit}); widen them"
-                + bare_in_si(text, axis.name, params[axis.name].dim, written)
-            )
+            lo_text, _, hi_text = text.partition("=")[2].partition(":")
+            at = text.index("=") + 1 + (len(lo_text) + 1 if start > high else 0)
+            bound = hi_text if start > high else lo_text  # the caret under the bound to widen
+            raise PointedError(
+                f"the file's value {start:g}{unit} is outside the bounds ({low:g} to "
+                f"{high:g}{unit}); widen them"
+                + bare_in_si(text, axis.name, params[axis.name].dim, written),
+                "--param", text, at + len(bound) - len(bound.lstrip()), len(bound.strip()),
+            )  # fmt: skip
         # bare numbers are SI, as a sweep's: an angle's are radians (lean=-5:5 searched
         # ±286° of a 2 deg lean, unsaid), and the note is the sweep's
         bare = bare_in_si(text, axis.name, params[axis.name].dim,
@@ -188,8 +193,9 @@ def _check_search(args: argparse.Namespace) -> None:
             raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
     args.time = seconds("--time", args.time)
     args.t_from = seconds("--from", args.t_from, "nonnegative")
-    if args.generations < 1 or args.jobs < 1 or args.time <= 0:
-        raise UsageError("tune: --generations, --jobs and --time must be positive")
+    for flag, value in (("--generations", args.generations), ("--jobs", args.jobs)):
+        if value < 1:  # which one ('--generations, --jobs and --time must be positive')
+            raise UsageError(f"{flag} {value}: must be more than zero; give 1 or more")
     if not args.t_from < args.time:  # no speed measured: every candidate would score alike
         raise UsageError(
             f"tune: --from {args.t_from:g} is not a time within the runs (--time {args.time:g}), "
@@ -213,6 +219,9 @@ def _speeds(text: str, dim: Dim) -> tuple[float, ...]:
     it; a 0's, in place, to the slowest other); a negative one commands running backwards."""
     try:
         speeds = parse_axis("grid", f"speed={text}", {"speed": dim}).values
+    except PointedError as e:  # pointed into --grid speed=TEXT, the option it was written for
+        why = e.why.replace("write speed=", "write ").replace("value once", "speed once")
+        raise e.moved("--speeds", text, -len("speed="), why) from None
     except UsageError as e:  # it names --grid, the option it was written for
         why = str(e).partition(": ")[2]
         if "write NAME" in why:
