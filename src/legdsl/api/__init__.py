@@ -44,7 +44,7 @@ from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
 from legdsl.files import write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
-from legdsl.pipeline.generated import load_dynamics
+from legdsl.pipeline.generated import load_dynamics, recorded_candidates
 from legdsl.pipeline.session import RunSession
 from legdsl.signals import import_held
 from legdsl.sim.trajectory import Trajectory
@@ -473,16 +473,21 @@ def load(
 
 
 def open_run(
-    directory: str | Path, source: str | Path | None = None, generated: str | Path = "generated"
+    directory: str | Path, source: str | Path | None = None, generated: str | Path | None = None
 ) -> Run:
     """Read a run directory back (its run.json names the ``.leg`` file, or give ``source``);
-    the creature's kinematics come from ``generated/``, compiled there when missing or stale
-    (as ``load`` does)."""
+    the creature's kinematics come from ``generated`` if given, else from the folder the run
+    was made with, which run.json records, where it holds them (as ``legdsl metrics`` reads
+    them), else from ``generated/``; compiled there when missing or stale (as ``load`` does)."""
     if not isinstance(directory, str | Path):
         raise UsageError(f"open_run(): give the path of a run directory, not {directory!r}")
-    generated = a_generated("open_run()", generated)
+    folder = a_generated("open_run()", generated) if generated is not None else None
     given = a_path("open_run()", source) if source is not None else None
     give = f"source=, as in open_run({str(directory)!r}, source='path/to/the.leg')"
     found = read_run(Path(directory), given, give)
-    dynamics = load_dynamics(found.model, found.source, generated)
+    if folder is None:  # a run made with load(generated=...) left ./generated alone
+        made = recorded_candidates(Path(directory), found.info)
+        held = [g for g in made if (g / found.model.name / "dynamics.py").is_file()]
+        folder = next(iter(held), Path("generated"))
+    dynamics = load_dynamics(found.model, found.source, folder)
     return Run(found.model, found.trajectory, found.info, dynamics, directory=Path(directory))
