@@ -419,7 +419,7 @@ class Plan:
                    time_unit=unit, generated=self.generated)  # fmt: skip
 
 
-@dataclass
+@dataclass(repr=False)  # the generated repr printed the model and every array (290 kB)
 class Run:
     """One run of a session: what went in, what came out."""
 
@@ -440,6 +440,14 @@ class Run:
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
         return self.result.status
+
+    def __repr__(self) -> str:
+        """One line: the creature, controller, status, simulated time and samples."""
+        scaled = f" scaled by {self.scale:g}" if self.scale is not None else ""
+        ran = f"controller {self.controller}" if self.controller else "passive"
+        n = len(self.result.trajectory)
+        return (f"<legdsl run of '{self.model.name}'{scaled} ({ran}): {self.status}, "
+                f"{self.result.sim_time:.3f} s, {n} sample{'s' if n != 1 else ''}>")  # fmt: skip
 
     def info(self) -> dict[str, Any]:
         """The content of ``run.json``."""
