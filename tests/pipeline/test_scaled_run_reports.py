@@ -202,3 +202,19 @@ def test_a_scene_run_with_scale_is_the_scaled_files_scene(
     assert "--scene switching switches controllers, which --scale does not support" in (
         capsys.readouterr().err
     )
+
+
+def test_animate_with_scale_is_refused_with_the_command_to_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`run --scale 2 --animate` said "animate the run of 'legdsl scale's file": a quote left
+    open and, unlike the other --scale refusals, no command. It gives the command now, before
+    anything is compiled or run."""
+    leg = str(CREATURES / "hopper.leg")
+    out = tmp_path / "h"
+    argv = ["run", leg, "--controller", "hop", "--scale", "2", "--animate", "--out", str(out)]
+    assert main(argv) == 2
+    said = capsys.readouterr().err
+    assert "--animate with --scale is not supported" in said
+    assert f"write the scaled file with 'legdsl scale {leg} --by 2 -o OUT.leg' and run it" in said
+    assert said.count("'") % 2 == 0 and not out.exists()

@@ -141,34 +141,55 @@ def _map(
     ok = [str(r.get("outcome")) == "ok" for r in rows]
     xs = sorted({as_number(r.get(a)) for r in rows})
     ys = sorted({as_number(r.get(b)) for r in rows})
+    at_x, at_y = as_number, as_number  # where a row's value is drawn
     if heat and len(xs) * len(ys) == len(rows):  # a full grid: a heat map
         grid = np.full((len(ys), len(xs)), np.nan)
         for r, good in zip(rows, ok, strict=True):
             grid[ys.index(as_number(r.get(b))), xs.index(as_number(r.get(a)))] = (
                 as_number(r.get(metric)) if good else np.nan
             )
-        image = ax.pcolormesh(_edges(xs), _edges(ys), grid, shading="flat", **scale)
+        # an axis of unevenly spaced values has equal cells, one per value, each ticked at
+        # its centre (cells between midpoints of 50, 100 and 1000 put 100's from 75 to 550,
+        # its tick at the foot)
+        at_x, xs_drawn = _placed(xs)
+        at_y, ys_drawn = _placed(ys)
+        image = ax.pcolormesh(_edges(xs_drawn), _edges(ys_drawn), grid, shading="flat", **scale)
         # each cell labelled with its swept value (matplotlib's own ticks, 0.06 and 0.08
         # between cells of 0.04, 0.07 and 0.1, named values no run had)
-        ax.set_xticks(*_cell_ticks(xs))
-        ax.set_yticks(*_cell_ticks(ys, MOST_Y_TICKS))
+        ax.set_xticks(*_cell_ticks(xs_drawn, labels=xs))
+        ax.set_yticks(*_cell_ticks(ys_drawn, MOST_Y_TICKS, labels=ys))
     else:  # random or Latin-hypercube draws: a scatter of the runs that lasted
         lasted = [r for r, good in zip(rows, ok, strict=True) if good]
         image = ax.scatter([as_number(r.get(a)) for r in lasted], [as_number(r.get(b)) for r in lasted],
                            c=[as_number(r.get(metric)) for r in lasted], **scale)  # fmt: skip
     fell = [r for r, good in zip(rows, ok, strict=True) if not good]
-    ax.plot([as_number(r.get(a)) for r in fell], [as_number(r.get(b)) for r in fell], "rx")
+    ax.plot([at_x(r.get(a)) for r in fell], [at_y(r.get(b)) for r in fell], "rx")
     return image
+
+
+def _placed(values: list[float]) -> tuple[Any, list[float]]:
+    """Where a heat map draws sorted ``values``: as they are where they are evenly spaced,
+    else one equal cell each (0, 1, 2, ...); (a cell's value to where it is drawn, the
+    places)."""
+    steps = [b - a for a, b in zip(values, values[1:], strict=False)]
+    span = values[-1] - values[0] if values else 0.0
+    if not steps or max(steps) - min(steps) <= 1e-6 * abs(span):
+        return as_number, values
+    index = {v: float(k) for k, v in enumerate(values)}
+    return (lambda value: index.get(as_number(value), math.nan)), list(index.values())
 
 
 CHARACTERS_PER_INCH = 9  # of the title's font, for wrapping it
 X_ROOM, MOST_Y_TICKS = 50, 12  # a panel's width in characters of its labels; rows of labels
 
 
-def _cell_ticks(centres: list[float], most: int | None = None) -> tuple[list[float], list[str]]:
-    """Ticks at the cells' swept values and their labels: every ``k``-th value from the first,
-    at most ``most`` of them, else as many as fit a panel's width (``X_ROOM``) side by side."""
-    texts = [f"{v:.4g}" for v in centres]
+def _cell_ticks(
+    centres: list[float], most: int | None = None, labels: list[float] | None = None
+) -> tuple[list[float], list[str]]:
+    """Ticks at the cells' centres, labelled with their swept values (``labels``, where the
+    centres are not the values): every ``k``-th from the first, at most ``most`` of them, else
+    as many as fit a panel's width (``X_ROOM``) side by side."""
+    texts = [f"{v:.4g}" for v in (centres if labels is None else labels)]
     fit = most or max(2, X_ROOM // (max(map(len, texts)) + 2))
     step = math.ceil(len(centres) / fit)
     return centres[::step], texts[::step]

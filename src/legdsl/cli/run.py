@@ -100,7 +100,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     model, syntax = check_file(args.file, args.creature, args.scene, args.controller)
     if args.scale is not None and args.animate:  # its run.json names the unscaled creature
         raise UsageError(
-            "--animate draws the file's creature: animate the run of 'legdsl scale's file"
+            "--animate with --scale is not supported (the player draws the creature of the "
+            f"file, not the scaled one): write the scaled file with 'legdsl scale {args.file} --by "
+            f"{args.scale:g} -o OUT.leg' and run it with --animate"
         )
     # dt, control_dt and record_rate not given come from the creature's simulation block
     options = run_options(model, args.scale, integrator=args.integrator, fall_tilt=tilt, **values)
