@@ -11,6 +11,7 @@ the hand-transliterated C runtime (legdsl/codegen/c/runtime/step.c) and the Pyth
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import subprocess
 import sys
@@ -84,7 +85,15 @@ def test_shipped_controllers_run_the_same(name: str, controller: str, settings: 
         "circle(center = (0, 5) m, radius = 5 m, turn = left)",
         "square(corner = (0, -2) m, side = 4 m)",  # a closed polyline
         "polyline((0, 0) m, (3, 0) m, (3, 3) m)",  # an open one, past its end
+        # 720 sides round a circle from its start: windows found by bisection, across the start
+        "polygon("
+        + ", ".join(
+            f"({5 * math.sin(a):.9f}, {5 - 5 * math.cos(a):.9f}) m"
+            for a in (2 * math.pi * k / 720 for k in range(720))
+        )
+        + ")",
     ],
+    ids=["circle", "square", "polyline", "polygon720"],
 )
 def test_paths_are_followed_the_same(path: str) -> None:
     sess = session("biped")

@@ -250,6 +250,32 @@ static int goes_on(double s, double best, double last) {
     return fabs(s - last) < fabs(best - last) - SAME_S;
 }
 
+/* bisect.bisect_left (strict 0) or bisect_right (strict 1) of x in starts[0..n) + lap */
+static int64_t bisect_starts(const double *starts, int64_t n, double lap, double x, int strict) {
+    int64_t lo = 0, hi = n;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        double v = starts[mid] + lap;
+        if (strict ? x < v : v >= x) hi = mid;
+        else lo = mid + 1;
+    }
+    return lo;
+}
+
+/* PathGeometry._within: the segments [first, stop) that may reach into [lo, hi] + lap */
+static void path_within(const double *starts, int64_t nv, double lo, double hi, double lap,
+                        int64_t *first, int64_t *stop) {
+    if (isnan(lo) || isnan(hi)) {
+        *first = 0;
+        *stop = nv - 1;
+        return;
+    }
+    int64_t f = bisect_starts(starts, nv, lap, lo, 0) - 2;
+    int64_t t = bisect_starts(starts, nv, lap, hi, 1) + 1;
+    *first = f > 0 ? f : 0;
+    *stop = t < nv - 1 ? t : nv - 1;
+}
+
 /* PathGeometry.project: s, x, y, heading, lateral; of a polyline, within [lo, hi] of
  * arclength (a closed one's unwrapped), ties to the one that goes on from last */
 static void project(const double *g, double x, double y, double lo, double hi, double last,
@@ -278,7 +304,9 @@ static void project(const double *g, double x, double y, double lo, double hi, d
     int found = 0;
     for (int k = 0; k < nlaps; k++) {
         double lap = nlaps == 3 ? laps[k] : 0.0;
-        for (int64_t i = 0; i + 1 < nv; i++) {
+        int64_t first, stop;
+        path_within(starts, nv, lo, hi, lap, &first, &stop);
+        for (int64_t i = first; i < stop; i++) {
             double start = starts[i] + lap, end = starts[i + 1] + lap;
             if (end < lo || start > hi) continue;
             const double *a = v + 2 * i, *b = v + 2 * i + 2;
@@ -320,8 +348,11 @@ static void path_at_s(const double *g, double s, double *out, int *err) {
     int64_t nv = (int64_t)g[8];
     const double *v = g + 9, *starts = g + 9 + 2 * nv;
     s = g[1] != 0.0 ? py_mod(s, length, err) : leg_min(leg_max(s, 0.0), length);
-    int64_t i = 0;
-    while (i < nv - 2 && s >= starts[i + 1]) i++;
+    int64_t i = 0; /* the segment s is on (bisect_right, as PathGeometry.at) */
+    if (nv > 2 && s >= starts[1]) {
+        i = bisect_starts(starts, nv, 0.0, s, 1) - 1;
+        if (i > nv - 2) i = nv - 2;
+    }
     const double *a = v + 2 * i, *b = v + 2 * i + 2;
     double seg = starts[i + 1] - starts[i];
     double u = leg_div(s - starts[i], seg);
