@@ -139,7 +139,10 @@ def summary(model: Model, result: RunResult) -> str:
         *_no_controller(model, result),
         ("status", result.status + (f": {result.message}" if result.message else "")),
         ("simulated", f"{result.sim_time:.3f} s in {result.steps} steps"),
-        ("wall time", f"{result.wall_time:.2f} s (real-time factor {result.real_time_factor:.2f})"),
+        (  # the simulation's alone: not reading the files before it, the reports nor writing
+            "wall time",
+            f"{result.wall_time:.2f} s simulating (real-time factor {result.real_time_factor:.2f})",
+        ),
         ("samples", str(len(tr))),
         ("touchdowns / liftoffs", f"{touchdowns} / {liftoffs}"),
     ]
