@@ -46,7 +46,9 @@ def test_a_sweep_of_a_gain_the_controller_sets_is_noted(
     assert main(argv) == 0
     err = capsys.readouterr().err
     assert ("legdsl: note: --grid hip_servo.kp: controller 'hop' sets hip_servo.kp itself in "
-            "every state, from its first tick, so a value given has no effect") in err  # fmt: skip
+            "every state, from its first tick, so a value given has no effect; give one to the "
+            "parameter it is set from, swing_kp") in err  # fmt: skip
+    # (it named none: 'give one to the parameter it sets it from')
     assert "leg_spring.k:" not in err  # the controller leaves the spring's stiffness alone
 
 
@@ -91,10 +93,23 @@ def test_run_copies_notes_a_varied_setting_the_controller_writes(tmp_path: Path)
     said = [str(w.message) for w in caught if "hip_servo.kp" in str(w.message)]
     assert said == [
         "vary hip_servo.kp: controller 'hop' sets hip_servo.kp itself in every state, from its "
-        "first tick, so a value given has no effect; give one to the parameter it sets it from"
+        "first tick, so a value given has no effect; give one to the parameter it is set "
+        "from, swing_kp"
     ]
     assert all(w.filename == __file__ for w in caught if "hip_servo.kp" in str(w.message))
     with warnings.catch_warnings(record=True) as caught:  # a setting hop leaves alone: unsaid
         warnings.simplefilter("always")
         hopper.run_copies(2, "hop", vary={"leg_spring.k": ([3000, 3500], "N/m")}, time=0.05)
     assert not [w for w in caught if "leg_spring.k" in str(w.message)]
+
+
+def test_the_parameters_a_setting_is_set_from_are_named() -> None:
+    """Through the records it reads too: the hopper's leg_spring.rest is a record's
+    (thrust_stroke), made from its stroke."""
+    from legdsl.check.source import check_model
+    from legdsl.sim.machine import set_from
+
+    model = check_model(str(HOPPER), None)
+    assert set_from(model, "hop", "hip_servo.kp") == ["swing_kp"]
+    assert "stroke" in set_from(model, "hop", "leg_spring.rest")
+    assert set_from(model, "hop", "hip_motor.force") == ["kp", "kv"]

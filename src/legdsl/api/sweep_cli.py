@@ -161,7 +161,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     module = session.control(args.controller)
     swept = [(f"--{a.kind} {a.name}", a.name) for a in axes]
     for flag, name in [*swept, *((f"--set {t}", t.partition("=")[0].strip()) for t in args.set)]:
-        if said := overwritten(name, args.controller, module):  # every row alike, unsaid
+        if said := overwritten(name, args.controller, module, model):  # rows alike, unsaid
             print(f"legdsl: note: {flag}: {said}", file=sys.stderr)
     _refuse_too_stiff(session, args, axes, dims, combos)
     out = Path(args.out)

@@ -181,7 +181,7 @@ class BatchSetup:
             return
         module = self.session.control(self.controller)
         for name in self.vary:
-            if said := overwritten(name, self.controller, module):
+            if said := overwritten(name, self.controller, module, self.session.model):
                 self.session.tell("note", f"vary {name}: {said}")
 
     def start_of(self, k: int) -> dict[str, dict[str, float]] | None:

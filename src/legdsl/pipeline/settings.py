@@ -465,7 +465,10 @@ def overwritten_notes(
     except UsageError:
         return []
     module = session.control(controller)
-    said = [(t, overwritten(t.partition("=")[0].strip(), controller, module)) for t in settings]
+    said = [
+        (t, overwritten(t.partition("=")[0].strip(), controller, module, session.model))
+        for t in settings
+    ]
     said += [(t, _commanded_too(t, controller, session.model, settings)) for t in settings]
     named = sources or {}
     return [f"{named.get(text, f'--set {text}')}: {why}" for text, why in said if why]

@@ -318,10 +318,13 @@ def settings_written(module: ModuleType) -> dict[str, list[str]]:
     return written
 
 
-def overwritten(name: str, controller: str, module: ModuleType) -> str | None:
+def overwritten(
+    name: str, controller: str, module: ModuleType, model: Model | None = None
+) -> str | None:
     """What becomes of a value given to actuator setting ``name`` (``--set``, ``--grid``) that
     the controller writes itself: none where it does not (a swept servo gain the controller
-    set gave identical rows, unsaid)."""
+    set gave identical rows, unsaid). With the ``model``, the parameters it is set from are
+    named (the note said 'give one to the parameter it sets it from', naming none)."""
     states = settings_written(module).get(name)
     if not states:
         return None
@@ -329,8 +332,39 @@ def overwritten(name: str, controller: str, module: ModuleType) -> str | None:
     if len(states) == len(module.STATE_NAMES):
         which = "every state"
     if module.STATE_NAMES[module.START] in states:  # written at the first tick: never used
-        return (f"controller '{controller}' sets {name} itself in {which}, from its first "
-                "tick, so a value given has no effect; give one to the parameter it sets it "
-                "from")  # fmt: skip
+        said = (f"controller '{controller}' sets {name} itself in {which}, from its first "
+                "tick, so a value given has no effect; ")  # fmt: skip
+        if model is None:
+            return said + "give one to the parameter it sets it from"
+        params = set_from(model, controller, name)
+        if not params:
+            return said + "it is set from no parameter: to change it, change the controller"
+        many = "s" if len(params) > 1 else ""
+        return said + f"give one to the parameter{many} it is set from, {', '.join(params)}"
     return (f"controller '{controller}' sets {name} itself in {which}: a value given holds "
             "only until the run first enters one")  # fmt: skip
+
+
+def set_from(model: Model, controller: str, name: str) -> list[str]:
+    """The parameters a controller's states set actuator setting ``name`` from (a place's
+    goals for a servo's setpoint; the records it reads, and theirs), in the file's order."""
+    from legdsl.lower.control import lower_controller
+
+    control = model.controller(controller)
+    lowered = lower_controller(model, control)
+    actuator, _, key = name.partition(".")
+    exprs = [s.value for body in lowered.bodies.values() for s in body.settings
+             if (s.actuator, s.key) == (actuator, key)]  # fmt: skip
+    if key == "setpoint":
+        exprs += [goal for body in lowered.bodies.values() for place in body.places
+                  if actuator in place.servos for goal in place.goals]  # fmt: skip
+    records: dict[str, list[Any]] = {}  # a record's values, for what it is set from in turn
+    for body in lowered.bodies.values():
+        for record, value in body.records:
+            records.setdefault(f"record_{record}", []).append(value)
+    read: set[str] = set()
+    while exprs:
+        fresh = {str(symbol) for e in exprs for symbol in getattr(e, "free_symbols", ())} - read
+        read |= fresh
+        exprs = [value for symbol in fresh for value in records.get(symbol, ())]
+    return [c.name for c in control.params if f"param_{c.name}" in read]
