@@ -18,10 +18,10 @@ import re
 from legdsl.lang import ast
 from legdsl.lang.context import in_expression, innermost, opening
 from legdsl.lang.errors import Diagnostic, Span
-from legdsl.lang.expression_slips import LAST_NAME, NUMBER
+from legdsl.lang.expression_slips import NUMBER
 from legdsl.lang.spellings import mask, offset_span
-from legdsl.lang.unit_words import prop_runs
-from legdsl.lang.units import UnitError, parse_unit, unit_pattern
+from legdsl.lang.unit_words import called, prop_runs
+from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
 from legdsl.lang.value_slips import hex_color_comment
 
 Found = tuple[int, int, str]
@@ -33,7 +33,6 @@ _KEYWORDS = {
     "actuator", "at", "body", "contact", "instance", "leg", "mirror", "on", "set", "switch",
     "template", "time", "to", "use", "via", "gait", "controller", "path", "input", "param",
 }  # fmt: skip
-_CALLED = re.compile(rf"{LAST_NAME}[ \t]*$")
 _TWO_WORDS = re.compile(r"(?<![\w.])([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*$")
 
 
@@ -78,6 +77,10 @@ def _last_on_its_line(text: str, masked: str, pos: int, kind: str) -> Found | No
     return _why(text, masked, found.start(1), found.group(1), key)
 
 
+# a vector of numbers without units, written before a word: '(0.1, -0.2) '
+_PLAIN_VECTOR = re.compile(rf"\([ \t]*-?{NUMBER}(?:[ \t]*,[ \t]*-?{NUMBER})+[ \t]*\)[ \t]*$")
+
+
 def _after_value(text: str, masked: str, start: int, word: str) -> bool:
     """Whether ``word``, at ``start``, follows a whole value on its line (a number and its
     unit, a call, a vector with its unit, a string) rather than being its own part."""
@@ -99,7 +102,7 @@ def _after_value(text: str, masked: str, start: int, word: str) -> bool:
     if re.search(rf"\)[ \t]*{unit_pattern()}$", before):
         return True
     if before.endswith(")"):  # a vector's unit is its own: '(0.1, 0) m'
-        return _called(before, opening(before)) is not None or not _is_unit(word)
+        return called(before, opening(before)) is not None or not _is_unit(word)
     return False
 
 
@@ -181,7 +184,7 @@ def _unit_after_call(masked: str, before: str, word: str) -> str | None:
     if not before.endswith(")") or not _is_unit(word):
         return None
     start = opening(before)
-    name = _called(before, start)
+    name = called(before, start)
     if name is None:
         return None
     args = [a.strip() for a in _top_level_split(before[start + 1 : -1])]
@@ -192,19 +195,6 @@ def _unit_after_call(masked: str, before: str, word: str) -> str | None:
         f"{name}(...) takes each value with its own unit, and no unit after its ')': write "
         f"'{name}({written})' (a unit after the ')' is a vector's, as in '(0.1, 0) m')"
     )
-
-
-def _called(before: str, start: int) -> str | None:
-    """The function whose '(' is at ``start``: 'box' in 'shape box(0.4, 0.1)'; None for a
-    vector, whose '(' follows the key ('com (0.1, 0)')."""
-    called = _CALLED.search(before, 0, start)
-    if called is None:
-        return None
-    key = before[: called.start(1)].rstrip()
-    unit = re.search(rf"(?<![\w.]){NUMBER}[ \t]*{unit_pattern()}$", key)
-    if not re.search(r"(?<![\w.])[A-Za-z_]\w*$", key) or unit is not None:
-        return None
-    return called.group(1)
 
 
 def _top_level_split(inside: str) -> list[str]:
@@ -250,6 +240,13 @@ def stray_key(file: str, text: str, tree: ast.SourceFile) -> Diagnostic | None:
                 key.name
             ):
                 continue  # '0.5 meters': a unit misspelt, told by unit_word
+            elif (
+                (vector := _PLAIN_VECTOR.search(masked[:start])) is not None
+                and called(masked, vector.start()) is None  # not 'box(0.4, 0.1) m'
+                and looks_like_unit(key.name, fuzzy=False)
+                and not _is_unit(key.name)
+            ):
+                continue  # '(0.1, 0.2) ft', likewise
             else:
                 found = _why(text, masked, start, key.name, taken)
                 if found is None:

@@ -24,6 +24,7 @@ from legdsl.lang.lalr import friendly_entries, lark_parser
 from legdsl.lang.lookalikes import letter_of_name, odd_letter_in_word
 from legdsl.lang.punctuation_slips import punctuation
 from legdsl.lang.spellings import NUMBER_AND_WORD, mask, offset_span, unit_spelling
+from legdsl.lang.unit_words import vector_unit
 from legdsl.lang.units import (
     UnitError,
     looks_like_unit,
@@ -244,7 +245,10 @@ _CONSTANT_DECL = re.compile(r"\s*(?:param|input)\s+[A-Za-z_]\w*\s*=\s*-?\s*")
 
 
 def _bad_unit(text: str, pos: int) -> tuple[str, int] | None:
-    """An unknown unit written after a number at most one word before ``pos``: (the unit, its offset)."""
+    """An unknown unit written after a number (a vector) at most one word before ``pos``: (the
+    unit, its offset)."""
+    if (vector := vector_unit(text, pos)) is not None:
+        return vector[:2]
     found = None
     for m in NUMBER_AND_WORD.finditer(mask(text)):
         if m.start(1) > pos:
@@ -477,7 +481,8 @@ def syntax_error(file: str, text: str, err: UnexpectedInput) -> LegError:
         number = re.search(
             r"(?<![\d.])(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?[ \t]*$", text[:start]
         )
-        message = unknown_unit(word, number.group().strip() if number else None)
+        vector = vector_unit(text, start)  # '(0, 5) ft': the vector to write
+        message = unknown_unit(word, vector[2] if vector else number and number.group().strip())
     elif isinstance(err, UnexpectedToken) and _spaced_unit(text, err.token):
         message = "a unit is written without spaces, as in '60 N*m/rad', not '60 N * m/rad'"
     elif spelt is not None:

@@ -16,16 +16,61 @@ from collections.abc import Iterator
 
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic
+from legdsl.lang.expression_slips import LAST_NAME, NUMBER
 from legdsl.lang.spellings import mask, offset_span, unit_spelling
 from legdsl.lang.units import (
     UnitError,
     looks_like_unit,
+    other_system,
     parse_unit,
     stand_in_unit,
     suggest_unit,
+    unit_pattern,
     unknown_unit,
 )
 from legdsl.lang.value_slips import bare_exponent
+
+_CALLED = re.compile(rf"{LAST_NAME}[ \t]*$")
+
+
+def called(before: str, start: int) -> str | None:
+    """The function whose '(' is at ``start``: 'box' in 'shape box(0.4, 0.1)'; None for a
+    vector, whose '(' follows the key ('com (0.1, 0)')."""
+    found = _CALLED.search(before, 0, start)
+    if found is None:
+        return None
+    key = before[: found.start(1)].rstrip()
+    unit = re.search(rf"(?<![\w.]){NUMBER}[ \t]*{unit_pattern()}$", key)
+    if not re.search(r"(?<![\w.])[A-Za-z_]\w*$", key) or unit is not None:
+        return None
+    return found.group(1)
+
+
+# A vector of plain numbers and the word after it, '(0, 5) ft'; each of its numbers
+_VECTOR_WORD = re.compile(r"\(([^()]*)\)[ \t]*([A-Za-z_°µμ][^\s,;:(){}\[\]=<>!#\"]*)")
+_PLAIN_NUMBER = re.compile(r"[ \t]*(-?)[ \t]*((?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?)[ \t]*")
+
+
+def vector_unit(text: str, pos: int) -> tuple[str, int, tuple[str, ...]] | None:
+    """An unknown unit after a vector of plain numbers at or one word before ``pos`` (a parse
+    error's), '(0,0) ft': (the unit, its offset, the vector's numbers), for the message a
+    number's unknown unit gets ('0,0' is no decimal comma there, nor is a ',' missing)."""
+    for m in _VECTOR_WORD.finditer(mask(text)):
+        word, start, end = m.group(2), m.start(2), m.end(2)
+        if start > pos:
+            break
+        if not re.fullmatch(r"\s*(?:[A-Za-z_]\w*\s*)?", text[end:pos]) or "," not in m.group(1):
+            continue  # the error is at the word, or at most one word after it (as _bad_unit's)
+        if called(mask(text), m.start()) is not None:
+            continue  # 'box(0.4, 0.1) ft': a call's units, told by stray_words
+        numbers = [_PLAIN_NUMBER.fullmatch(n) for n in m.group(1).split(",")]
+        try:
+            parse_unit(word)
+        except UnitError:
+            meant = looks_like_unit(word) or other_system(word, None) is not None
+            if meant and all(numbers):
+                return word, start, tuple(n.group(1) + n.group(2) for n in numbers if n)
+    return None
 
 
 def _offset(text: str, line: int, col: int) -> int:
@@ -48,13 +93,26 @@ def prop_runs(tree: ast.SourceFile) -> Iterator[list[ast.Prop]]:
                 yield list(part.props)
 
 
-def _number(prop: ast.Prop) -> ast.Number | None:
+def _number(prop: ast.Prop) -> ast.Number | ast.Vector | None:
     if not isinstance(prop.value, ast.One):
         return None
     value = prop.value.value
     while isinstance(value, ast.Neg):
         value = value.value
-    return value if isinstance(value, ast.Number) else None
+    return value if isinstance(value, ast.Number | ast.Vector) else None
+
+
+def _plain_numbers(vector: ast.Vector) -> tuple[str, ...] | None:
+    """A vector's numbers as written, when it has no unit and they have none ('(0, -5)')."""
+    numbers = []
+    for item in vector.items:
+        sign = ""
+        while isinstance(item, ast.Neg):
+            item, sign = item.value, "" if sign else "-"
+        if not isinstance(item, ast.Number) or not item.quantity.unitless:
+            return None
+        numbers.append(sign + item.text)
+    return tuple(numbers) if vector.unit is None else None
 
 
 def unit_word(file: str, text: str, tree: ast.SourceFile) -> tuple[Diagnostic, str | None] | None:
@@ -78,8 +136,10 @@ def unit_word(file: str, text: str, tree: ast.SourceFile) -> tuple[Diagnostic, s
 
 
 def _diagnose(
-    file: str, text: str, number: ast.Number, word: str, start: int
+    file: str, text: str, number: ast.Number | ast.Vector, word: str, start: int
 ) -> tuple[Diagnostic, str | None] | None:
+    if isinstance(number, ast.Vector):  # 'inertia (0.1, 0.1, 0.2) lbft2  mass ...'
+        return _vector_unit(file, text, number, word, start)
     if word in ("e", "E") and text[start - 1] not in " \t":  # 'mass 10e kg', '1e -3 kg'
         return _bare_exponent(file, text, start)
     spelt = unit_spelling(text, start)
@@ -111,6 +171,26 @@ def _diagnose(
     if len(read) > written:
         return diagnostic, None
     return diagnostic, text[:first] + read.ljust(written) + text[start + len(word) :]
+
+
+def _vector_unit(
+    file: str, text: str, vector: ast.Vector, word: str, start: int
+) -> tuple[Diagnostic, str | None] | None:
+    """A unit after a vector of plain numbers read as the next property's name: told as a
+    number's, the vector converted; the parser reads on with the unit it suggests, if it fits."""
+    numbers = _plain_numbers(vector)
+    if numbers is None or not looks_like_unit(word, fuzzy=False):
+        return None
+    try:
+        parse_unit(word)
+        return None
+    except UnitError:
+        pass
+    diagnostic = Diagnostic(offset_span(file, text, start, len(word)), unknown_unit(word, numbers))
+    suggestion = suggest_unit(word) or stand_in_unit(word)
+    if suggestion is None or len(suggestion) > len(word):
+        return diagnostic, None
+    return diagnostic, text[:start] + suggestion.ljust(len(word)) + text[start + len(word) :]
 
 
 def _bare_exponent(file: str, text: str, start: int) -> tuple[Diagnostic, str | None] | None:

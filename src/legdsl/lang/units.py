@@ -137,8 +137,7 @@ def describe(dim: Dim) -> str:
     for name, (kind_dim, example) in KINDS.items():
         if kind_dim == dim:
             return name if name == "dimensionless" else f"{name} ({example})"
-    newtons = newton_unit(dim)
-    if newtons is not None:
+    if (newtons := newton_unit(dim)) is not None:
         return newtons
     parts = []
     for symbol, exp in zip(("kg", "m", "s", "rad"), dim, strict=True):
@@ -229,8 +228,7 @@ _FOREIGN: dict[str, tuple[float, str]] = {
     "mile": (1609.344, "m"), "lb": (0.45359237, "kg"), "pound": (0.45359237, "kg"),
     "oz": (0.028349523125, "kg"), "ounce": (0.028349523125, "kg"), "t": (1000.0, "kg"),
     "tonne": (1000.0, "kg"), "ton": (1000.0, "kg"), "h": (60.0, "min"), "hr": (60.0, "min"),
-    "hour": (60.0, "min"), "mph": (0.44704, "m/s"), "kph": (1 / 3.6, "m/s"),
-    "kmh": (1 / 3.6, "m/s"),
+    "hour": (60.0, "min"), "mph": (0.44704, "m/s"), "kph": (1/3.6, "m/s"), "kmh": (1/3.6, "m/s"),
 }  # fmt: skip
 # SI prefixes legdsl has no symbol with: prefix -> (name, factor)
 _PREFIX_FACTORS: dict[str, tuple[str, float]] = {
@@ -310,10 +308,10 @@ def percentage(number: str | None) -> str:
     return f"a percentage is written as a plain number: '{plain}', not '{number}%'"
 
 
-def unknown_unit(word: str, number: str | None = None) -> str:
+def unknown_unit(word: str, number: str | tuple[str, ...] | None = None) -> str:
     """The message for a word written as a unit that is none; ``number``, the number
-    written before it, if known, for the value to write instead."""
-    if word == "%":  # '--set k=30%', as a file's '30%' is told
+    written before it (a vector's numbers), if known, for the value to write instead."""
+    if word == "%" and not isinstance(number, tuple):  # '--set k=30%', as a file's '30%'
         return percentage(number)
     other = other_system(word, number)
     if other is not None:
@@ -364,7 +362,7 @@ def _family(unit: str) -> tuple[str, str] | None:
     return names[dim], ", ".join(u for u, (_, d) in UNITS.items() if d == dim)
 
 
-def other_system(word: str, number: str | None) -> str | None:
+def other_system(word: str, number: str | tuple[str, ...] | None) -> str | None:
     """A unit with a prefix legdsl lacks ('µm', 'dm', 'us', 'mN*m') or from another system
     of units ('in', 'lb', 'h', 'km/h'): what legdsl writes instead, with the value if known."""
     parts = re.split(r"([*/])", word)
@@ -403,6 +401,9 @@ def other_system(word: str, number: str | None) -> str | None:
     message = said + (f"; it writes {family[0]}{whose} in {family[1]}" if family and told else "")
     if number is None:
         return message + f"; write the value in {unit}"
+    if isinstance(number, tuple):  # a vector's, '(0, 5) ft': the vector in legdsl's unit
+        values = ", ".join(_decimal(float(n) * factor) for n in number)
+        return message + f": write '({values}) {unit}'"
     value = float(number) * factor
     ways = [f"'{_decimal(value)} {unit}'"]
     example = next((ex for d, ex in KINDS.values() if d == dim and d != DIMENSIONLESS), unit)
