@@ -309,12 +309,15 @@ def _least_turn(geo: PathGeometry, look: float) -> float:
     n = len(v) - 1  # segments; vertex k (0 the closing one) turns from segment k-1 to k
     heads = [math.atan2(v[k + 1][1] - v[k][1], v[k + 1][0] - v[k][0]) for k in range(n)]
     turns = [_wrap(heads[k] - heads[k - 1]) for k in range(n)]
-    total = sum(turns)
+    # the sums of the turns up to each vertex, added in order as sum() adds them (the same
+    # bits): a polygon of 20,000 sides took 40 s summing them afresh for each point
+    summed = list(itertools.accumulate(turns, initial=0))
+    total, at = summed[-1], starts[:n]
 
     def turned_to(u: float) -> float:  # the net turn from arclength 0- to u
         laps = math.floor(u / length)
         rest = u - laps * length
-        return laps * total + sum(t for t, at in zip(turns, starts, strict=False) if at <= rest)
+        return laps * total + summed[bisect.bisect_right(at, rest)]
 
     marks = sorted({*starts[:n], *((at - look) % length for at in starts[:n])})
     marks.append(marks[0] + length)
