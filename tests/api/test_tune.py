@@ -205,7 +205,7 @@ def test_bounds_without_a_unit_for_an_angle_say_they_are_radians(
                  "--out", str(tmp_path / "t")]) == 2  # fmt: skip
     err = capsys.readouterr().err  # stand's bounds hold its -40 deg: noted as radians
     assert "legdsl: note: --param stand=-1:-0.5: a bare number is in rad" in err
-    refusal = err.splitlines()[-1]
+    refusal = err.splitlines()[-3]  # (its option echoed with a caret after it)
     assert "k_speed" in refusal and "bare number" not in refusal  # seconds: usual unit is SI
 
 

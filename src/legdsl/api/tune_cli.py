@@ -38,12 +38,13 @@ from legdsl.api.tune_options import (  # checked options; tests import them from
     _table2_legs,
     _weight,
 )
-from legdsl.api.tuned_file import write_tuned
+from legdsl.api.tuned_file import write_tuned, written_unit
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
 from legdsl.ir.controller import Controller
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import UnitError, parse_unit
 from legdsl.pipeline.backend import python_backend_note
 from legdsl.pipeline.options import check_output_dir
 from legdsl.pipeline.outputs import drawn_if_room
@@ -216,7 +217,8 @@ def _tune_into(
             "draw the convergence plot",
             lambda: plot_history(result["history"], out / "tune.png", result["start"]["objective"]),
         )
-    print(report(result, units, bounds))
+    shown, factors = _file_units(source, controller, units)
+    print(report(result, shown, bounds, factors))
     _say_between(result.get("between", []), _say_fell(result["best"]["runs"]))
     _say_longer(result, objective)
     _say_deaf(result["best"]["runs"])
@@ -368,3 +370,18 @@ def _say_deaf(rows: list[dict[str, Any]]) -> None:
               "the command (a limit it reaches at every speed, or a state machine that stops "
               "cycling); no gain tuned against the speed error can tell them apart: compare "
               "legdsl run at two speeds", file=sys.stderr)  # fmt: skip
+
+
+def _file_units(
+    source: Path, controller: Controller, units: dict[str, str]
+) -> tuple[dict[str, str], dict[str, float]]:
+    """The unit each tuned parameter is reported in, the one the file (and the tuned file)
+    writes it in, and its factor to SI: a tilt of ``0 deg`` was reported as ``0.02801 rad``
+    while the tuned file wrote ``1.605 deg``; SI where the file writes a bare number."""
+    shown, factors = dict(units), {}
+    for name in units:
+        unit = written_unit(source, controller, name)
+        if unit and unit != units[name]:
+            with contextlib.suppress(UnitError):  # one the file's checker read: it reads
+                factors[name], shown[name] = parse_unit(unit)[0], unit
+    return shown, factors
