@@ -24,6 +24,7 @@ from legdsl.check.local_names import builtin_message, check_local_names
 from legdsl.check.paths import check_path
 from legdsl.check.record_clash import tell_record_clashes, tell_unrecorded_own
 from legdsl.check.record_readers import settle_by_readers, tell_unknown_unit
+from legdsl.check.role_legs import role_legs
 from legdsl.check.role_overlap import check_one_role_per_leg
 from legdsl.check.used_controllers import UsedControllers
 from legdsl.check.values import (
@@ -99,7 +100,6 @@ class ControllerChecker:
         d = self.decl
         names = self.creature_names()
         own: dict[str, Span] = {}
-        legs_declared = {leg.name for leg in self.model.legs}
 
         def define(ident: ast.Ident, value: Value) -> bool:
             if ident.name in own:
@@ -150,18 +150,10 @@ class ControllerChecker:
                 check_one_role_per_leg(item, [leg.name for leg in self.model.legs], self.err)
                 for role in item.roles:
                     define(role.name, ir.Legs(role=role.name.name))
-                    legs = []
-                    for leg in role.legs:
-                        if leg.name in self.broken_legs:
-                            continue
-                        if leg.name not in legs_declared:
-                            self.err(
-                                leg.span,
-                                f"unknown leg '{leg.name}'; roles are bound to legs declared with 'leg NAME {{ ... }}'{did_you_mean(leg.name, legs_declared)}",
-                            )
-                        else:
-                            legs.append(leg.name)
-                    self.roles[role.name.name] = tuple(legs)
+                leg_names = [leg.name for leg in self.model.legs]
+                self.roles.update(
+                    role_legs(item, self.model.name, leg_names, d, self.broken_legs, self.err)
+                )
             elif isinstance(item, ast.ActionDef):
                 if item.name.name in self.actions and self.actions[item.name.name] is not item:
                     prior = self.actions[item.name.name]
