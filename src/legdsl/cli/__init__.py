@@ -397,6 +397,8 @@ def _main(argv: Sequence[str] | None, process_ends: bool) -> int:
         if args.debug:
             traceback.print_exc()
         print(f"legdsl: {os_refusal(e, args.command)}", file=sys.stderr)
+        if isinstance(sys.stdout, QuietWhenClosed):  # > /dev/full: told here, once
+            sys.stdout.told(e)
         return EXIT_USER_ERROR
     except RecursionError:  # the parser refuses deep nesting; this is the net beneath it
         if args.debug:

@@ -109,6 +109,7 @@ class QuietWhenClosed:
         self.reader_left = False
         # the first write refused, kept: argparse's --help swallows the OSError it gets
         self.refused: OSError | None = None
+        self.said = False  # whether the refusal was told already (else it was told twice)
 
     def write(self, text: str) -> int:
         if not self.reader_left:
@@ -124,8 +125,13 @@ class QuietWhenClosed:
                 self._stream.flush()
             except OSError as e:
                 self._failed(e)
-        if self.refused is not None:
+        if self.refused is not None and not self.said:
             raise self.refused
+
+    def told(self, e: OSError) -> None:
+        """The command's refusal ``e`` was told the user: if it is this stream's, the flush
+        at the end does not tell it again."""
+        self.said = self.said or e is self.refused
 
     def _failed(self, e: OSError) -> None:
         if isinstance(e, BrokenPipeError):

@@ -24,6 +24,7 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import COMPUTABLE_STEP, MOST_STEPS, SMALLEST_STEP
 from legdsl.lang.units import KINDS, UNITS, a_kind
+from legdsl.pipeline.outputs import not_standard_output
 from legdsl.pipeline.settings import parse_given
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.suggested_values import written
@@ -275,6 +276,8 @@ def fall_note(options: RunOptions, model: Model, flags: bool = True) -> str | No
 def check_output_dir(path: str | Path, flag: str, shown: str | Path | None = None) -> Path:
     """A directory we may write (made later if missing): not a file, not under a file, and
     writable where it would be made. Raise ``UsageError`` otherwise."""
+    if shown is None or str(shown) == str(path):  # the directory itself, not a file's folder
+        not_standard_output(path, flag)
     path = Path(path)
     given = f"{flag} {shown if shown is not None else path}"
     if path.exists() and not path.is_dir():

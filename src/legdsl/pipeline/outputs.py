@@ -27,6 +27,18 @@ def is_stream(path: str | Path) -> bool:
     return str(path) == "-" or is_device(Path(path)) or process_fd(Path(path)) is not None
 
 
+def not_standard_output(given: str | Path, flag: str) -> None:
+    """A directory a command writes its files into (``run --out``, ``compile -o``, ``sweep
+    --out``, ``tune --out``) named ``-``: refused with a caret, where ``-`` made a directory
+    named '-' and said nothing of it (``export -o -`` writes standard output, ``plot -o -`` is
+    refused)."""
+    if str(given) == "-":
+        raise UsageError(
+            f"{flag} -: a directory of files cannot go to standard output; give a directory "
+            f"name (./- for a directory named '-')\n    {flag} -\n    {' ' * (len(flag) + 1)}^"
+        )
+
+
 def new_directory(path: str | Path) -> Path | None:
     """The outermost missing directory above the file ``path`` (writing the file makes it and
     those under it, as ``legdsl run --out`` makes its run directory), or None when the file's

@@ -158,7 +158,7 @@ def check_dimension(
     ``declared`` the unit the file wrote the value in, which the example keeps.
     """
     unit = unit_to_write(given.unit, want, declared) or unit_for(want)
-    example = write.format(written(given, want, unit))
+    example = written(given, want, unit, write)
     if want == DIMENSIONLESS:
         if given.dim is not None and given.dim != DIMENSIONLESS:
             raise UsageError(

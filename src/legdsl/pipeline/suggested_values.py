@@ -31,24 +31,28 @@ class Given(Protocol):
     def text(self) -> str: ...
 
 
-def written(given: Given, want: Dim, unit: str) -> str:
-    """The value an error suggests in ``unit``: the user's number, or, for a quantity whose
+def written(given: Given, want: Dim, unit: str, write: str = "{}") -> str:
+    """The value an error suggests in ``unit``, in ``write`` (``{}`` for the value, e.g.
+    ``--switch {}=gallop``: each value suggested is written whole, where "1s, or 1ms if the m
+    meant milli" was put in its place): the user's number, or, for a quantity whose
     dimension is the wanted one's inverse (a frequency for a time), its reciprocal: 500Hz
     for a time is 0.002s, never 500s; a frequency for a turning rate is turns a second: 1Hz
     for deg/s is 360deg/s, never 1deg/s."""
     inverse = given.dim is not None and all(a == -b for a, b in zip(given.dim, want, strict=True))
     if inverse and given.value != 0 and want != DIMENSIONLESS:
-        return f"{1 / given.value / parse_unit(unit)[0]:g}{unit} (1/{given.text})"
+        value = f"{1 / given.value / parse_unit(unit)[0]:g}{unit}"
+        return f"{write.format(value)} (1/{given.text})"
     if given.dim == FREQUENCY and want == ANGULAR_VELOCITY:  # 1Hz for deg/s: 360deg/s, not 1
         turned = turning_rate(given.value, parse_unit(unit)[0])
         turns = f"{given.value:g} turn" + ("" if given.value == 1 else "s")
-        return f"{turned:g}{unit} ({given.text} is {turns} a second)"
+        return f"{write.format(f'{turned:g}{unit}')} ({given.text} is {turns} a second)"
     kept = _kept(given.unit, want)
     prefix = _PREFIXES.get(given.unit, "")
     if prefix and given.dim and kept == given.unit + si_unit(want) and kept != unit:
         # 5m for a time: 5ms reads the metre as milli, 1000 times off if seconds were meant
-        return f"{given.number}{unit}, or {given.number}{kept} if the {given.unit} meant {prefix}"
-    return given.number + (kept or unit)
+        return (f"{write.format(given.number + unit)}, or {write.format(given.number + kept)} "
+                f"if the {given.unit} meant {prefix}")  # fmt: skip
+    return write.format(given.number + (kept or unit))
 
 
 def _kept(written: str, want: Dim) -> str | None:
