@@ -24,6 +24,7 @@ from legdsl.check.values import did_you_mean, measures, unit_to_write
 from legdsl.ir.model import NON_NEGATIVE, SETTABLE, Model, setting_kind
 from legdsl.lang.errors import UsageError
 from legdsl.lang.habits import unit_after_slash
+from legdsl.lang.lookalikes import ascii_for, lookalike, minus_sign
 from legdsl.lang.units import (
     DIMENSIONLESS,
     KINDS,
@@ -97,6 +98,16 @@ def plain_number(text: str, what: str) -> float:
     raise argparse.ArgumentTypeError(f"{what}, not {given.text!r}: write {given.number}")
 
 
+def _odd(value: str) -> str:
+    """What a character that looks like ASCII and is not does in ``value`` ('−1m/s': "'−' is
+    a typographic minus sign"), said as in a .leg file; "" where there is none."""
+    for ch in value:
+        if (said := lookalike(ch)) is not None:
+            fixed = "".join(ascii_for(c) or c for c in value)
+            return ": " + (minus_sign(ch, fixed) if ascii_for(ch) == "-" else said)
+    return ""
+
+
 def parse_given(value: str, where: str) -> Given:
     """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
     if separated := _SEPARATED.match(value):
@@ -109,7 +120,7 @@ def parse_given(value: str, where: str) -> Given:
         raise UsageError(f"{where}: a unit is written without spaces, its symbols joined "
                          f"by '*': write e.g. {joined}")  # fmt: skip
     if match is None:
-        raise UsageError(f"{where}: {value!r} is not a number with an optional unit")
+        raise UsageError(f"{where}: {value!r} is not a number with an optional unit{_odd(value)}")
     number, unit = match.group(1), match.group(2)
     if not math.isfinite(float(number)):
         raise UsageError(f"{where}: {number} is too large to be a number (it overflows)")
@@ -123,6 +134,8 @@ def parse_given(value: str, where: str) -> Given:
                 if re.fullmatch(r"/[A-Za-z][\w^*/-]*", unit)
                 else unknown_unit(unit, number)
             )  # ('6/s', as a file's '6 /s' is told)
+            if odd := _odd(unit):  # 'м/s' with a Cyrillic 'м': said as in a file
+                told = f"{unit!r} is not a unit legdsl knows{odd}"
             raise UsageError(f"{where}: {told}") from None
     si = float(number) * factor
     if not math.isfinite(si):
