@@ -101,6 +101,11 @@ def not_a_number(action: argparse.Action, text: str) -> str:
     )
 
 
+def _an_option(word: str) -> bool:
+    """Whether ``word`` is written as an option (not '-', not a negative number)."""
+    return word.startswith("-") and len(word) > 1 and _number_in(word) is None
+
+
 class LegParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` with legdsl's rules (the module's docstring)."""
 
@@ -156,20 +161,57 @@ class LegParser(argparse.ArgumentParser):
         """What to say of the first argument no option or place took."""
         parser = self._command(parsed)
         word = extras[0]
-        if word.startswith("-") and len(word) > 1 and _number_in(word) is None:
-            name = word.partition("=")[0]
-            options = [o for a in parser._actions for o in a.option_strings]
-            options += [o for a in self._actions for o in a.option_strings if o != "--version"]
-            started = [o for o in options if o.startswith(name) and name.startswith("--")]
-            close = started or difflib.get_close_matches(name, options, n=3, cutoff=0.6)
-            if close:
-                meant = " or ".join(dict.fromkeys(close))
-                return f"{name} is not an option of {parser.prog}: did you mean {meant}?"
-            return f"{name} is not an option of {parser.prog}; '{parser.prog} --help' lists them"
+        if _an_option(word):
+            return parser.unknown_option(word.partition("=")[0], self)
         return (
             f"{word!r} is one argument too many for {parser.prog} (a value given to an option "
             f"that takes none, or a second file?); '{parser.prog} --help' shows what it takes"
         )
+
+    def unknown_option(self, name: str, top: argparse.ArgumentParser) -> str:
+        """What to say of ``name``, an option this command (``self``) does not take: the
+        commands that take it (``run --grid``: one of ``legdsl sweep``), else the names it is
+        close to (compared without their dashes: '--grid' is not close to '--dt'), else
+        where the options are listed."""
+        options = [o for a in self._actions for o in a.option_strings]
+        options += [o for a in top._actions for o in a.option_strings if o != "--version"]
+        others = [
+            sub.prog.split()[-1]
+            for a in top._actions
+            if isinstance(a, argparse._SubParsersAction)
+            for sub in dict.fromkeys(a.choices.values())
+            if sub is not self and name in sub._option_string_actions
+        ]
+        if others and name not in options:
+            which = others[0] if len(others) == 1 else f"{', '.join(others[:-1])} and {others[-1]}"
+            return f"{name} is not an option of {self.prog}: it is an option of {top.prog} {which}"
+        started = [o for o in options if o.startswith(name) and name.startswith("--")]
+        bare = {o.lstrip("-"): o for o in options if o.startswith("--")}
+        near = difflib.get_close_matches(name.lstrip("-"), list(bare), n=3, cutoff=0.6)
+        close = started or [bare[n] for n in near]
+        if close:
+            meant = " or ".join(dict.fromkeys(close))
+            return f"{name} is not an option of {self.prog}: did you mean {meant}?"
+        return f"{name} is not an option of {self.prog}; '{self.prog} --help' lists them"
+
+    def _unknown_before(self) -> str | None:
+        """Of a command line that lacks a required argument, what to say of an unknown option
+        in it (``legdsl run --hlep``: the option, not the FILE it lacks), or None."""
+        if LegParser.reading is None:
+            return None
+        argv, top = LegParser.reading
+        from legdsl.cli.common import options_with_a_value
+
+        takes_value = options_with_a_value(top, short=True)
+        known = set(self._option_string_actions) | set(top._option_string_actions)
+        for i, word in enumerate(argv):
+            if word == "--":
+                break
+            name = word.partition("=")[0]
+            after_value = i > 0 and argv[i - 1] in takes_value
+            if _an_option(word) and name not in known and not after_value:
+                return self.unknown_option(name, top)
+        return None
 
     def error(self, message: str) -> NoReturn:
         """One line, what is wrong and how to fix it (argparse printed its usage first)."""
@@ -193,7 +235,9 @@ class LegParser(argparse.ArgumentParser):
             else:
                 message = f"{flags}: {what}"
         elif message.startswith("the following arguments are required"):
-            message += f" ('{self.prog} --help' shows how to give them)"
+            message = self._unknown_before() or (
+                f"{message} ('{self.prog} --help' shows how to give them)"
+            )
         if LegParser.reading is not None:
             from legdsl.cli.common import options_with_a_value
             from legdsl.cli.pointed import pointed
