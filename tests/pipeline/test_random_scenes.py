@@ -182,6 +182,8 @@ def draw_gait_table(d: Draw, controllers: list[str]) -> list[str]:
     rng = d.rng
     names = [str(n) for n in rng.choice(controllers, int(rng.integers(2, 4)), replace=False)]
     cuts = sorted(float(np.round(rng.uniform(0.8, 2.8), 2)) for _ in names[1:])
+    for k in range(1, len(cuts)):  # two equal cuts: the band between them never chosen
+        cuts[k] = max(cuts[k], round(cuts[k - 1] + 0.01, 2))
     overlap = float(np.round(rng.uniform(0.0, 0.3), 2))
     for k, name in enumerate(names):
         low = cuts[k - 1] - overlap if k > 0 else None

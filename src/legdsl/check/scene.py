@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import re
 
+from legdsl.check.gait_bands import reversed_band, tell_never_chosen, widen_advice
 from legdsl.check.simulation import counted
 from legdsl.check.values import (
     did_you_mean,
@@ -309,10 +310,15 @@ class _SceneChecker:
             if (b.low is not None and low is None) or (b.high is not None and high is None):
                 fine = False
             elif low is not None and high is not None and not low < high:
-                diag.error(b.span, f"a band runs from a lower {table.input.name} to a higher one")
+                diag.error(b.span, reversed_band(b, table.input.name))
                 fine = False
             else:
                 out.append(GaitBand(b.controller.name, low, high, b.span))
+        start = next(
+            (i.name.name for i in self.decl.items if isinstance(i, ast.SceneController)), None
+        )
+        if fine and not tell_never_chosen(tuple(out), start, table.input.name, _example(dim), diag):
+            fine = False
         return tuple(out) if fine else None
 
     def _gaits(self, table: ast.SceneGaits, bands: tuple[GaitBand, ...],
@@ -334,7 +340,8 @@ class _SceneChecker:
             span = at.span if at is not None else (given[-1].span if given else table.span)
             self.diag.error(
                 span,
-                f"no band of 'gait by {name}' holds {name} = {v:g} {unit} (bands: {bands_text})",
+                f"no band of 'gait by {name}' holds {name} = {v:g} {unit} (bands: {bands_text}): "
+                + widen_advice(bands, v, unit),
             )
         if lost:
             return None
