@@ -285,7 +285,7 @@ def test_bad_scale_factors_are_user_errors(
             assert refused.value.code == 2
         said = capsys.readouterr().err
         assert said.count(f"{by!r} is not a number: write it with the digits 0-9, without '_'") == 2
-    assert "--animate draws the file's creature" in err
+    assert "--animate with --scale is not supported" in err and "legdsl scale" in err
     assert not Path(out).exists()
 
 

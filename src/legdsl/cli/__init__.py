@@ -225,11 +225,8 @@ def _parser() -> argparse.ArgumentParser:
     )
     _COMMANDS["plot"] = cmd_plot
 
-    from legdsl.export.animate import (
-        add_animate_parser,
-        add_export_motion_parser,
-        add_replay_parser,
-    )
+    from legdsl.export.animate import add_animate_parser, add_export_motion_parser
+    from legdsl.export.replay_cli import add_replay_parser
 
     _COMMANDS["animate"] = add_animate_parser(sub)
     _COMMANDS["export-motion"] = add_export_motion_parser(sub)

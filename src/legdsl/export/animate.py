@@ -1,8 +1,9 @@
-"""``legdsl animate`` and ``legdsl export-motion``: the command-line side of the animation exports.
+"""``legdsl animate`` and ``legdsl export-motion``: the command-line side of the animation exports
+(``legdsl replay``'s is ``legdsl.export.replay_cli``).
 
 * ``legdsl animate DIR [-o FILE.html]`` writes the HTML player (``legdsl.export.formats.formats.player``);
 * ``legdsl animate DIR --video FILE.mp4|FILE.gif`` renders a video (``legdsl.export.formats.formats.video``);
-* ``legdsl export-motion DIR --format glb|gltf|usd|usda|bvh [-o FILE]`` writes glTF 2.0, USD or BVH (``legdsl.export.gltf``, ``usd``, ``bvh``);
+* ``legdsl export-motion DIR --format glb|gltf|usd|usda|usdc|bvh [-o FILE]`` writes glTF 2.0, USD or BVH (``legdsl.export.gltf``, ``usd``, ``bvh``);
 * ``legdsl run ... --animate`` calls ``animate_result`` after writing the run.
 
 This module only parses arguments and reports; importing it is cheap, so the
@@ -432,65 +433,6 @@ def add_export_motion_parser(sub: Any) -> Command:
         help="where generated modules live (default generated/)",
     )
     return _cmd_export_motion
-
-
-# ---------------------------------------------------------------- legdsl replay --mujoco
-
-
-def _cmd_replay(args: argparse.Namespace) -> int:
-    from legdsl.export import mjreplay
-
-    if not args.mujoco:
-        raise UsageError("replay: say where: --mujoco (the only player for now)")
-    args.fps = frame_rate(args.fps)
-    source = Path(args.source) if args.source else None
-    run = Path(args.run)
-    if args.output is None and mjreplay.has_display():
-        mjreplay.view(run, video_fps(args.fps, 60.0), source)
-        return 0
-    out = Path(args.output) if args.output else run / "mujoco.mp4"
-    not_a_stream(out, "-o")
-    if out.suffix.lower() != ".mp4":  # ffmpeg's format is the name's
-        better = out.with_suffix(".mp4") if out.suffix else f"{out}.mp4"
-        raise UsageError(f"-o {out}: MuJoCo's frames are written as an .mp4; name it {better}")
-    if args.output is None:
-        print(
-            "legdsl: no display for MuJoCo's viewer: rendering offscreen instead", file=sys.stderr
-        )
-    made = new_directory(out)
-    frames = mjreplay.render_mp4(
-        run, out, video_fps(args.fps, 30.0), parse_size(args.size or "960x540"), source
-    )
-    _say_made(made, out, messages_for(out))
-    counted = f"{frames} frame{'s' if frames != 1 else ''}"  # a one-sample run: "1 frame"
-    print(f"legdsl: wrote {out} ({counted}, MuJoCo's renderer)", file=messages_for(out))
-    return 0
-
-
-def add_replay_parser(sub: Any) -> Command:
-    r = sub.add_parser(
-        "replay",
-        help="play a recorded run in MuJoCo's viewer (or render it with MuJoCo to an mp4)",
-        description="Play a run directory on the creature's MJCF export in MuJoCo: each frame "
-        "sets MuJoCo's joint positions from the run (MuJoCo simulates nothing). With a display "
-        "and no -o, MuJoCo's interactive viewer plays it in real time, looping; otherwise "
-        "MuJoCo's offscreen renderer (MUJOCO_GL=egl by default) draws it into an mp4 (ffmpeg).",
-        epilog="Example: legdsl replay runs/biped --mujoco -o biped-mujoco.mp4",
-    )
-    r.add_argument("run", metavar="DIR", help="a run directory written by legdsl run")
-    r.add_argument("--mujoco", action="store_true", help="play it in MuJoCo")
-    r.add_argument("-o", "--output", metavar="FILE.mp4", help="render to this mp4 instead")
-    r.add_argument(
-        "--fps",
-        default=None,
-        metavar="N",
-        help="frames per second, or 30Hz (default 30 in an mp4, 60 in the viewer)",
-    )
-    r.add_argument("--size", metavar="WxH", help="mp4 size in pixels (default 960x540)")
-    r.add_argument(
-        "--source", metavar="FILE", help="the .leg file, if run.json's path is not found from here"
-    )
-    return _cmd_replay
 
 
 # ---------------------------------------------------------------- legdsl run --animate

@@ -32,7 +32,7 @@ from legdsl.ir.paths import PathSpec
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, UsageError
 from legdsl.lang.parser import parse_file
-from legdsl.pipeline import scaled
+from legdsl.pipeline import run_line, scaled
 from legdsl.pipeline.backend import make_simulation
 from legdsl.pipeline.generated import load_controller, load_dynamics, recorded_folder
 from legdsl.pipeline.options import check_drop, check_run_options, notes_before_run
@@ -419,8 +419,8 @@ class Plan:
                    time_unit=unit, generated=self.generated)  # fmt: skip
 
 
-@dataclass(repr=False)  # the generated repr printed the model and every array (290 kB)
-class Run:
+@dataclass(repr=False)  # its own printed the model and every array (290 kB)
+class Run(run_line.OneLine):
     """One run of a session: what went in, what came out."""
 
     model: Model
@@ -440,14 +440,6 @@ class Run:
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
         return self.result.status
-
-    def __repr__(self) -> str:
-        """One line: the creature, controller, status, simulated time and samples."""
-        scaled = f" scaled by {self.scale:g}" if self.scale is not None else ""
-        ran = f"controller {self.controller}" if self.controller else "passive"
-        n = len(self.result.trajectory)
-        return (f"<legdsl run of '{self.model.name}'{scaled} ({ran}): {self.status}, "
-                f"{self.result.sim_time:.3f} s, {n} sample{'s' if n != 1 else ''}>")  # fmt: skip
 
     def info(self) -> dict[str, Any]:
         """The content of ``run.json``."""
