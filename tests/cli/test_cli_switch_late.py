@@ -35,18 +35,19 @@ def test_a_switch_after_the_end_is_said(
     err = capsys.readouterr().err
     # the hopper's wait: 1 s for a creature standing 0.81 m, sqrt(h / 0.81 m) as long for it
     assert (
-        "legdsl: the run ended at 0.2 s before the switch to hop at 0.19 s took "
-        "over (a switch waits up to 0.994 s for a liftoff); give a longer --time to see it"
+        "legdsl: note: --switch 0.19s=hop was still waiting for a liftoff when the run ended "
+        "at 0.2 s, and never took over (a switch waits up to 0.994 s for a liftoff); give a "
+        "longer --time to see it"
     ) in err, err
     # one whose time never came did not wait for a liftoff: it is told as a late --set is
     assert (
-        "legdsl: the switch to hop at 5 s comes after the run's end (0.2 s) and never took "
+        "legdsl: note: --switch 5s=hop comes after the run's end (0.2 s) and never took "
         "over; give a longer --time to see it"
     ) in err, err
-    assert "hop at 5 s took over" not in err, err
+    assert "5s=hop was still waiting" not in err, err
     argv[argv.index("--time") + 1] = "1.2"  # the handover comes by 1.05 s at the latest
     assert main([*argv[:-4], "--switch", "0.05s=hop"]) == 0
-    assert "before the switch" not in capsys.readouterr().err
+    assert "never took over" not in capsys.readouterr().err
 
 
 # a controller with no liftoff event: it takes over on the first tick its switch is due
@@ -76,8 +77,8 @@ def test_a_switch_still_waiting_when_the_next_is_due_gives_way(
                 "--switch", "0.19s=hop", "--switch", "0.25s=hold"]  # fmt: skip
         assert main(argv) == 0
         assert (
-            "legdsl: the switch to hop at 0.19 s was still waiting for a liftoff when the one to "
-            "hold at 0.25 s came due, and never took over"
+            "legdsl: note: --switch 0.19s=hop was still waiting for a liftoff when the switch "
+            "to hold at 0.25 s came due, and never took over"
         ) in capsys.readouterr().err
         info = json.loads((out / "run.json").read_text())
         assert info["switches"][0]["superseded_by"] == {"t": 0.25, "controller": "hold"}
@@ -97,3 +98,29 @@ def test_two_switches_at_one_time_are_refused(capsys: pytest.CaptureFixture[str]
         "--switch 0.5s=hop and --switch 0.5s=hop are at the same time: the run changes to one "
         "controller at a time; keep one"
     ) in capsys.readouterr().err
+
+
+def test_a_scene_switch_that_never_took_over_is_a_note_at_its_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """As the note of a scene's late 'at T set' next to it: 'note:', the line's place and
+    words (it read 'legdsl: the switch to hold at 5 s comes after ...', without either)."""
+    leg = tmp_path / "hopper.leg"
+    text = (CREATURES / "hopper.leg").read_text() + HOLD
+    scene = (
+        "scene late {\n  controller hop\n  at 5 s set speed = 0.5 m/s\n  at 5 s switch hold\n}\n"
+    )
+    leg.write_text(text + "\n" + scene)
+    line = text.count("\n") + 5
+    argv = ["run", str(leg), "--scene", "late", "--time", "0.2", "--backend", "python",
+            "--generated", str(tmp_path / "gen"), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert (
+        f"legdsl: note: {leg}:{line - 1}:3: 'at 5 s set speed' of scene late comes after the run's "
+        "end (0.2 s)"
+    ) in err, err
+    assert (
+        f"legdsl: note: {leg}:{line}:3: 'at 5 s switch hold' of scene late comes after the "
+        "run's end (0.2 s) and never took over; give a longer --time to see it"
+    ) in err, err

@@ -327,10 +327,10 @@ def _switches_told(d: Draw, run: tuple) -> None:
         if t > end or "superseded_by" in entry:
             assert (t, to) not in made
             if "superseded_by" in entry:
-                assert f"the switch to {to} at {t:g} s was still waiting" in err, err
+                assert f"'at {t:g} s switch {to}' of scene drawn was still waiting" in err, err
             continue
         if not any(abs(t - m) < 1e-9 and c == to for m, c in made):
-            assert code != 0 or f"{to} at {t:g} s" in err, (t, to, err)
+            assert code != 0 or f"'at {t:g} s switch {to}' of scene drawn" in err, (t, to, err)
 
 
 def check_draw(d: Draw, root: Path, generated: Path) -> None:

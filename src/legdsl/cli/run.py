@@ -151,9 +151,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     progress = ProgressBar() if sys.stderr.isatty() else None
     backend = {"backend": args.backend} if args.backend else {}
     with _Interrupts(out).installed() as interrupts:
-        plan = session.prepare(
-            controller, settings, args.path, options, args.scale, switches, **backend
-        )
+        plan = session.prepare(controller, settings, args.path, options, args.scale, switches,
+                               sources=sources, **backend)  # fmt: skip
         # notes on a run it will make: a refused one is told its mistake alone (the notes
         # advised a longer --time for a run refused for another reason)
         session.tell_before(controller, settings, options, unreached, sources)

@@ -90,13 +90,27 @@ def scene_sources(scene: Scene, written: Scene | None = None) -> dict[str, str]:
     its place in the file and its words (``demo.leg:30:3: 'at 11 s set speed' of scene demo``),
     with the times of ``written``, the file's scene that ``scene`` is scaled from
     (``scale_scene``: a note quoted its scaled times as the file's words)."""
-    sets, _ = scene_texts(scene)
+    sets, switches = scene_texts(scene)
     named: dict[str, str] = {}
     for text, v, ran in zip(sets, (written or scene).values, scene.values, strict=True):
         at = "" if v.at is None else f"at {v.at:g} s "
         scaled = f", at {ran.at:g} s once scaled," if ran.at != v.at else ""
         named[text] = f"{v.span}: '{at}set {v.name}' of scene {scene.name}{scaled}"
+    # its switches by '--switch TEXT', as a note after the run names them (switches_not_made)
+    for text, s, done in zip(switches, (written or scene).switches, scene.switches, strict=True):
+        scaled = f", at {done.t:g} s once scaled," if done.t != s.t else ""
+        named[f"--switch {text}"] = (
+            f"{s.span}: 'at {s.t:g} s switch {s.controller}' of scene {scene.name}{scaled}"
+        )
     return named
+
+
+def switch_source(w: Switch, sources: Mapping[str, str] | None) -> str:
+    """A switch as a note names it: a scene's line where it is written (``scene_sources``),
+    else the ``--switch`` it was given as."""
+    return (sources or {}).get(
+        f"--switch {w.t!r}s={w.controller}", f"--switch {w.t:g}s={w.controller}"
+    )
 
 
 def find_scene(model: Model, name: str) -> Scene:
@@ -255,8 +269,9 @@ def switches_to_the_running(first: str, switches: Sequence[Switch]) -> list[str]
     return notes
 
 
-def switches_not_made(run: Any) -> list[str]:
-    """Notices of the switches that never took over: those still waiting for a
+def switches_not_made(run: Any, sources: Mapping[str, str] | None = None) -> list[str]:
+    """Notes of the switches that never took over, each named as written (a scene's line,
+    ``sources``, else its ``--switch``), as a late ``--set`` is: those still waiting for a
     liftoff when the next came due, and those the run ended before (given for after its end,
     or still waiting). run.json lists them with the switches made."""
     machine = run.machine
@@ -264,9 +279,9 @@ def switches_not_made(run: Any) -> list[str]:
         return []
     wait = HANDOVER_WAIT * (machine.unit or 1.0)  # for this creature's size
     lines = [
-        f"the switch to {gone.controller} at {gone.t:g} s was still waiting for a liftoff when "
-        f"the one to {by.controller} at {by.t:g} s came due, and never took over (a switch "
-        f"waits up to {wait:.3g} s): give the later one a later time to see both"
+        f"{switch_source(gone, sources)} was still waiting for a liftoff when the switch to "
+        f"{by.controller} at {by.t:g} s came due, and never took over (a switch waits up to "
+        f"{wait:.3g} s): give the later one a later time to see both"
         for gone, by in machine.superseded
     ]
     over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
@@ -275,25 +290,19 @@ def switches_not_made(run: Any) -> list[str]:
         return lines
     end = run.result.sim_time
     # a switch whose time never came did not wait for a liftoff: told as a late --set is
-    waiting = [w for w in left if w.t <= end]
-    after = [w for w in left if w.t > end]
-    if waiting:
-        lines.append(
-            f"the run ended at {end:g} s before the {_switches_to(waiting)} took over (a "
-            f"switch waits up to {wait:.3g} s for a liftoff); give a longer --time to see it"
-        )
-    if after:
-        lines.append(
-            f"the {_switches_to(after)} {'come' if len(after) > 1 else 'comes'} after the "
-            f"run's end ({end:g} s) and never took over; give a longer --time to see it"
-        )
+    for w in left:
+        if w.t <= end:
+            lines.append(
+                f"{switch_source(w, sources)} was still waiting for a liftoff when the run ended "
+                f"at {end:g} s, and never took over (a switch waits up to {wait:.3g} s for a "
+                "liftoff); give a longer --time to see it"
+            )
+        else:
+            lines.append(
+                f"{switch_source(w, sources)} comes after the run's end ({end:g} s) and never "
+                "took over; give a longer --time to see it"
+            )
     return lines
-
-
-def _switches_to(switches: Sequence[Switch]) -> str:
-    """``switch to pace at 5 s`` or ``switches to pace at 5 s, trot at 10 s``."""
-    which = ", ".join(f"{w.controller} at {w.t:g} s" for w in switches)
-    return f"switch{'es' if len(switches) > 1 else ''} to {which}"
 
 
 def followed_paths(machine: Any, end: float, scale: float | None = None) -> list[Followed]:

@@ -358,8 +358,8 @@ class RunSession:
 
     def tell_after(self, run: Run) -> None:
         """Tell a switch of ``run`` that never took over, and its ``run_notes`` (after its table)."""
-        for notice in switches_not_made(run):
-            self.tell("", notice)
+        for note in switches_not_made(run, run.sources):
+            self.tell("note", note)
         for note in run_notes(run):
             self.tell("note", note)
 
@@ -416,7 +416,7 @@ class Plan:
         reports = run_path_reports(machine, result, self.scale, unit)
         return Run(self.model, self.controller, self.options, settings or self.settings,
                    machine, result, reports, self.scale, self.source_sha256,
-                   time_unit=unit, generated=self.generated)  # fmt: skip
+                   time_unit=unit, generated=self.generated, sources=self.sources)  # fmt: skip
 
 
 @dataclass(repr=False)  # its own printed the model and every array (290 kB)
@@ -436,6 +436,7 @@ class Run(run_line.OneLine):
     start: dict[str, dict[str, float]] | None = None  # its own q and v (a batch copy's q0, v0)
     time_unit: float = 1.0  # its natural time over a 0.81 m creature's (path_report.time_unit)
     generated: Path | None = None  # its generated modules' folder, which run.json records
+    sources: dict[str, str] = field(default_factory=dict)  # a scene's lines (scene_sources)
 
     @property
     def status(self) -> str:  # ok | diverged | fell | interrupted
