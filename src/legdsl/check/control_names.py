@@ -13,7 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from legdsl.check.always_zero import ZeroTest
+from legdsl.check.control_scan import given
 from legdsl.check.control_words import PLANAR_COUNTERPARTS, SPATIAL_ALIASES, no_alias_message
+from legdsl.check.named_by_use import told_by_members
 from legdsl.check.unit_hints import number_member
 from legdsl.check.values import TRUTHS, article, did_you_mean, place_of, stdlib_name
 from legdsl.ir import controller as ir
@@ -24,10 +26,8 @@ from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, Span
 from legdsl.lang.units import KINDS, UNITS, Dim
 
-KIND_WORDS = {
-    "coord": "joint coordinate", "path": "path", "com": "centre of mass",
-    "terrain": "terrain ahead",
-}  # fmt: skip
+KIND_WORDS = {"coord": "joint coordinate", "path": "path", "com": "centre of mass",
+              "terrain": "terrain ahead"}  # fmt: skip
 MEMBER_EXAMPLES = {
     "body": "z", "leg": "length", "role": "length", "contact": "z", "com": "vx",
     "coord": "value", "actuator": "force", "path": "lateral", "terrain": "ahead_distance",
@@ -132,6 +132,7 @@ class NameResolver:
         self.scope = scope
         self.diag = diag
         self.calls: list[tuple[ast.InvokeStmt, ast.ActionDef]] = []
+        self.given_to: ast.InvokeStmt | None = None  # the call whose arguments are checked
         self.alias_uses: list[AliasUse] = []
         self.record_types: dict[str, list[tuple[Type, Span]]] = {}
         # record -> its writes that tell no unit: the statement, its value and the calls it
@@ -240,34 +241,16 @@ class NameResolver:
                 "calls: call one of them too, in the same state (a 'param' of this name would "
                 "never change)"
             )
-        members = self.scope.dotted.get(name, set())
-        if members and members <= set(ir.PATH_MEMBERS) and members - set(ir.BODY_MEMBERS):
-            own = set(members) - set(ir.BODY_MEMBERS)
-            member = read if read in own else sorted(own)[0]
-            return (
-                f"unknown name '{name}': '{name}.{member}' reads a path, declared with "
-                f"'path {name}'"
-            )
-        model = self.scope.model
-        bodies = [b.name for b in model.bodies]
-        contacts = [c.name for c in model.contacts]
-        if members and members <= set(ir.BODY_MEMBERS) and members <= set(ir.CONTACT_MEMBERS):
-            return (  # x, y, z and velocities: a body's or a contact's
-                f"creature '{model.name}' has no body or contact '{name}' (its bodies: "
-                f"{', '.join(bodies)}; contacts: {', '.join(contacts) or 'none'})"
-                f"{did_you_mean(name, [*bodies, *contacts])}"
-            )
-        if members and members <= set(ir.BODY_MEMBERS):
-            return (
-                f"creature '{model.name}' has no body '{name}' (its bodies: "
-                f"{', '.join(bodies)}){did_you_mean(name, bodies)}"
-            )
-        if members and members <= set(ir.CONTACT_MEMBERS):
-            return (
-                f"creature '{model.name}' has no contact '{name}' (its contacts: "
-                f"{', '.join(contacts) or 'none'}){did_you_mean(name, contacts)}"
-            )
         names = [*self.scope.names, *self.scope.signals, *local]
+        passed = given(self.scope.actions, self.given_to, name)
+        paths = [
+            n for n, v in self.scope.names.items() if isinstance(v, ir.Part) and v.kind == "path"
+        ]
+        told = told_by_members(
+            self.scope.model, name, self.scope.dotted.get(name, set()), passed, read, paths
+        )
+        if told is not None:
+            return told
         if name in UNITS and name not in names:  # '1 rad / m', '2*cm': a unit read as a name
             return (
                 f"'{name}' is a unit, not a name: a unit follows its number with no operator "

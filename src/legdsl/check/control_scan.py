@@ -6,7 +6,7 @@ give, so that an unknown name is told with the declaration its use asks for
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import fields, is_dataclass
 from typing import Any
 
@@ -33,6 +33,54 @@ def dotted_members(
         for name in _walked_fields(node.__class__):
             dotted_members(getattr(node, name), found, lets)
     return found
+
+
+def given(
+    actions: Mapping[str, ast.ActionDef], call: ast.InvokeStmt | None, name: str
+) -> tuple[str, set[str]] | None:
+    """The action ``call`` calls and the members it reads of ``name`` where the call gives
+    it as a plain name (``trunk`` to ``place_foot_3d(leg, body, ...)``: a body's,
+    ``body.yaw``); None when it is not an argument of ``call``."""
+    if call is None:
+        return None
+    places = [
+        i for i, a in enumerate(call.args) if isinstance(a, ast.EName) and a.ident.name == name
+    ]
+    if not places:
+        return None
+    read = set().union(*(_parameter_members(actions, call.action.name, i) for i in places))
+    return call.action.name, read
+
+
+def _parameter_members(
+    actions: Mapping[str, ast.ActionDef],
+    action: str,
+    index: int,
+    seen: frozenset[int] = frozenset(),
+) -> set[str]:
+    """The members read of ``action``'s parameter at ``index``, in its statements and in
+    the actions it passes the parameter on to."""
+    found = actions.get(action)
+    if not isinstance(found, ast.ActionDef) or index >= len(found.params) or id(found) in seen:
+        return set()
+    name = found.params[index].name
+    members = set(dotted_members(found.body).get(name, ()))
+    for call in _invokes(found.body):
+        for i, arg in enumerate(call.args):
+            if isinstance(arg, ast.EName) and arg.ident.name == name:
+                members |= _parameter_members(actions, call.action.name, i, seen | {id(found)})
+    return members
+
+
+def _invokes(node: Any) -> Iterator[ast.InvokeStmt]:
+    if isinstance(node, ast.InvokeStmt):
+        yield node
+    elif isinstance(node, tuple | list):
+        for item in node:
+            yield from _invokes(item)
+    else:
+        for field in _walked_fields(node.__class__):
+            yield from _invokes(getattr(node, field))
 
 
 def reads_of(node: Any, name: str, found: list[Span] | None = None) -> list[Span]:

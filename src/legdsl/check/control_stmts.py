@@ -214,7 +214,9 @@ class Elaborator(ExprChecker, LegMotionProbe):
 
     def invoke(self, s: ast.InvokeStmt, local: dict[str, Value]) -> ir.Do | None:
         action = self.scope.actions.get(s.action.name)
+        self.given_to = s  # an unknown name given to it is told as what the action reads
         args = [self.expr(a, local) for a in s.args]
+        self.given_to = None
         if action is None:
             self.err(
                 s.action.span,
