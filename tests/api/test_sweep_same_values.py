@@ -14,6 +14,7 @@ import pytest
 from legdsl.api.sweep import parse_axis
 from legdsl.cli import main
 from legdsl.lang.units import parse_unit
+from legdsl.pipeline.settings import parse_given
 
 ROOT = Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "creatures" / "hopper.leg"
@@ -26,6 +27,10 @@ def test_a_grids_values_are_the_numbers_written() -> None:
     assert parse_axis("grid", "speed=0.3:0.9:3", DIMS).values == (0.3, 0.6, 0.9)
     assert parse_axis("grid", "speed=0.1:0.7:7", DIMS).values == (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7)
     assert parse_axis("grid", "speed=30cm/s:90cm/s:3", DIMS).values == (0.3, 0.6, 0.9)
+    # LO and HI as `legdsl run --set` reads them: a row runs again as --set of the value written
+    ends = parse_axis("grid", "speed=57cm/s:1m/s:2", DIMS).values
+    assert ends == (parse_given("57cm/s", "--set").value, 1.0)
+    assert parse_axis("grid", "speed=1:1:1", DIMS).values == (1.0,)
 
 
 def sweep(tmp_path: Path, *given: str) -> int:

@@ -191,7 +191,10 @@ def _parse_values(
                 f"value {n} times (its runs would be alike); give HI other than LO, or write "
                 f"{name}={pieces[0][1].strip()} for one run", option, text, *_where(pieces[1]),
             )  # fmt: skip
-        return Axis(name, kind, steps(_exact(pieces[0][1]), _exact(pieces[1][1]), n))
+        if n == 1:
+            return Axis(name, kind, (lo,))
+        inner = steps(_exact(pieces[0][1]), _exact(pieces[1][1]), n)[1:-1]
+        return Axis(name, kind, (lo, *inner, hi))  # LO and HI as --set reads them
     if len(pieces) != 2:
         raise PointedError(f"write {name}=LO:HI", option, text, pieces[0][0], end - pieces[0][0])
     lo, hi = (_number(p[1], want, kind, name) for p in pieces)
@@ -215,7 +218,9 @@ def steps(lo: Fraction, hi: Fraction, n: int) -> tuple[float, ...]:
 
 def _exact(text: str) -> Fraction:
     """A number as written, in SI units, exactly: its digits times its unit's factor as that
-    is written (``57cm`` is 57/100 m, where 57 * 0.01 is 0.5700000000000001)."""
+    is written (``57cm`` is 57/100 m, where 57 * 0.01 is 0.5700000000000001): the steps
+    between LO and HI are the numbers meant (LO and HI themselves are as ``--set`` reads
+    them, so that a row runs again as ``legdsl run --set`` of the value written)."""
     given = parse_given(text, "--grid")
     factor = parse_unit(given.unit)[0] if given.unit else 1.0
     return Fraction(given.number) * Fraction(repr(factor))
