@@ -66,10 +66,11 @@ def test_the_top_views_title_says_laps_only_of_a_closed_path() -> None:
     from legdsl.analysis.plot import path_title
 
     report = {"lateral_rms": 0.0424, "lateral_max": 0.131, "from": 3.0, "laps": 0.663,
-              "length": 15.0, "closed": False}  # fmt: skip
+              "length": 15.0, "closed": False, "progress_from": 0.0}  # fmt: skip
     assert path_title("route", report) == (
-        "route: lateral deviation 0.042 m RMS, 0.131 m max (from 3 s), 0.66 of its 15.000 m"
+        "route: lateral deviation 0.042 m RMS, 0.131 m max (from 3 s), 0.66 of its 15.000 m "
+        "(from 0 s)"
     )
-    tiny = report | {"closed": True, "lateral_rms": 0.00042}
+    tiny = report | {"closed": True, "lateral_rms": 0.00042, "progress_from": 3.0}
     assert path_title("loop", tiny).startswith("loop: lateral deviation 0.00042 m RMS")
-    assert path_title("loop", tiny).endswith("0.66 laps")
+    assert path_title("loop", tiny).endswith("0.66 laps (from 3 s)")  # one window: said once

@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from legdsl.analysis.path_report import path_report, path_rows
+from legdsl.analysis.path_report import path_report
+from legdsl.analysis.path_rows import path_rows
 from legdsl.analysis.plot import path_title
 from legdsl.ir.paths import PathSpec
 
@@ -44,7 +45,7 @@ def test_speed_along_an_open_path_goes_on_past_its_end() -> None:
     assert report["laps"] == pytest.approx(1.0)
     assert report["past_end"] == pytest.approx(10.0)  # at x = 15 m
     rows = _rows(report)
-    assert rows["progress along the path"] == (
+    assert rows["progress along the path (from 0 s)"] == (
         "5.000 m (1.000 of its 5.000 m), then 10.000 m on past its end along its last side"
     )
     label = "speed along the path (from 3 s; on past its end)"

@@ -109,8 +109,11 @@ def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(
     (at_run,) = _run_json(out)["path_reports"]
     _, (measured,) = measure_run(out, t_from=0.5, generated=generated)
     assert measured["length"] == at_run["length"] == pytest.approx(20 * 3.141592653589793)
-    assert measured["progress"] == pytest.approx(at_run["progress"], rel=1e-9)
     assert measured["lateral_rms"] < 0.1
+    # the progress of --from 0.5 is made from 0.5 s; without --from, from the start, as the run's
+    _, (whole,) = measure_run(out, generated=generated)
+    assert whole["progress"] == pytest.approx(at_run["progress"], rel=1e-9)
+    assert 0 < measured["progress"] < whole["progress"]
 
 
 def test_a_scaled_run_is_not_drawn_on_the_unscaled_bodies_and_a_damaged_scale_is_refused(

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from legdsl.analysis.path_report import Followed, followed_in
 from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
 from legdsl.analysis.plot_units import scale_axes, scale_axis
@@ -406,41 +407,32 @@ def ground_height(model: Model, tr: Trajectory, scale: float = 1.0) -> np.ndarra
 
 def run_paths(run: Path) -> list[PathSpec]:
     """The paths a run followed (``PathSpec``s from its run.json; none for older runs)."""
-    from legdsl.ir.paths import PathSpec
-
-    if not (run / "run.json").is_file():
-        return []
-    info = load_run_info(run)
-    try:
-        return [PathSpec.from_json(p) for p in info.get("paths") or []]
-    except (KeyError, TypeError, ValueError, AttributeError) as e:
-        raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
+    return [spec for spec, _ in run_followed(run)]
 
 
-def run_followed(run: Path) -> list[tuple[PathSpec, list[tuple[float, float]] | None]]:
+def run_followed(run: Path) -> list[Followed]:
     """The paths a run followed with the spans of the run it followed each in (run.json's
     ``followed``: a run that changed to a controller with another path), None for the whole."""
-    paths = run_paths(run)
-    entries = load_run_info(run).get("paths") or [] if paths else []
-    try:
-        spans = [[(float(a), float(b)) for a, b in e.get("followed") or []] for e in entries]
-    except (TypeError, ValueError) as e:
-        raise UsageError(f"{run}/run.json: a path in it is damaged ({e!r}); run again") from None
-    return [(p, s or None) for p, s in zip(paths, spans, strict=True)]
+    if not (run / "run.json").is_file():
+        return []
+    return followed_in(load_run_info(run), f"{run}/run.json")
 
 
 def path_title(name: str, report: dict[str, Any]) -> str:
     """The top view's title for a path (``path_report``): an open path's share, a closed
-    one's laps."""
-    from legdsl.analysis.path_report import window_label
+    one's laps, each figure with the window it was measured in."""
+    from legdsl.analysis.path_rows import progress_label, window_label
 
     closed = report.get("closed", True)
     covered = "laps" if closed else f"of its {figure(report['length'])} m"
-    return (
-        f"{name}: lateral deviation {figure(report['lateral_rms'])} m RMS, "
-        f"{figure(report['lateral_max'])} m max ({window_label(report)}), "
-        + f"{report['laps']:.2f} {covered}"
+    window, since = window_label(report), progress_label(report)
+    deviation = f"lateral deviation {figure(report['lateral_rms'])} m RMS, " + (
+        f"{figure(report['lateral_max'])} m max"
     )
+    made = f"{report['laps']:.2f} {covered}"
+    if since == window:  # one window for every figure: said once
+        return f"{name}: {deviation}, {made} ({window})"
+    return f"{name}: {deviation} ({window}), {made} ({since})"
 
 
 def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = None) -> Path:
@@ -448,6 +440,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     plt = pyplot()
 
     from legdsl.analysis.path_report import followed_reports, time_unit
+    from legdsl.analysis.top_marks import mark_way, unbroken
     from legdsl.sim.path_tracking import PathGeometry
 
     tr = Trajectory.load(run)
@@ -463,7 +456,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
     track = tr.com[window, :2]
     span = np.ptp(np.vstack([*drawn, track]), axis=0) + 1.0  # a metre's margin, never 0 wide
     titles = [
-        textwrap.fill(path_title(spec.name, report), 90)
+        textwrap.fill(unbroken(path_title(spec.name, report)), 90)
         for spec, report in followed_reports(
             tr, followed, t_from if t_from > 0 else None, t_to, time_unit(load_run_info(run))
         )
@@ -484,7 +477,7 @@ def plot_top(run: Path, out: Path, t_from: float = 0.0, t_to: float | None = Non
         ax.plot(pts[:, 0], pts[:, 1], color="0.6", linewidth=3, linestyle=("-", "--", ":")[k % 3],
                 label=f"path {spec.name}" + (f" ({when})" if when else ""))  # fmt: skip
     ax.plot(track[:, 0], track[:, 1], color="k", linewidth=1, label="centre of mass")
-    ax.plot(track[:1, 0], track[:1, 1], "o", color="k", label="start")
+    mark_way(ax, track, tr.t[window], drawn)  # the start, the end, the ways round
     ax.set_aspect("equal", adjustable="datalim")  # true distances, filling the plot
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")

@@ -108,6 +108,9 @@ class GaitMetrics:
     unmeasured: str = ""  # why the rows on the creature's geometry are left out, if they are
     # flag -> what its value did that it may not have been meant to (option_notes.py)
     option_notes: dict[str, str] = field(default_factory=dict)
+    # how the run followed each path it was given, over the window (``path_report``): set by
+    # ``legdsl metrics`` and ``Run.metrics()`` after measuring, not in metrics.json
+    path_reports: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def n_strides(self) -> int:
@@ -143,6 +146,8 @@ class GaitMetrics:
             "flights": [asdict(f) | {"duration": f.duration} for f in self.flights],
             "friction": [asdict(f) for f in self.friction],
         }
+        if self.path_reports:  # as legdsl metrics --json prints them
+            data["path_reports"] = self.path_reports
         return jsonable(data)
 
     def table(self) -> str:
@@ -163,6 +168,15 @@ class GaitMetrics:
             )
             lines.append(f"{s.label:<{width}}  {figure(s.value):>10}  {spread:>10}  {s.n:>4}")
         return "\n".join(lines) + "\n"
+
+    def path_table(self) -> str:
+        """The path reports as text, as ``legdsl metrics`` prints them after its table ("path
+        following:", then each path's rows); "" for a run that followed no path."""
+        from legdsl.analysis.path_rows import path_text
+
+        if not self.path_reports:
+            return ""
+        return "path following:\n" + "".join(path_text(r) + "\n" for r in self.path_reports)
 
 
 def write_json(metrics: GaitMetrics, path: Path) -> None:

@@ -349,7 +349,9 @@ class Run:
         ``min_stance="20 ms"`` as ``--min-stance`` (its ``scuff_note`` otherwise);
         ``friction_edge`` as ``--friction-edge``; ``joint="tail_base"`` a coordinate's
         magnitude per stride and ``against="hip"`` its correlation with another, as
-        ``--joint`` and ``--against``."""
+        ``--joint`` and ``--against``. Its ``path_reports`` (and ``path_table()``, the
+        command's "path following" rows) say how the run followed each path it was given, over
+        the same window."""
         self._recorded("metrics()")
         return run_metrics(self.model, self.trajectory, self.info, self._dynamics_module, start,
                            end, leg, groups, min_stance, friction_edge, joint, against)  # fmt: skip

@@ -8,6 +8,7 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from legdsl.analysis.metrics import parse_groups
+from legdsl.analysis.path_report import followed_in, followed_reports, time_unit
 from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.analysis.series_units import series_unit
 from legdsl.api.arguments import friction_edge_time, metrics_groups, min_stance_time, window_time
@@ -36,8 +37,9 @@ def run_metrics(
     against: object = None,
 ) -> GaitMetrics:
     """The metrics of a run of ``model`` (``info`` its run.json; ``dynamics()`` its generated
-    dynamics module) over ``[start, end]``, as ``legdsl metrics`` measures them; ``joint`` and
-    ``against`` are ``--joint`` and ``--against``, coordinates of ``model``."""
+    dynamics module) over ``[start, end]``, as ``legdsl metrics`` measures them, with the report
+    of each path the run followed (``path_reports``); ``joint`` and ``against`` are ``--joint``
+    and ``--against``, coordinates of ``model``."""
     t_from = window_time("start", start)
     t_to = None if end is None else window_time("end", end)
     texts, shortest = metrics_groups(groups), min_stance_time(min_stance)
@@ -49,10 +51,14 @@ def run_metrics(
     except MetricsError as e:
         raise UsageError(str(e)) from None
     slides = _joint_slides(model, trajectory, joint, against)
-    return measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
-                   leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
-                   against=against, joint_slides=slides, ground_normal=model_ground_normal(model),
-                   events=info.get("events"))  # fmt: skip
+    metrics = measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
+                      leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
+                      against=against, joint_slides=slides,
+                      ground_normal=model_ground_normal(model), events=info.get("events"))  # fmt: skip
+    followed = followed_in(info, "the run's run.json")
+    metrics.path_reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to,
+                                                          time_unit(info))]  # fmt: skip
+    return metrics
 
 
 def _joint_slides(model: Model, trajectory: Trajectory, joint: object, against: object) -> bool:

@@ -16,7 +16,6 @@ def cmd_metrics(args: argparse.Namespace) -> int:
     from legdsl.analysis.table2 import MEASURE, TABLE2, compare_table
     from legdsl.pipeline.measure import measure_run, run_segments
     from legdsl.pipeline.options import read_seconds
-    from legdsl.pipeline.report import path_summary
 
     read_window(args)  # a mistake is main's to tell, as every command's is
     min_stance = None if args.min_stance is None else read_seconds("--min-stance", args.min_stance)
@@ -33,7 +32,8 @@ def cmd_metrics(args: argparse.Namespace) -> int:
     told = [_bare_seconds(note, flag, given[flag]) if flag in given else note
             for flag, note in metrics.option_notes.items()]  # fmt: skip
     sized = _size_note(args.dir, args.table2) if args.table2 is not None else None
-    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten, sized):
+    missed = [r.get("note") for r in reports]  # a path the centre of mass kept off
+    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten, sized, *missed):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:
@@ -51,10 +51,7 @@ def cmd_metrics(args: argparse.Namespace) -> int:
         print(f"\nbeside Table 2 of the paper, {args.table2}:")
         table = compare_table(metrics, TABLE2[args.table2], measured_as=MEASURE[args.table2])
         print(table, end="")
-    if reports:
-        print("path following:")
-        for report in reports:
-            print(path_summary(report))
+    print(metrics.path_table(), end="")
     return 0
 
 

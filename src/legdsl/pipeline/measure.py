@@ -94,6 +94,7 @@ def measure_run(
                              "metrics are only printed")  # fmt: skip
     followed, unit = run_followed(run), _time_unit(run)
     reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to, unit)]
+    metrics.path_reports = reports
     return metrics, reports
 
 

@@ -202,11 +202,9 @@ def _mean_speed(tr: Any) -> float:
 
 def path_summary(report: dict[str, Any]) -> str:
     """The path rows printed after a run's summary."""
-    from legdsl.analysis.path_report import path_rows
+    from legdsl.analysis.path_rows import path_text
 
-    rows = path_rows(report)
-    width = max(len(r[0]) for r in rows)
-    return "\n".join(f"  {k:<{width}}  {v}" for k, v in rows)
+    return path_text(report)
 
 
 def run_path_reports(

@@ -18,9 +18,10 @@ events and its trajectory), whatever the creature:
   miss: a kangaroo 3 s into a hop from standing), the note says so and to run longer, not that
   the controller did not follow;
 * **path**: a path the run followed, its lateral deviation RMS (its path report's, from the
-  report's start) more than ``PATH_MARGIN``.
+  report's start) more than ``PATH_MARGIN`` or half the path's spread, whichever is less (the
+  report's ``note``: ``legdsl.analysis.path_report.off_path_limit``).
 
-The times, ``SPEED_MARGIN`` and ``PATH_MARGIN`` are for a creature standing 0.81 m, and follow
+The times, ``SPEED_MARGIN`` and ``PATH_MARGIN`` (the path report's) are for a creature standing 0.81 m, and follow
 the run's size (its ``time_unit``, √(height / 0.81 m): a speed scales as a time does, a length
 as its square, Table 1).
 """
@@ -37,7 +38,6 @@ STUCK = 2.0  # s: a gait's states last tenths of a second; a state held this lon
 STUCK_SHARE = 0.25  # ... and for this share of the run or more (a short run is told nothing)
 SPEED_SHARE = 0.25  # the measured speed off the command by more than this share of it
 SPEED_MARGIN = 0.5  # m/s, and by more than this (a command of 0 has no share)
-PATH_MARGIN = 1.0  # m: a path followed this far off, RMS (the shipped runs: 0.01 to 0.4 m)
 
 
 def run_notes(run: Any) -> list[str]:
@@ -145,11 +145,6 @@ def _speed(x: float) -> str:
 
 
 def _off_path(report: dict[str, Any], unit: float) -> str:
-    rms, most = report.get("lateral_rms"), report.get("lateral_max")
-    if rms is None or rms <= PATH_MARGIN * unit**2:  # a length: the creature's size, unit**2
-        return ""
-    return (
-        f"the run kept {rms:.2f} m off the path {report.get('path')} (RMS from "
-        f"{float(report.get('from') or 0.0):g} s to the end, {float(most or rms):.2f} m at most): "
-        "the run is ok only in not having fallen; the controller did not follow this path"
-    )
+    """The path report's note on a path the run kept off (it measured with ``unit``)."""
+    note = report.get("note")
+    return f"{note}; the run is ok only in not having fallen" if note else ""
