@@ -21,7 +21,8 @@ from legdsl.analysis.rerun import rerun_command
 from legdsl.check.source import check_file, choose
 from legdsl.codegen.fingerprints import creature_fingerprint, motion_fingerprint
 from legdsl.ir.model import Model
-from legdsl.lang.errors import UsageError
+from legdsl.lang.errors import LegError, UsageError
+from legdsl.sim.trajectory import Trajectory, load_run_info
 
 
 def run_source(directory: Path, info: dict[str, Any]) -> Path | None:
@@ -72,9 +73,6 @@ def recorded_model(
 def model_if_readable(run: Path) -> Model | None:
     """The run's creature read back from its .leg file, or None when the run does not say it
     or the file is not found or no longer reads (a figure then does without it)."""
-    from legdsl.lang.errors import LegError
-    from legdsl.sim.trajectory import load_run_info
-
     try:
         info = load_run_info(run)
         if run_source(run, info) is None:
@@ -82,3 +80,67 @@ def model_if_readable(run: Path) -> Model | None:
         return recorded_model(run, info)[1]
     except (LegError, UsageError):
         return None
+
+
+def same_run(
+    directory: Path,
+    info: dict[str, Any],
+    trajectory: Trajectory,
+    model: Model | None,
+    source: Path | None,
+    give: str = "",
+) -> None:
+    """Refuse (``UsageError``) a run directory whose trajectory.npz is not the run its
+    run.json records (a file copied from another run's directory): against ``model``, the
+    creature read back from ``source`` (its coordinates, their names and its contacts), and
+    against the samples run.json counts. ``give`` says how the caller takes another .leg
+    file ("" where it takes none)."""
+    if model is not None:
+        if trajectory.q.shape[1] != model.nq:
+            raise UsageError(
+                f"{directory}: the run has {trajectory.q.shape[1]} coordinates but {source} "
+                f"describes {model.nq}; was the .leg file changed after the run, or "
+                "trajectory.npz copied from another run?"
+            )
+        # a run without a fingerprint (an older legdsl's) may be of another creature with as
+        # many coordinates: its names say so (drawn, its forces would go to the wrong contacts)
+        contacts = tuple(c.name for c in model.contacts)
+        other = f"give the .leg file the run was made with ({give}), or " if give else ""
+        for what, recorded, described in (
+            ("coordinates", trajectory.q_names, model.q_names),
+            ("contacts", trajectory.contact_names, contacts),
+        ):
+            if tuple(recorded) != tuple(described):
+                raise UsageError(
+                    f"{directory}: the run's {what} ({', '.join(recorded) or 'none'}) are not "
+                    f"those of {source} ({', '.join(described) or 'none'}); {other}run "
+                    f"{source} again"
+                )
+    samples = info.get("samples")
+    if isinstance(samples, int) and not isinstance(samples, bool) and samples != len(trajectory):
+        raise UsageError(
+            f"{directory}: its trajectory.npz holds {len(trajectory)} samples and its run.json "
+            f"says the run recorded {samples}: they are not of one run (a file copied from "
+            "another run's directory?); run the creature again (legdsl run FILE.leg --out DIR)"
+        )
+
+
+def one_run(directory: Path, trajectory: Trajectory) -> None:
+    """``same_run`` for the readers that do without the creature (``plot``, ``metrics``),
+    which drew and measured a trajectory.npz beside another run's run.json without a word:
+    against the creature where its .leg file is at hand and run.json's fingerprint says it
+    is the run's, unchanged (else the file may be another creature's), and the samples.
+    Without a run.json (or with a damaged one: its readers say so) there is nothing to
+    compare."""
+    try:
+        info = load_run_info(directory)
+    except UsageError:
+        return
+    source, model = run_source(directory, info), None
+    if source is not None and info.get("creature_fingerprint") is not None:  # else the file
+        # may not be the run's creature (an older legdsl's run.json): the samples must do
+        try:
+            source, model = recorded_model(directory, info, source)
+        except (LegError, UsageError):  # changed, or not loading: its readers say so
+            model = None
+    same_run(directory, info, trajectory, model, source)

@@ -36,6 +36,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
         run_paths,
     )
     from legdsl.analysis.plot_ending import run_ending
+    from legdsl.analysis.recorded import one_run
     from legdsl.pipeline.options import check_output_file
     from legdsl.sim.trajectory import Trajectory, load_run_info
 
@@ -44,6 +45,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     if args.output:
         named_as(args.output, "--output", PICTURES, "a PNG picture (or .svg, .pdf)")
     tr = Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
+    one_run(run, tr)  # and so is a trajectory.npz of another run than run.json's
     out = check_output_file(args.output or run / "figure6.png", "--output")
     say = messages_for(args.output)
     room_for("draw the run", ROOM_TO_DRAW)

@@ -166,7 +166,7 @@ def read_run(
     """The trajectory, run.json and checked model of a run directory (``source``, else the
     file run.json names; ``give`` says how the caller gives another, and ``drawn`` that it
     only draws the motion, as ``recorded_model`` has them)."""
-    from legdsl.analysis.recorded import recorded_model
+    from legdsl.analysis.recorded import recorded_model, same_run
 
     if not (directory / "trajectory.npz").is_file() or not (directory / "run.json").is_file():
         raise UsageError(
@@ -178,24 +178,7 @@ def read_run(
     trajectory = Trajectory.load(directory)
     if len(trajectory) == 0:
         raise UsageError(f"{directory}: the run recorded no samples")
-    if trajectory.q.shape[1] != model.nq:
-        raise UsageError(
-            f"{directory}: the run has {trajectory.q.shape[1]} coordinates but {source} "
-            f"describes {model.nq}; was the .leg file changed after the run?"
-        )
-    # a run without a fingerprint (an older legdsl's) may be of another creature with as
-    # many coordinates: its names say so (drawn, its forces would go to the wrong contacts)
-    contacts = tuple(c.name for c in model.contacts)
-    for what, recorded, described in (
-        ("coordinates", trajectory.q_names, model.q_names),
-        ("contacts", trajectory.contact_names, contacts),
-    ):
-        if tuple(recorded) != tuple(described):
-            raise UsageError(
-                f"{directory}: the run's {what} ({', '.join(recorded) or 'none'}) are not "
-                f"those of {source} ({', '.join(described) or 'none'}); give the .leg file "
-                f"the run was made with ({give}), or run {source} again"
-            )
+    same_run(directory, info, trajectory, model, source, give)
     return Run(directory, info, trajectory, model, source)
 
 

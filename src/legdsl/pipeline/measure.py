@@ -10,7 +10,7 @@ from legdsl.analysis.metrics import compute_metrics, parse_groups
 from legdsl.analysis.pairs import PAIR_NAMES, group_hint
 from legdsl.analysis.path_report import followed_reports, time_unit
 from legdsl.analysis.plot import run_followed, samples_in_window
-from legdsl.analysis.recorded import recorded_model, run_source
+from legdsl.analysis.recorded import one_run, recorded_model, run_source
 from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, write_json
 from legdsl.analysis.segments import segment_report
 from legdsl.analysis.series_units import series_unit
@@ -56,6 +56,7 @@ def measure_run(
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
+    one_run(run, trajectory)  # and so is a trajectory.npz of another run than run.json's
     if t_to is None or t_to >= t_from:  # else compute_metrics says the window is reversed
         samples_in_window(trajectory, run, t_from, t_to, "measure")
     try:
