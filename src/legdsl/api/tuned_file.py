@@ -92,7 +92,8 @@ def _kept_by_extenders(
     of the file that ``extends`` the tuned one and takes them from it (it was retuned too,
     unsaid): by the controller's span. Its own extenders then take them from it."""
     old = {c.name: c for c in controller.params}
-    children = {d.span for d in tree.controllers if d.base and d.base.name == controller.name}
+    own = _declaration(tree, controller)
+    children = {d.span for d in tree.controllers if own is not None and _base_in(tree, d) is own}
     kept: dict[Any, list[str]] = {}
     for other in others:
         if other.span not in children:
@@ -102,6 +103,23 @@ def _kept_by_extenders(
                 text = _value_edit(_param_decl(p.span), old[p.name].value)[3]
                 kept.setdefault(other.span, []).append(f"param {p.name} = {text}")
     return kept
+
+
+def _base_in(tree: ast.SourceFile, decl: ast.ControllerDecl) -> ast.ControllerDecl | None:
+    """The controller of ``tree`` that ``decl`` extends, as the checker resolves it (another
+    of the base's name in the file; with several, the one for ``decl``'s creature), or None:
+    it extends none, or one of a used file. ``controller trot extends trot`` extends the used
+    file's trot, not itself: taken for its own extender, the tuned trot got the old values of
+    the tuned parameters declared next to the new ones ('leg_k' is defined twice)."""
+    if decl.base is None:
+        return None
+    named = [c for c in tree.controllers if c.name.name == decl.base.name and c is not decl]
+    if decl.creature is not None:
+        mine = [
+            c for c in named if c.creature is not None and c.creature.name == decl.creature.name
+        ]
+        named = mine or named
+    return named[0] if named else None
 
 
 def _declaration(tree: ast.SourceFile, controller: Controller) -> ast.ControllerDecl | None:
