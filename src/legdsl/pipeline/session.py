@@ -358,9 +358,7 @@ class RunSession:
 
     def tell_after(self, run: Run) -> None:
         """Tell a switch of ``run`` that never took over, and its ``run_notes`` (after its table)."""
-        for note in switches_not_made(run, run.sources):
-            self.tell("note", note)
-        for note in run_notes(run):
+        for note in [*switches_not_made(run, run.sources), *run_notes(run)]:
             self.tell("note", note)
 
     def tell(self, kind: str, text: str) -> None:
