@@ -607,7 +607,7 @@ def test_cli_user_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert not (tmp_path / "metrics.json").exists()
     (tmp_path / "trajectory.npz").write_bytes(b"not a zip")
     assert main(["metrics", str(tmp_path)]) == 2
-    assert "cannot read" in capsys.readouterr().err
+    assert "is not a legdsl trajectory: it is text" in capsys.readouterr().err
 
 
 def test_cli_help_has_an_example(capsys: pytest.CaptureFixture[str]) -> None:

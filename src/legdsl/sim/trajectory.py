@@ -159,6 +159,7 @@ class Trajectory:
             )
         again = "; run the creature again (legdsl run FILE.leg --out DIR)"
         _refuse_incomplete(Path(directory), again)
+        _refuse_foreign(path, again)
         try:
             with np.load(path, allow_pickle=False) as data:
                 missing = [k for k in (*ARRAYS, "meta") if k not in data.files and k not in LATER]
@@ -171,6 +172,11 @@ class Trajectory:
         except (UsageError, MemoryError):  # too little memory to read it is not a damaged file
             raise
         except Exception as e:  # a truncated zip, a damaged entry, bad JSON in meta, ...
+            if "pickle" in str(e):  # numpy's advice to load it unsafely: never to be passed on
+                raise UsageError(
+                    f"{path} is not a legdsl trajectory: it holds Python objects, where a run's "
+                    f"trajectory holds arrays of numbers{again}"
+                ) from None
             raise UsageError(f"cannot read {path} ({type(e).__name__}: {e}){again}") from None
         try:
             if not isinstance(meta, dict):
@@ -318,6 +324,39 @@ class Trajectory:
         writer.writerow([c[0] for c in cols])
         for row in range(len(self)):
             writer.writerow([_fmt(c[1][row]) for c in cols])
+
+
+def _refuse_foreign(path: Path, again: str) -> None:
+    """A trajectory.npz that is no zip archive (a text file, a bare .npy array, an empty
+    file) is not a legdsl trajectory: said so, where numpy's own words were passed on (for a
+    text file: "load it unsafely using the allow_pickle= keyword argument")."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(512)
+    except OSError:
+        return  # numpy's reading says what is wrong
+    if head.startswith(b"PK\x03\x04"):
+        return
+    if not head:
+        what = "it is empty"
+    elif head.startswith(b"\x93NUMPY"):
+        what = "it is a single numpy array (.npy), where a run's trajectory.npz is a zip of arrays"
+    elif _looks_like_text(head):
+        what = "it is text, where a run's trajectory.npz is a zip of arrays"
+    else:
+        what = "it is not a zip of arrays, as a run's trajectory.npz is"
+    raise UsageError(f"{path} is not a legdsl trajectory: {what}{again}")
+
+
+def _looks_like_text(head: bytes) -> bool:
+    """Whether the first bytes of a file are UTF-8 text (a character cut at their end too)."""
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError as e:
+        if e.start < len(head) - 3:
+            return False
+        text = head[: e.start].decode("utf-8")
+    return all(c.isprintable() or c in "\n\r\t" for c in text)
 
 
 def _refuse_incomplete(directory: Path, again: str) -> None:
