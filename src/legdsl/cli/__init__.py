@@ -106,7 +106,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from legdsl.pipeline.compile import compile_file
+    from legdsl.pipeline.compile import compile_file, compile_jobs
     from legdsl.pipeline.generated import write_generated
     from legdsl.pipeline.report import CompileProgress
 
@@ -124,6 +124,7 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     from legdsl.pipeline.options import check_output_dir, os_error
 
     check_output_dir(args.out, "--out")
+    compile_jobs()  # a wrong $LEGDSL_COMPILE_JOBS is refused before any work
 
     shown = CompileProgress()
     progress = shown.line

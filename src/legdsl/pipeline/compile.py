@@ -28,7 +28,7 @@ from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import render_dynamics
 from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
-from legdsl.lang.errors import LegError
+from legdsl.lang.errors import LegError, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lower.control import LoweredController, lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
@@ -182,9 +182,19 @@ def compile_checked(
 
 def compile_jobs() -> int:
     """Processes that lower a creature, this one (its dynamics) among them:
-    ``$LEGDSL_COMPILE_JOBS`` if set, else one per core (1: all in this process)."""
-    asked = os.environ.get("LEGDSL_COMPILE_JOBS", "")
-    return int(asked) if asked.isdigit() and int(asked) > 0 else (os.cpu_count() or 1)
+    ``$LEGDSL_COMPILE_JOBS`` if set, else one per core (1: all in this process). A value
+    that is no count of processes is refused (``abc`` and ``-3`` were silently one per core),
+    as ``$LEGDSL_BACKEND``'s is."""
+    asked = os.environ.get("LEGDSL_COMPILE_JOBS", "").strip()
+    if not asked:
+        return os.cpu_count() or 1
+    if not (asked.isascii() and asked.isdigit()) or int(asked) < 1:
+        raise UsageError(
+            f"LEGDSL_COMPILE_JOBS={asked}: give the number of processes that compile, a whole "
+            "number from 1 (1 keeps the compile in one process), or unset it for one per core "
+            "(docs/compiler.md)"
+        )
+    return int(asked)
 
 
 def _controller_processes(model: Model, source: str) -> Forked | None:
