@@ -48,6 +48,7 @@ from legdsl.analysis.energy import energy_rows
 from legdsl.analysis.friction import LEVEL, MIN_NORMAL_FRACTION, contact_friction
 from legdsl.analysis.option_notes import friction_edge_note, min_stance_note, time_text
 from legdsl.analysis.pairs import pair_rows
+from legdsl.analysis.resolution import natural_sizes
 from legdsl.analysis.results import (
     FRICTION_EDGE,
     GaitMetrics,
@@ -201,4 +202,5 @@ def compute_metrics(
         options=options,
         scuff_note=scuffs,
         option_notes={flag: said for flag, said in notes.items() if said},
+        sizes=natural_sizes(tr),
     )

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.analysis.resolution import ROUND_OFF, label_unit, natural, resolved
 from legdsl.figures import figure
 from legdsl.files import write_atomic
 
@@ -111,6 +112,9 @@ class GaitMetrics:
     # how the run followed each path it was given, over the window (``path_report``): set by
     # ``legdsl metrics`` and ``Run.metrics()`` after measuring, not in metrics.json
     path_reports: list[dict[str, Any]] = field(default_factory=list)
+    # the natural size of a value in kg, m, s and rad for the run's creature (resolution.py):
+    # the table prints a value under its round-off as 0; empty: every value as measured
+    sizes: dict[str, float] = field(default_factory=dict)
 
     @property
     def n_strides(self) -> int:
@@ -161,12 +165,23 @@ class GaitMetrics:
             lines.append(f"no strides: {self.note}")
         width = max([len(s.label) for s in self.summaries] + [8])
         lines.append(f"{'quantity':<{width}}  {'value':>10}  {'std':>10}  {'n':>4}")
+        zeroed = 0
         for s in self.summaries:
+            unit = label_unit(s.label)
+            scale = natural(unit, self.sizes) if unit is not None else None
+            value, std = resolved(s.value, scale), resolved(s.std, scale)
+            zeroed += value == 0.0 != s.value  # a NaN is no round-off
             spread = {"max": "(peak)", "min": "(least)", "total": "(window)"}.get(
                 s.how,
-                figure(s.std, s.value),  # to the value's decimals
+                figure(std, std if value == 0.0 != s.value else value),  # to the value's decimals
             )
-            lines.append(f"{s.label:<{width}}  {figure(s.value):>10}  {spread:>10}  {s.n:>4}")
+            lines.append(f"{s.label:<{width}}  {figure(value):>10}  {spread:>10}  {s.n:>4}")
+        if zeroed:
+            lines.append(
+                f"({zeroed} row{'s read' if zeroed > 1 else ' reads'} 0.000: under {ROUND_OFF:g} "
+                f"of what the creature's size ({figure(self.sizes['m'])} m), mass and gravity make "
+                "of the unit, a value is the round-off of a zero)"
+            )
         return "\n".join(lines) + "\n"
 
     def path_table(self) -> str:

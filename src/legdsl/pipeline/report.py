@@ -6,6 +6,7 @@ import sys
 import time
 from typing import Any
 
+from legdsl.analysis.resolution import natural, natural_sizes, resolved
 from legdsl.figures import figure, figures
 from legdsl.ir.model import Model
 from legdsl.pipeline.start_pose import welded_root
@@ -191,7 +192,8 @@ def _mean_speed_said(model: Model, tr: Any) -> str:
     docs/metrics.md): a 2 km arm swinging on a fixed base read 0.839 m/s over 3 s."""
     if welded_root(model) is not None:
         return "n/a (its root is welded to the world)"
-    return f"{figure(_mean_speed(tr))} m/s"
+    speed = resolved(_mean_speed(tr), natural("m/s", natural_sizes(tr)))  # 0, not -5.3e-18
+    return f"{figure(speed)} m/s"
 
 
 def _mean_speed(tr: Any) -> float:
