@@ -81,7 +81,7 @@ def tell_never_chosen(
         which = "; ".join(f"{s.text(unit)}, line {s.span.line}" for s in shadows)
         ends = " and ".join(f"'{c.text(unit)}'" for c in cuts)
         fix = (
-            f"end the band{'s' if len(cuts) > 1 else ''} before it where {name}'s begins "
+            f"give the band{'s' if len(cuts) > 1 else ''} before it an end at {name}'s "
             f"({ends}; an end inside {name}'s band overlaps it, a hysteresis)"
             if cuts
             else "narrow the bands before it"
