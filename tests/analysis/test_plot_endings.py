@@ -119,8 +119,8 @@ def test_a_tiny_creature_s_axes_are_in_mm_um_and_ms(tmp_path: Path, figures: lis
     figure6, footfall = figures
     figure6.canvas.draw()
     height, _, speed, joints = figure6.axes[:4]
-    assert height.get_ylabel() == "body height (\u00b5m)"
-    assert speed.get_ylabel() == "forward speed (mm/s)"
+    assert height.get_ylabel() == "centre-of-mass\nheight (\u00b5m)"
+    assert speed.get_ylabel() == "centre-of-mass\nforward speed (mm/s)"
     assert joints.get_xlabel() == "time (ms)" and footfall.axes[0].get_xlabel() == "time (ms)"
     ticks = [t.get_text() for t in height.get_yticklabels() if t.get_text()]
     assert all(80 <= float(t) <= 120 for t in ticks), ticks  # 0.09 to 0.11 mm

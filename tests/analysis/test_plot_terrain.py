@@ -12,6 +12,7 @@ import pytest
 from conftest import CREATURES
 
 from legdsl.analysis.plot import ground_under_com, plot_run
+from legdsl.analysis.recorded import model_if_readable
 from legdsl.sim.trajectory import Trajectory, empty
 
 HOPPER = CREATURES / "hopper.leg"
@@ -50,7 +51,7 @@ def test_the_ground_under_the_centre_of_mass_follows_the_terrain(
 ) -> None:
     run = _run(tmp_path, terrain)
     tr = Trajectory.load(run)
-    ground = ground_under_com(run, tr)
+    ground = ground_under_com(run, tr, model_if_readable(run))
     assert ground is not None
     assert ground == pytest.approx(expected(tr.com[:, 0]))  # type: ignore[operator]
 
@@ -59,14 +60,14 @@ def test_a_scaled_run_stands_over_the_scaled_terrain(tmp_path: Path) -> None:
     # legdsl run --scale 2 records the creature twice as large: its step is at 4 m, 10 cm high
     run = _run(tmp_path, "terrain step(x = 2 m, height = 5 cm)", scale=2.0)
     tr = Trajectory.load(run)
-    ground = ground_under_com(run, tr)
+    ground = ground_under_com(run, tr, model_if_readable(run))
     assert ground is not None
     assert ground == pytest.approx(np.where(tr.com[:, 0] >= 4.0, 0.1, 0.0))
 
 
 def test_a_flat_floor_draws_no_ground_line(tmp_path: Path) -> None:
     run = _run(tmp_path, "")
-    assert ground_under_com(run, Trajectory.load(run)) is None
+    assert ground_under_com(run, Trajectory.load(run), model_if_readable(run)) is None
 
 
 def test_the_height_panel_draws_the_ground_on_a_slope(

@@ -1,8 +1,10 @@
 """``legdsl plot DIR``: a run drawn like Figure 6 of the paper.
 
-Four panels against time: body height, body pitch (and roll, in 3D), forward speed with its
-command (and sideways speed, in 3D), and the joint angles of a leg; every stance phase of
-that leg is bracketed by vertical dashed lines, as in the paper.
+Four panels against time: the centre of mass's height, the root body's pitch (and roll, in
+3D; a sentence instead for a root welded to the world), the centre of mass's forward speed
+with its command (and sideways speed, in 3D), and the joint angles of the first leg (over
+more panels for a leg of many joints, ``plot_panels``); every stance phase of that leg is
+bracketed by vertical dashed lines, as in the paper.
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ import numpy as np
 from legdsl.analysis.path_report import Followed, followed_in
 from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
+from legdsl.analysis.plot_panels import draw_joints, joint_groups, welded_note, welded_root
+from legdsl.analysis.plot_panels import legend as _legend
 from legdsl.analysis.plot_units import scale_axes, scale_axis
 from legdsl.figures import figure
 from legdsl.lang.errors import UsageError
@@ -27,7 +31,6 @@ if TYPE_CHECKING:
     from legdsl.ir.model import Model
     from legdsl.ir.paths import PathSpec
 
-LINE_STYLES = ("-", "--", "-.", ":")
 OFF_AXIS = 1e6  # a speed command this many times the speeds drawn (and 1 m/s) is off the axis
 
 
@@ -110,13 +113,6 @@ def _command(speed: Any, t: np.ndarray, command: np.ndarray, forward: np.ndarray
                    "off the axis)")  # fmt: skip
 
 
-def _legend(ax: Any) -> None:
-    """A panel's legend beside it, on the right, where it hides none of the curves (inside,
-    at the lower right, it hid a kangaroo's third speed dip and its hip's trough)."""
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
-              borderaxespad=0.0, handlelength=2.5)  # fmt: skip
-
-
 def _stances_in(tr: Trajectory, t_from: float, end: float) -> list[tuple[float, float]]:
     """The first leg's stances that reach into the window (none without legs)."""
     if not tr.leg_names:
@@ -148,10 +144,15 @@ def plot_run(
     t_to: float | None = None,
 ) -> Path:
     """Draw the Figure-6 panels of the run in directory ``run`` into ``out`` (PNG)."""
+    from legdsl.analysis.recorded import model_if_readable
+
     plt = pyplot()
     tr = Trajectory.load(run)
     ending = run_ending(load_run_info(run)) if (run / "run.json").is_file() else None
-    drawn = Drawn(run.name, run, ground_under_com(run, tr), switch_times(run), ending)
+    model = model_if_readable(run)  # None: no ground drawn, no welded root told
+    ground = ground_under_com(run, tr, model)
+    welded = welded_root(model) if model is not None else None
+    drawn = Drawn(run.name, run, ground, switch_times(run), ending, welded)
     return draw_run(plt, tr, drawn, out, angles, t_from, t_to)
 
 
@@ -159,14 +160,16 @@ def plot_run(
 class Drawn:
     """What Figure 6 takes of a run besides its samples: its title, how its messages name it
     (its directory), the ground under its centre of mass (None: a flat floor) and its
-    controller changes (``switch_times``), and how it ended where not ok (``run_ending``).
-    The API's ``Run.plot`` gives them from memory."""
+    controller changes (``switch_times``), how it ended where not ok (``run_ending``), and
+    its root body's name where it is welded to the world (``welded_root``). The API's
+    ``Run.plot`` gives them from memory."""
 
     title: str
     named: Path | str
     ground: np.ndarray | None
     switches: list[tuple[float, str]]
     ending: Ending | None = None
+    welded: str | None = None
 
 
 def draw_run(
@@ -182,44 +185,45 @@ def draw_run(
     window = samples_in_window(tr, drawn.named, t_from, t_to, "draw", curve=True)
     end = tr.t[-1] if t_to is None else t_to
     t = tr.t[window]
-    fig, axes = plt.subplots(4, 1, figsize=(9.5, 9), sharex=True)  # legends on the right
-    height, pitch, speed, joints = axes
+    groups = joint_groups([n for n in angles if n in tr.q_names])  # a panel of 8 at most each
+    fig, axes = plt.subplots(3 + len(groups), 1, figsize=(9.5, 9 + 2.1 * (len(groups) - 1)),
+                             sharex=True)  # fmt: skip  # legends on the right
+    height, pitch, speed, *panels = axes
+    joints = panels[-1]  # the time axis's
 
-    height.plot(t, tr.com[window, 2], color="k")
-    height.set_ylabel("body height (m)")
+    # the centre of mass's: the body's (its root's) height is not what is drawn
+    height.plot(t, tr.com[window, 2], color="k", label="centre of mass")
+    height.set_ylabel("centre-of-mass\nheight (m)")
     ground = drawn.ground
     if ground is not None:  # heights are world z: on terrain, the ground they stand over too
         height.plot(t, ground[window], color="0.5", linewidth=1.0, label="ground under com")
         _legend(height)
-        height.set_ylabel("height, world z (m)")
-    # unwrapped: a planar flip's pitch, read in (-180, 180], is drawn as the turn it makes
-    pitch.plot(t, np.degrees(np.unwrap(tr.root_rpy[window, 1])), color="k", label="pitch")
-    pitch.set_ylabel("body pitch (deg)")
+        height.set_ylabel("centre-of-mass height,\nworld z (m)")
+    if drawn.welded is not None:  # its flat zeros said nothing: a sentence says why
+        welded_note(pitch, drawn.welded)
+    else:  # unwrapped: a planar flip's pitch, read in (-180, 180], is drawn as the turn it makes
+        pitch.plot(t, np.degrees(np.unwrap(tr.root_rpy[window, 1])), color="k", label="pitch")
+        pitch.set_ylabel("body pitch (deg)")
 
     heading = tr.root_rpy[window, 2]
     vx, vy = tr.com_vel[window, 0], tr.com_vel[window, 1]
     forward = vx * np.cos(heading) + vy * np.sin(heading)
     speed.plot(t, forward, color="k", label="forward speed")
     if not tr.planar:  # a 3D run also tips and slides sideways: roll and sideways speed too
-        pitch.plot(t, np.degrees(tr.root_rpy[window, 0]), color="k", linestyle=":", label="roll")
-        _legend(pitch)
-        pitch.set_ylabel("body pitch, roll (deg)")
+        if drawn.welded is None:
+            pitch.plot(t, np.degrees(tr.root_rpy[window, 0]), color="k", linestyle=":",
+                       label="roll")  # fmt: skip
+            _legend(pitch)
+            pitch.set_ylabel("body pitch, roll (deg)")
         sideways = -vx * np.sin(heading) + vy * np.cos(heading)
         speed.plot(t, sideways, color="k", linestyle=":", label="sideways speed")
     if np.isfinite(tr.speed_command[window]).any():
         _command(speed, t, tr.speed_command[window], forward)
     if not tr.planar or np.isfinite(tr.speed_command[window]).any():
         _legend(speed)
-    speed.set_ylabel("forward speed (m/s)" if tr.planar else "speed (m/s)")
+    speed.set_ylabel("centre-of-mass\n" + ("forward speed (m/s)" if tr.planar else "speed (m/s)"))
 
-    names = [n for n in angles if n in tr.q_names]
-    for k, name in enumerate(names):
-        column = tr.q_names.index(name)
-        style = LINE_STYLES[k % len(LINE_STYLES)]
-        joints.plot(t, np.degrees(tr.q[window, column]), color="k", linestyle=style, label=name)
-    if names:
-        _legend(joints)
-    joints.set_ylabel("leg joint angles (deg)")
+    draw_joints(panels, groups, tr, window, tr.leg_names[0] if tr.leg_names else "")
     joints.set_xlabel("time (s)")
 
     stances = _stances_in(tr, t_from, end)
@@ -382,13 +386,11 @@ def leg_angles(model: Model) -> tuple[str, ...]:
     return tuple(d.name for d in model.dofs if d.joint in joints and d.motion == "hinge")
 
 
-def ground_under_com(run: Path, tr: Trajectory) -> np.ndarray | None:
+def ground_under_com(run: Path, tr: Trajectory, model: Model | None) -> np.ndarray | None:
     """The terrain's height under the centre of mass at every sample, or None for a flat
-    floor (or when the run's creature cannot be read back: the panel is then the body alone).
-    A ``--scale L`` run's ground is the file's scaled by L, as its motion and metrics are."""
-    from legdsl.analysis.recorded import model_if_readable
-
-    model = model_if_readable(run)
+    floor (or when the run's creature, ``model``, could not be read back: the panel is then
+    the body alone). A ``--scale L`` run's ground is the file's scaled by L, as its motion
+    and metrics are."""
     if model is None or model.ground is None or not model.ground.terrain:
         return None
     return ground_height(model, tr, float(load_run_info(run).get("scale") or 1.0))

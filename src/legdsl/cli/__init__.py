@@ -210,9 +210,11 @@ def _parser() -> argparse.ArgumentParser:
     pl = sub.add_parser(
         "plot",
         help="draw a run like Figure 6 of the paper (PNG)",
-        description="Draw body height, body pitch, forward speed against its command and the "
-        "joint angles of the first leg over time, with every stance phase of that leg between "
-        "dashed lines (Figure 6 of Raibert & Hodgins 1991). Writes DIR/figure6.png by default.",
+        description="Draw the centre of mass's height, the body's pitch, the centre of mass's "
+        "forward speed against its command and the joint angles of the first leg over time "
+        "(a root welded to the world cannot pitch: its panel says so), with every stance phase "
+        "of that leg between dashed lines (Figure 6 of Raibert & Hodgins 1991). Writes "
+        "DIR/figure6.png by default.",
         epilog="Example: legdsl plot runs/kangaroo --from 3 --to 4",
     )
     pl.add_argument("dir", metavar="DIR", help="a run directory (legdsl run --out DIR)")
