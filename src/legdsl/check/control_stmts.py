@@ -15,15 +15,16 @@ from legdsl.check.declared_unit import declared_unit
 from legdsl.check.group_torque import one_spring_per_group, whole_torque_per_member
 from legdsl.check.hip_holds import misaimed_bodies
 from legdsl.check.leg_motion import LegMotionProbe
+from legdsl.check.place_servos import PlaceServos, goal_count
 from legdsl.check.plain_declared import plain_declared
 from legdsl.check.values import defined_by_both, did_you_mean, stdlib_actions
 from legdsl.ir import controller as ir
-from legdsl.ir.model import NON_NEGATIVE, Actuator, Leg, setting_kind
+from legdsl.ir.model import NON_NEGATIVE, setting_kind
 from legdsl.lang import ast
 from legdsl.lang.units import KINDS
 
 
-class Elaborator(ExprChecker, LegMotionProbe):
+class Elaborator(ExprChecker, LegMotionProbe, PlaceServos):
     """Turns a controller's syntax into IR nodes under one ``Scope``; mistakes go to ``diag``."""
 
     def stmts(self, stmts: tuple[ast.Stmt, ...], local: dict[str, Value]) -> list[ir.Stmt]:
@@ -363,11 +364,7 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 continue
             actuator = self.actuator_of(servo)
             if actuator is None or actuator[0] != "servo":
-                self.err(
-                    path[-1].span,
-                    f"'place ... using' names servos whose setpoints it sets; "
-                    f"'{'.'.join(i.name for i in path)}' is not a servo actuator",
-                )
+                self.err(path[-1].span, self.not_a_servo(path, servo, legs, s))
                 ok = False
                 continue
             assert isinstance(servo, ir.Part | ir.Alias)
@@ -381,110 +378,12 @@ class Elaborator(ExprChecker, LegMotionProbe):
                 continue
             servos.append(servo)
         if len(s.servos) != len(s.goals):
-            self.err(
-                s.span,
-                f"'place' needs one servo per goal, in the goals' order: {len(s.goals)} goal(s) "
-                f"({', '.join(name.name for name, _ in s.goals)}), {len(s.servos)} servo(s); "
-                "write 'place LEG at (x = ...) using SERVO', or "
-                f"(x = ..., {'z' if self.scope.model.planar else 'y'} = ...) using two",
-            )
+            self.err(s.span, goal_count(s, axes, self.servo_names(legs, s)))
             return None
         if not ok or not isinstance(legs, ir.Legs):
             return None
         axes_given = tuple(name.name for name, _ in s.goals)
         return ir.Place(legs, axes_given, tuple(goals), tuple(servos), s.span)
-
-    def _servos_per_leg(
-        self, legs: ir.Legs, servo: ir.Part | ir.Alias
-    ) -> list[tuple[Leg, Actuator]]:
-        """Each leg a place's leg or role stands for, with the actuator the servo is there:
-        under every binding the table's swaps reach (a named servo fits one of them only)."""
-        root = legs.root()
-        first = self.scope.roles.get(root.role or "", ())
-        every = self.scope.bound.get(root.role or "", (first,))
-        names = [root.leg] if root.leg else list(dict.fromkeys(n for g in every for n in g))
-        found = []
-        for name in names:
-            if isinstance(servo, ir.Alias):
-                actuator_name = self.scope.aliases[name].get(servo.alias)
-            else:
-                actuator_name = servo.name
-            leg = next((g for g in self.scope.model.legs if g.name == name), None)
-            actuator = next(
-                (a for a in self.scope.model.actuators if a.name == actuator_name), None
-            )
-            if leg is not None and actuator is not None:
-                found.append((leg, actuator))
-        return found
-
-    def servo_moves_new_coordinate(
-        self,
-        legs: ir.Legs,
-        servo: ir.Part | ir.Alias,
-        path: tuple[ast.Ident, ...],
-        moved: dict[tuple[str, str], str],
-    ) -> bool:
-        """Each servo of a ``place`` moves a coordinate no other of its servos moves: two on
-        one coordinate (a 3D leg whose `roll_servo` alias names its pitch servo) would leave
-        a goal with nothing to reach it, and the solve would quietly miss it."""
-        text = ".".join(i.name for i in path)
-        for leg, actuator in self._servos_per_leg(legs, servo):
-            before = moved.get((leg.name, actuator.dof))
-            moved[(leg.name, actuator.dof)] = text
-            if before is not None:
-                fix = (
-                    f"make the alias '{servo.alias}' of leg '{leg.name}' name a servo on "
-                    "another of the leg's coordinates"
-                    if isinstance(servo, ir.Alias)
-                    else "name a servo on another of the leg's coordinates"
-                )
-                self.err(
-                    path[-1].span,
-                    f"'place' moves the foot of leg '{leg.name}' with '{text}' (servo "
-                    f"'{actuator.name}', on coordinate '{actuator.dof}'), which '{before}' "
-                    f"already moves: each goal needs a servo on its own coordinate; {fix}",
-                )
-                return False
-        return True
-
-    def servo_moves_foot(
-        self, legs: ir.Legs, servo: ir.Part | ir.Alias, path: tuple[ast.Ident, ...]
-    ) -> bool:
-        """A servo of ``place`` turns one of the leg's own joints: the solve moves only those
-        (one above the hip moves the hip point too, one elsewhere not the foot at all)."""
-        for leg, actuator in self._servos_per_leg(legs, servo):
-            name = leg.name
-            joint = next(d.joint for d in self.scope.model.dofs if d.name == actuator.dof)
-            if joint not in leg.joints:
-                fix = (
-                    f"make the alias '{servo.alias}' of leg '{name}' name a servo on one of them"
-                    if isinstance(servo, ir.Alias)
-                    else "name a servo on one of them"
-                )
-                role = legs.root().role
-                swapped = bool(role) and name not in self.scope.roles.get(role or "", ())
-                if swapped and not isinstance(servo, ir.Alias):
-                    fix += f", or one through an alias of the role{self._servo_alias(leg, role)}"
-                self.err(
-                    path[-1].span,
-                    f"'place' moves the foot of leg '{name}'"
-                    + (f" (bound to '{role}' by a 'swap')" if swapped else "")
-                    + f" with the servo '{actuator.name}', but it is on joint '{joint}', not "
-                    f"one of the leg's joints ({', '.join(leg.joints)}); {fix}",
-                )
-                return False
-        return True
-
-    def _servo_alias(self, leg: Leg, role: str | None) -> str:
-        """An alias of ``leg`` naming a servo on its joints, as the role would say it."""
-        joints = {d.name for d in self.scope.model.dofs if d.joint in leg.joints}
-        servos = {
-            a.name for a in self.scope.model.actuators if a.kind == "servo" and a.dof in joints
-        }
-        alias = next((k for k, v in self.scope.aliases[leg.name].items() if v in servos), None)
-        return (
-            f" ('{role}.{alias}'), which follows the swap" if alias else ", which follows the swap"
-        )
 
     def role(self, ident: ast.Ident, local: dict[str, Value]) -> str | None:
         found = self.lookup(ident, local, report=False)
