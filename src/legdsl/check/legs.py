@@ -40,6 +40,7 @@ class LegChecker(CreaturePart):
             | {b.name for b in bodies}
         )
         leg_joints: list[str] = []
+        listed_at: list[ast.Ident] = []  # each joint listed, where it is written
         foot = None
         soles: list[str] = []
         aliases: list[tuple[str, str]] = []
@@ -81,6 +82,7 @@ class LegChecker(CreaturePart):
                         joints_at = None
                     else:
                         leg_joints.append(ident.name)
+                        listed_at.append(ident)
             elif key == "foot":
                 soles = self._soles(decl.name.name, p.value, contact_by)
                 foot = soles[0] if soles else None
@@ -146,8 +148,9 @@ class LegChecker(CreaturePart):
             )
         if leg_joints[0] in chain:
             own = chain[: chain.index(leg_joints[0]) + 1]  # from the foot up to the hip
-            # The listed joints are the whole chain, hip first: the highest one listed on it
-            # (a weld, which moves nothing, may be listed or left out).
+            # The listed joints are the whole chain of joints that move, hip first, from the
+            # highest one listed on it: a weld moves nothing and is left out (a leg with no
+            # joint that moves, a peg welded on, names the weld it hangs from).
             top = max(chain.index(j) for j in leg_joints if j in chain)
             moving = {j.name for j in joints if j.kind != "weld"}
             whole = [j for j in chain[top::-1] if j in moving]
@@ -157,6 +160,10 @@ class LegChecker(CreaturePart):
                     f"the joints of leg '{decl.name.name}' are not the chain from its hip down "
                     f"to its foot '{foot}', in order: write 'joints {', '.join(whole)}'",
                 )
+            elif whole and joints_at:
+                for ident in listed_at:
+                    if ident.name not in moving:
+                        self.err(ident.span, _weld_listed(ident.name, decl.name.name, whole))
             self._own_aliases(decl.name.name, own, aliases, alias_at, joints, actuators)
         return Leg(
             decl.name.name, tuple(leg_joints), foot, tuple(aliases), decl.span, tuple(soles[1:])
@@ -247,3 +254,12 @@ class LegChecker(CreaturePart):
                     f"{', '.join(reversed(own))}); alias it in the leg it belongs to, or reach "
                     f"it by its own name",
                 )
+
+
+def _weld_listed(weld: str, leg: str, whole: list[str]) -> str:
+    """A weld listed in a leg's joints that move: it is no joint of the leg."""
+    return (
+        f"joint '{weld}' is a weld ('fixed'): it moves nothing and has no coordinate, so it is "
+        f"not one of the joints of leg '{leg}' (its joints that move, from the hip: "
+        f"{', '.join(whole)}); leave it out: write 'joints {', '.join(whole)}'"
+    )
