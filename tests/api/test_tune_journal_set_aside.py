@@ -1,4 +1,5 @@
-"""A stopped tune's journal that the command run again cannot go on from is said to be set aside."""
+"""A stopped tune's journal that the command run again cannot go on from: a damaged one is said
+to be set aside, another tune's is refused (its files are that tune's results)."""
 
 from __future__ import annotations
 
@@ -36,7 +37,8 @@ def test_a_journal_of_another_tune_says_which_option_differs(tmp_path: Path) -> 
     stopped(tmp_path, PLAN)
     journal = Journal.open(tmp_path, {**PLAN, "popsize": 6, "seed": 2})
     assert journal.generations == [] and journal.start is None
-    assert journal.set_aside == "it is of a tune with other --popsize, --seed"
+    assert journal.another == "of a tune with other --popsize, --seed"
+    assert journal.set_aside is None
 
 
 def test_a_damaged_journal_is_said_to_be(tmp_path: Path) -> None:
@@ -45,22 +47,48 @@ def test_a_damaged_journal_is_said_to_be(tmp_path: Path) -> None:
     assert Journal.open(tmp_path / "none", PLAN).set_aside is None  # no journal: nothing to say
 
 
-def test_the_command_notes_the_journal_it_sets_aside(
+def tune_args(
+    tmp_path: Path, out: Path, generated: str = "generated", bounds: str = "0.02:0.2"
+) -> list[str]:
+    return ["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
+            "--param", f"k_speed={bounds}", "--speeds", "1", "--time", "1", "--from", "0.2",
+            "--generations", "1", "--popsize", "2", "--jobs", "1", "--out", str(out),
+            "--generated", str(tmp_path / generated)]  # fmt: skip
+
+
+def test_the_command_notes_the_damaged_journal_it_sets_aside(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     out = tmp_path / "tuned"
     out.mkdir()
-    (out / JOURNAL).write_text(json.dumps({"plan": {**PLAN}, "start": [RUN], "generations": []}))
-    code = main(["tune", str(ROOT / "creatures" / "hopper.leg"), "--controller", "hop",
-                 "--param", "k_speed=0.02:0.2", "--speeds", "1", "--time", "1", "--from", "0.2",
-                 "--generations", "1", "--popsize", "2", "--jobs", "1", "--out", str(out),
-                 "--generated", str(tmp_path / "generated")])  # fmt: skip
-    assert code == 0
+    (out / JOURNAL).write_text('{"plan": ')
+    assert main(tune_args(tmp_path, out)) == 0
     err = capsys.readouterr().err
-    assert f"legdsl: note: not going on from {out / JOURNAL}: it is of a tune with other " in err
-    assert "--param bounds" in err and "this tune starts afresh and replaces it" in err
+    assert f"legdsl: note: not going on from {out / JOURNAL}: it is damaged" in err
+    assert "this tune starts afresh and replaces it" in err
     # finished: kept, of this tune now, so that raising --generations goes on from it
-    assert json.loads((out / JOURNAL).read_text())["plan"] != PLAN
+    assert json.loads((out / JOURNAL).read_text())["generations"]
+
+
+def test_an_out_holding_another_tune_is_refused_as_a_sweeps_is(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An outside user's tune of kp=100:200 into tu/rep, then one of kp=100:300: it noted 'not
+    going on from tu/rep/.tune-journal.json ... this tune starts afresh and replaces it', and
+    replaced the first tune's hopper.leg, tune.json, tune.png and journal; docs/api.md said the
+    journal was set aside. Refused now, before any run, as legdsl sweep refuses an --out
+    holding another sweep; the files are as they were."""
+    out = tmp_path / "tuned"
+    assert main(tune_args(tmp_path, out)) == 0
+    before = {f.name: f.read_bytes() for f in out.iterdir()}
+    capsys.readouterr()
+    assert main(tune_args(tmp_path, out, "none", "0.02:0.3")) == 2
+    assert capsys.readouterr().err == (
+        f"legdsl: {out} holds another tune (.tune-journal.json is of a tune with other --param "
+        "bounds); choose another --out or remove it\n"
+    )
+    assert {f.name: f.read_bytes() for f in out.iterdir()} == before
+    assert not (tmp_path / "none").exists()  # nothing compiled, nothing run
 
 
 def test_a_finished_tune_goes_further_with_more_generations(tmp_path: Path) -> None:
@@ -98,9 +126,9 @@ def test_the_options_that_differ_are_each_named_alone(tmp_path: Path) -> None:
     }
     stopped(tmp_path, plan)
     longer = {**plan, "objective": {**plan["objective"], "duration": 7.0}}
-    assert Journal.open(tmp_path, longer).set_aside == "it is of a tune with other --time"
+    assert Journal.open(tmp_path, longer).another == "of a tune with other --time"
     edited = {**plan, "controller": "k2", "bounds": [{**bound, "start": 160.0}]}
-    said = Journal.open(tmp_path, edited).set_aside
-    assert said == "it is of a tune with other controller (or its file changed)"
+    said = Journal.open(tmp_path, edited).another
+    assert said == "of a tune with other controller (or its file changed)"
     wider = {**plan, "bounds": [{**bound, "high": 400.0}]}
-    assert Journal.open(tmp_path, wider).set_aside == "it is of a tune with other --param bounds"
+    assert Journal.open(tmp_path, wider).another == "of a tune with other --param bounds"

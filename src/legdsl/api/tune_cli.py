@@ -121,7 +121,8 @@ def _cmd_tune(args: argparse.Namespace, measured: list[bool]) -> int:
     model = check_model(source, args.creature)
     require_controller(model, args.controller)
     controller = model.controller(args.controller)
-    bounds = _bounds(args, controller, source, actuator_settings(model))
+    notes: list[str] = []  # said once every refusal has had its say
+    bounds = _bounds(args, controller, source, actuator_settings(model), notes)
     _check_read(bounds, model, controller)
     speeds = _speeds(args.speeds, _speed_input(args.controller, controller, model).dim)
     _check_search(args)
@@ -136,40 +137,36 @@ def _cmd_tune(args: argparse.Namespace, measured: list[bool]) -> int:
     check_output_dir(out, "--out", args.out)  # a folder for the tuned file, tune.json, tune.png
     made = not out.exists()  # removed again if the tune is stopped before it writes anything
     out.mkdir(parents=True, exist_ok=True)
+    first = not (out / ".tune.lock").exists()  # a folder of the user's own, say
     lock = writer_lock(out, "tune")  # held until it is done (two would share one journal)
     try:
-        return _tune_into(out, made, lock, args, source, model, controller, bounds, speeds,
-                          measured)  # fmt: skip
+        try:
+            journal, objective = _journal_for(out, args, source, model, controller, bounds,
+                                              speeds)  # fmt: skip
+        except UsageError:  # refused: the folder left as it was, without a lock file of its own
+            if first:
+                Path(lock.name).unlink(missing_ok=True)
+            raise
+        for note in notes:  # every refusal has had its say: they are of the tune that runs
+            print(note, file=sys.stderr)
+        return _tune_into(out, made, lock, args, source, model, controller, bounds, journal,
+                          objective, measured)  # fmt: skip
     finally:  # an API caller may tune into the same --out again in this process
         release(lock, out, made)
 
 
-def _tune_into(
+def _journal_for(
     out: Path,
-    made: bool,
-    lock: IO[str],
     args: argparse.Namespace,
     source: Path,
     model: Model,
     controller: Controller,
     bounds: list[Bound],
     speeds: tuple[float, ...],
-    measured: list[bool],
-) -> int:
-    """The tune, its lock held: the search, the three files, the report (``measured`` told
-    once the search has measured the file's own values)."""
-    params = {c.name: c for c in controller.params}
-    units = units_of({b.name: params[b.name].dim for b in bounds})
-    pairs = _table2_legs(args.table2, model, source) if args.table2 is not None else {}
-    base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
-               values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
-               generated=args.generated, keep=None,
-               groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
-    from legdsl.api import load
-
-    if (slow := python_backend_note()) is not None:  # the runs' own notice is not shown
-        print(f"legdsl: note: {slow}", file=sys.stderr)
-    load(source, args.creature, args.generated).session.control(args.controller)  # compile once
+) -> tuple[Journal, Objective]:
+    """The tune's objective and its journal in ``out`` (its lock held), or a ``UsageError``
+    where the tune would replace what it must not: another tune's results, generations of
+    this one past ``--generations``, a ``.leg`` file no run of this tune wrote."""
     objective = Objective(
         speeds,
         args.time,
@@ -184,6 +181,11 @@ def _tune_into(
             "controller": controller_fingerprint(model, controller), "bounds": bounds,
             "objective": objective, "popsize": args.popsize, "seed": args.seed}  # fmt: skip
     journal = Journal.open(out, json.loads(json.dumps(plan, default=asdict)))
+    if journal.another:  # its files are another tune's results: not replaced, unsaid
+        raise UsageError(
+            f"{out} holds another tune ({journal.path.name} is {journal.another}); choose "
+            "another --out or remove it"
+        )
     if len(journal.generations) > args.generations:  # its later ones would be lost, unsaid
         done = len(journal.generations)
         raise UsageError(
@@ -193,9 +195,45 @@ def _tune_into(
             f"or more to keep them (the same command again runs no candidate), or another "
             f"--out to tune {args.generations} afresh"
         )
+    tuned = out / source.name
+    if why := journal.replaces(tuned):  # a user's own file, or their edits of the tuned one
+        raise UsageError(
+            f"--out {args.out}: {tuned} {why}, and the tuned {source.name} would replace it; "
+            f"choose another --out or remove {tuned}"
+        )
+    return journal, objective
+
+
+def _tune_into(
+    out: Path,
+    made: bool,
+    lock: IO[str],
+    args: argparse.Namespace,
+    source: Path,
+    model: Model,
+    controller: Controller,
+    bounds: list[Bound],
+    journal: Journal,
+    objective: Objective,
+    measured: list[bool],
+) -> int:
+    """The tune, its lock held and ``out`` found fit (``_journal_for``): the search, the three
+    files, the report (``measured`` told once the search has measured the file's own values)."""
+    params = {c.name: c for c in controller.params}
+    units = units_of({b.name: params[b.name].dim for b in bounds})
+    pairs = _table2_legs(args.table2, model, source) if args.table2 is not None else {}
+    base = Job(index=0, source=str(source), creature=args.creature, controller=args.controller,
+               values={}, units=units, fixed=(), duration=args.time, start=args.t_from,
+               generated=args.generated, keep=None,
+               groups=tuple(f"{n}={','.join(legs)}" for n, legs in pairs.items()))  # fmt: skip
     if journal.set_aside:  # the user may have meant to go on from it: say why not
         print(f"legdsl: note: not going on from {journal.path}: {journal.set_aside}; this tune "
               "starts afresh and replaces it", file=sys.stderr)  # fmt: skip
+    from legdsl.api import load
+
+    if (slow := python_backend_note()) is not None:  # the runs' own notice is not shown
+        print(f"legdsl: note: {slow}", file=sys.stderr)
+    load(source, args.creature, args.generated).session.control(args.controller)  # compile once
     with _Stops(out).installed() as stops:
         try:
             result = tune(
@@ -212,6 +250,7 @@ def _tune_into(
         stops.searching = False  # from here on a signal waits for the three files
         tuned = write_tuned(source, controller, result["best"]["values"], out / source.name,
                             model.controllers)  # fmt: skip
+        journal.written(tuned)  # the file the same tune run again may replace
         dump(result, out / "tune.json")
         not_drawn = drawn_if_room(  # what precedes it is whole: said, not lost in an error
             "draw the convergence plot",
@@ -222,7 +261,7 @@ def _tune_into(
     _say_between(result.get("between", []), _say_fell(result["best"]["runs"]))
     _say_longer(result, objective)
     _say_deaf(result["best"]["runs"])
-    runs = len(speeds) + sum(h["runs"] for h in result["history"])
+    runs = len(objective.speeds) + sum(h["runs"] for h in result["history"])
     runs += len(result.get("between", [])) + len(result.get("longer", []))
     done = len(result["history"])
     generations = "1 generation" if done == 1 else f"{done} generations"

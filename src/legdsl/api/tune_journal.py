@@ -11,11 +11,17 @@ again from the start's runs. The journal is kept when a tune finishes: the same 
 again comes to the same result without a candidate's run, and one with ``--generations``
 raised goes on from its end (a finished tune's journal was removed, and both started afresh);
 one with fewer generations than it holds is refused by the command (it replaced the finished
-tune's files with the last asked generation's and cut the journal to it, unsaid).
+tune's files with the last asked generation's and cut the journal to it, unsaid). It records
+the digest of the tuned ``.leg`` file each run writes (``wrote``), so that the command
+replaces that file and no other (a user's own edited file in ``--out`` was replaced, unsaid).
+A journal of another tune is not replaced either: the command refuses such an ``--out``, as
+``legdsl sweep`` does one of another sweep (it said it set the journal aside, and replaced
+that tune's files and journal).
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,13 +53,19 @@ class Journal:
     plan: dict[str, Any]
     start: list[Any] | None = None  # the runs of the file's own values, one per speed
     generations: list[dict[str, Any]] = field(default_factory=list)  # xs, scores, best_runs
-    # why a journal found in OUT is not gone on from (another tune's, a damaged one), or None
+    # why a journal found in OUT is not gone on from (a damaged one), or None
     set_aside: str | None = None
+    # how the tune whose journal is in OUT differs from this one ("other --popsize"), or None
+    another: str | None = None
+    # the digest of each tuned file a run of this tune wrote, by its name; None for a journal
+    # of an earlier legdsl, which recorded none (its files are taken as the tune's)
+    wrote: dict[str, str] | None = field(default_factory=dict)
 
     @classmethod
     def open(cls, out: Path, plan: dict[str, Any]) -> Journal:
-        """The journal in ``out`` if it is of this plan, else an empty one (a damaged journal
-        or another tune's is no reason to refuse: the tune starts afresh and replaces it)."""
+        """The journal in ``out`` if it is of this plan, else an empty one: one of another
+        tune says how it differs (``another``: the command refuses), a damaged one is set
+        aside (no reason to refuse: the tune starts afresh and replaces it)."""
         plan = json.loads(json.dumps(plan))  # as it reads back: lists, not tuples
         journal = cls(out / JOURNAL, plan)
         if not journal.path.exists():
@@ -64,11 +76,13 @@ class Journal:
             data = None
         if isinstance(data, dict) and isinstance(data.get("plan"), dict) and data["plan"] != plan:
             other = _differing(data["plan"], plan)
-            journal.set_aside = f"it is of a tune with other {', '.join(other) or 'settings'}"
+            journal.another = f"of a tune with other {', '.join(other) or 'settings'}"
             return journal
         start, generations = (data or {}).get("start"), (data or {}).get("generations")
         if _runs(start) and isinstance(generations, list) and all(map(_generation, generations)):
             journal.start, journal.generations = start, generations
+            wrote = data.get("wrote") if isinstance(data, dict) else None
+            journal.wrote = dict(wrote) if isinstance(wrote, dict) else None
         else:
             journal.set_aside = "it is damaged"
         return journal
@@ -78,8 +92,33 @@ class Journal:
         self.save()
 
     def save(self) -> None:
-        data = {"plan": self.plan, "start": self.start, "generations": self.generations}
+        data: dict[str, Any] = {"plan": self.plan, "start": self.start,
+                                "generations": self.generations}  # fmt: skip
+        if self.wrote is not None:  # an earlier legdsl's journal records none until written
+            data["wrote"] = self.wrote
         write_atomic(self.path, json.dumps(data, default=float) + "\n")
+
+    def written(self, path: Path) -> None:
+        """Records the tuned file this run wrote at ``path``."""
+        self.wrote = {**(self.wrote or {}), path.name: digest(path)}
+        self.save()
+
+    def replaces(self, path: Path) -> str | None:
+        """Why the tuned file may not replace ``path``, or None where it may: there is none,
+        or it is the one a run of this tune wrote, as it wrote it."""
+        if not path.exists() and not path.is_symlink():
+            return None
+        if self.wrote is None:  # an earlier legdsl's journal of this tune: it recorded none
+            return None
+        if path.is_file() and path.name in (self.wrote or {}):
+            if self.wrote and self.wrote[path.name] == digest(path):
+                return None
+            return "has changed since this tune wrote it"
+        return "is not a file this tune wrote"
+
+
+def digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def _differing(before: dict[str, Any], plan: dict[str, Any]) -> list[str]:

@@ -26,10 +26,16 @@ from legdsl.pipeline.settings import plain_number
 
 
 def _bounds(
-    args: argparse.Namespace, controller: Controller, source: Path, settings: dict[str, Any]
+    args: argparse.Namespace,
+    controller: Controller,
+    source: Path,
+    settings: dict[str, Any],
+    notes: list[str] | None = None,
 ) -> list[Bound]:
     """``--param NAME=LO:HI`` of each parameter to tune: a parameter the controller declares
-    in ``source`` itself, given once, its file value within the bounds."""
+    in ``source`` itself, given once, its file value within the bounds. Its notes go to
+    ``notes``, to be said after any refusal (else to standard error at once)."""
+    say = notes.append if notes is not None else lambda line: print(line, file=sys.stderr)
     params = {c.name: c for c in controller.params}
     if not args.param:
         raise UsageError("tune: name the parameters to tune with --param NAME=LO:HI")
@@ -80,15 +86,15 @@ def _bounds(
         bare = bare_in_si(text, axis.name, params[axis.name].dim,
                           written_unit(source, controller, axis.name))  # fmt: skip
         if bare:
-            print(f"legdsl: note: --param {text}: {bare.removeprefix('; ')}", file=sys.stderr)
+            say(f"legdsl: note: --param {text}: {bare.removeprefix('; ')}")
         bounds.append(Bound(axis.name, low, high, start))
     spans = declared_in(source, controller, [b.name for b in bounds])  # not after the tune
     for name, part in shared_owners(source, spans).items():
-        print(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
-              f"changes it for every controller that includes '{part}'", file=sys.stderr)  # fmt: skip
+        say(f"legdsl: note: {name} is declared in shared part '{part}': the tuned file "
+            f"changes it for every controller that includes '{part}'")  # fmt: skip
     for name, used in used_owners(source, spans).items():
-        print(f"legdsl: note: {name} is declared in {used}: the tuned file overrides it in "
-              f"controller '{controller.name}' and leaves {used} as it is", file=sys.stderr)  # fmt: skip
+        say(f"legdsl: note: {name} is declared in {used}: the tuned file overrides it in "
+            f"controller '{controller.name}' and leaves {used} as it is")  # fmt: skip
     return bounds
 
 
