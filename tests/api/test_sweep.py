@@ -116,15 +116,25 @@ def test_axes_take_units_and_check_them() -> None:
 
 
 def test_bare_numbers_for_an_angle_get_a_note_that_they_are_radians(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """--grid stand=-50:-30:3 for a parameter declared in degrees swept -50 to -30 radians
-    without a word; a note now says so and how to write degrees (the sweep here stops at a
-    later mistake, a name swept twice, before any run)."""
+    without a word; a note now says so and how to write degrees. It comes once no mistake of
+    the options is refused (a name swept twice here: refused alone), before any run (stopped
+    here as the sweep would compile)."""
+    import legdsl.api.sweep_cli as sweep_cli
+
     source = ROOT / "tests" / "good" / "outside" / "knee_runner.leg"
     argv = ["sweep", str(source), "--controller", "run", "--grid", "stand=-50:-30:3",
             "--grid", "speed=1:2:2", "--grid", "speed=1:2:2", "--out", str(tmp_path / "s")]  # fmt: skip
     assert main(argv) == 2
+    assert "note" not in capsys.readouterr().err
+
+    def stopped() -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(sweep_cli, "python_backend_note", stopped)
+    assert main(argv[:-4] + argv[-2:]) == 130
     err = capsys.readouterr().err
     assert "note: --grid stand=-50:-30:3: a bare number is in rad: to give them in deg, " in err
     assert "write stand=-50deg:-30deg:3" in err

@@ -33,3 +33,16 @@ def test_draw_options_without_draws_are_noted_and_one_run_is_one_run(
     said = capsys.readouterr()
     assert "legdsl: note: --samples and --seed are for --random and --lhs draws" in said.err
     assert said.out.startswith("1 run (0 fell or diverged): ")
+
+
+def test_a_refusal_comes_without_the_notes_before_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An outside user's --samples 0 with --grid alone was told '--samples is for --random and
+    --lhs draws ...: not used', then refused: the notes are of the sweep that runs, said once
+    no refusal comes."""
+    assert main(["sweep", str(HOPPER), "--controller", "hop", "--grid", "speed=1:2:2",
+                 "--samples", "0", "--out", str(tmp_path / "s")]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert err.startswith("legdsl: --samples 0: must be more than zero"), err
+    assert "note" not in err

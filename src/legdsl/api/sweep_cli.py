@@ -100,17 +100,19 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     dims |= actuator_settings(model)
     axes = [parse_axis(kind, text, dims) for kind in ("grid", "random", "lhs")
             for text in getattr(args, kind)]  # fmt: skip
+    notes = []  # said once the options' refusals have had their say (--samples 0 was told
+    # 'not used' first, then refused)
     for kind in ("grid", "random", "lhs"):  # bare numbers are SI: an angle's are radians
         for text in getattr(args, kind):
             name = text.partition("=")[0].strip()
             if note := bare_in_si(text, name, dims[name]):
-                print(f"legdsl: note: --{kind} {text}: {note.removeprefix('; ')}", file=sys.stderr)
+                notes.append(f"legdsl: note: --{kind} {text}: {note.removeprefix('; ')}")
     check_not_negative(axes)
     unused = [f"--{n}" for n in ("samples", "seed") if getattr(args, n) is not None]
     if unused and not args.random and not args.lhs:  # they were taken and unused, unsaid
-        print(f"legdsl: note: {' and '.join(unused)} {'are' if len(unused) > 1 else 'is'} for "
-              "--random and --lhs draws, and this sweep has none (its --grid values are "
-              "every one run): not used", file=sys.stderr)  # fmt: skip
+        notes.append(f"legdsl: note: {' and '.join(unused)} {'are' if len(unused) > 1 else 'is'} "
+                     "for --random and --lhs draws, and this sweep has none (its --grid values "
+                     "are every one run): not used")  # fmt: skip
     args.samples = 10 if args.samples is None else args.samples
     args.seed = 0 if args.seed is None else args.seed
     if not axes:
@@ -152,6 +154,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     refuse_repeated(args.set)
     sort_settings(args.set, model, args.controller)
     check_output_dir(args.out, "--out")
+    for note in notes:
+        print(note, file=sys.stderr)
     # compile once here, so that the workers never race to write generated/NAME/
     from legdsl.api import load
 
