@@ -130,3 +130,17 @@ def test_the_outside_heavy_trot_tuned_for_leg_k_and_kp(tmp_path: Path) -> None:
     ]
     assert params(out, "trot")["kp"] == 336.5
     assert params(out, "pace") == params(source, "pace")
+
+
+def test_an_empty_body_closes_under_its_controller(tmp_path: Path) -> None:
+    """'controller trot extends trot { }' tuned: its brace closed indented, under the
+    parameter declared in it."""
+    (tmp_path / "base.leg").write_text(HOPPER.read_text())
+    head = HOPPER.read_text().partition("controller hop {")[0]
+    creature = head[head.index("creature hopper") :].replace("creature hopper", "creature heavy")
+    source = tmp_path / "heavy.leg"
+    source.write_text(f'use "base.leg"\n{creature}controller hop extends hop {{ }}\n')
+    model = check_model(source)
+    out = write_tuned(source, model.controller("hop"), {"kp": 160.0},
+                      tmp_path / "out" / "heavy.leg", model.controllers)  # fmt: skip
+    assert out.read_text().endswith("controller hop extends hop {\n  param kp = 160 N*m/rad\n}\n")

@@ -154,9 +154,11 @@ def _open_body(lines: list[str], own: ast.ControllerDecl, overrides: list[str]) 
         line += 1
     row = lines[line]
     brace = row.index("{", own.span.col - 1 if line == own.span.line - 1 else 0)
-    indent = row[: len(row) - len(row.lstrip())] + "  "
+    outer = row[: len(row) - len(row.lstrip())]
+    indent = outer + "  "
     rest = row[brace + 1 :].strip()
-    body = [indent + o for o in overrides] + ([indent + rest] if rest else [])
+    closing = outer if rest.startswith("}") else indent  # '{ }': the brace under 'controller'
+    body = [indent + o for o in overrides] + ([closing + rest] if rest else [])
     return lines[:line] + [row[: brace + 1]] + body + lines[line + 1 :]
 
 
