@@ -377,8 +377,9 @@ def _inherited(
     """A base's item in ``decl``: a mistake in it (a table, an action checked against
     ``decl``'s names) names ``decl`` and the controller that wrote it (and its file, a
     used one)."""
-    if isinstance(item, Declared):
+    if isinstance(item, ast.InputDecl | ast.ParamDecl):
         return item  # the same value everywhere: reported once, with its writer
+    # a signal reads the creature, so its mistakes are the extending controller's too
     writer = origin.get(id(item), _writer(decl, base, file))
     moved = respan(item, f" (in controller '{decl.name.name}', from controller {writer})")
     origin[id(moved)] = writer
