@@ -48,7 +48,8 @@ class Diagnostic:
         lines = _lines(text)
         if self.span.line > len(lines):
             return head
-        line = lines[self.span.line - 1].rstrip("\r").expandtabs(1)
+        # a control character is shown as '\ufffd', as an undecodable byte is: never raw
+        line = lines[self.span.line - 1].rstrip("\r").expandtabs(1).translate(_CONTROLS)
         start = max(self.span.col, 1)
         if self.span.end_line == self.span.line and self.span.end_col > start:
             width = self.span.end_col - start
@@ -66,6 +67,7 @@ class Diagnostic:
         return f"{head}\n    {line}\n    {caret}"
 
 
+_CONTROLS = {c: "\ufffd" for c in (*range(0x20), *range(0x7F, 0xA0))}
 SHOWN = 120  # the most of a source line an error shows
 
 

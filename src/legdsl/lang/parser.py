@@ -18,6 +18,7 @@ from lark.exceptions import UnexpectedInput
 
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, Span
+from legdsl.lang.file_kinds import refusal
 from legdsl.lang.lalr import grammar_dir, lark_parser
 from legdsl.lang.spellings import hidden_line_breaks, other_numbers, read_past_units, unshown_units
 from legdsl.lang.stray_words import stray_key
@@ -493,6 +494,8 @@ def parse_file(path: str | Path, recover: bool = False) -> tuple[ast.SourceFile,
             "(the shipped creatures' are under 30 KB): is it another kind of file, or a device? "
             "Name the .leg file",
         )
+    if (refused := refusal(str(path), data)) is not None:  # its bytes never shown
+        raise LegError.at(Span(str(path), 0, 0, 0, 0), refused)
     try:
         text = data.decode("utf-8-sig")  # a byte-order mark some editors write is no text
     except UnicodeDecodeError as e:
