@@ -106,7 +106,12 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from legdsl.pipeline.compile import compile_file, compile_jobs
+    from legdsl.pipeline.compile import (
+        check_for_compile,
+        compile_each,
+        compile_jobs,
+        refuse_same_names,
+    )
     from legdsl.pipeline.generated import write_generated
     from legdsl.pipeline.report import CompileProgress
 
@@ -129,10 +134,21 @@ def _cmd_compile(args: argparse.Namespace) -> int:
     shown = CompileProgress()
     progress = shown.line
     failed = False
+    checked = []
+    given: dict[Path, Path] = {}  # a file given twice (by two paths, say) is compiled once
     for path in files:
+        given.setdefault(path.resolve(), path)
+    for path in given.values():
+        try:
+            checked.append(check_for_compile(path, progress))
+        except LegError as e:
+            print(e.render(), file=sys.stderr)
+            failed = True
+    refuse_same_names(checked, args.out)  # before anything is written
+    for file in checked:
         start = time.perf_counter()
         try:
-            compiled = compile_file(path, progress, shown.done)
+            compiled = list(compile_each(file, progress, shown.done))
         except LegError as e:
             print(e.render(), file=sys.stderr)
             failed = True

@@ -13,7 +13,7 @@ import functools
 import os
 import pickle
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +28,7 @@ from legdsl.codegen.python.control import control_programs, render_control
 from legdsl.codegen.python.dynamics import render_dynamics
 from legdsl.ir.model import Controller, Model
 from legdsl.lang import ast
-from legdsl.lang.errors import LegError, UsageError
+from legdsl.lang.errors import Diagnostic, LegError, UsageError
 from legdsl.lang.parser import parse_file
 from legdsl.lower.control import LoweredController, lower_controller
 from legdsl.lower.symbolic import SymbolicSystem, lower
@@ -66,10 +66,21 @@ class Compiled:
         return dict(self.files)[file_name]
 
 
-def compile_file(
-    path: str | Path, progress: Progress | None = None, done: Done | None = None
-) -> list[Compiled]:
-    """Compile every creature in a ``.leg`` file (parsed once, then checked and lowered)."""
+@dataclass(frozen=True)
+class Checked:
+    """A ``.leg`` file parsed and checked: the first stages of ``compile_file``, which
+    ``legdsl compile`` runs for every file before it lowers one (two creatures of one name
+    in two files are refused before anything is written)."""
+
+    path: str | Path
+    syntax: ast.SourceFile
+    text: str
+    models: list[Model]
+    timings: tuple[tuple[str, float], ...]
+
+
+def check_for_compile(path: str | Path, progress: Progress | None = None) -> Checked:
+    """Parse and check a ``.leg`` file as ``compile_file`` does (a mistake raises LegError)."""
     say = progress or (lambda _: None)
     start = time.perf_counter()
     syntax, text = parse_file(path, recover=True)
@@ -78,11 +89,57 @@ def compile_file(
     models = check_tree(syntax, text, path)
     checked = time.perf_counter() - start
     say(f"{path}: parsed in {parsed:.2f} s, checked in {checked:.2f} s")
-    timings = (("parse", parsed), ("check", checked))
+    return Checked(path, syntax, text, models, (("parse", parsed), ("check", checked)))
+
+
+def refuse_same_names(files: list[Checked], out: str | Path) -> None:
+    """Refuse two creatures of one name in the files of one ``legdsl compile``: both would be
+    ``OUT/NAME/``, the second replacing the first (it did, with exit 0). Told at both
+    declarations, before anything is written."""
+    first: dict[str, tuple[Model, Checked]] = {}
+    found: list[Diagnostic] = []
+    sources: dict[str, str] = {}
+    for checked in files:
+        for model in checked.models:
+            if model.name not in first:
+                first[model.name] = (model, checked)
+                continue
+            before, where = first[model.name]
+            folder = Path(out) / model.name
+            found += [
+                Diagnostic(
+                    before.span,
+                    f"creature '{model.name}' is also defined at {model.span}, and both would "
+                    f"be written to {folder}/",
+                ),
+                Diagnostic(
+                    model.span,
+                    f"creature '{model.name}' is already defined at {before.span}: both would "
+                    f"be written to {folder}/, this one replacing it; rename one of them, or "
+                    "compile them into different --out folders",
+                ),
+            ]
+            sources |= {str(where.path): where.text, str(checked.path): checked.text}
+    if found:
+        raise LegError(found, sources)
+
+
+def compile_each(
+    checked: Checked, progress: Progress | None = None, done: Done | None = None
+) -> Iterator[Compiled]:
+    """Lower and print each creature of a checked file, one after another."""
     try:
-        return [compile_checked(syntax, m, progress, timings, done) for m in models]
+        for m in checked.models:
+            yield compile_checked(checked.syntax, m, progress, checked.timings, done)
     except LegError as e:  # found in lowering: shown with its line, as the checker's are
-        raise LegError(e.diagnostics, {**e.sources, str(path): text}) from None
+        raise LegError(e.diagnostics, {**e.sources, str(checked.path): checked.text}) from None
+
+
+def compile_file(
+    path: str | Path, progress: Progress | None = None, done: Done | None = None
+) -> list[Compiled]:
+    """Compile every creature in a ``.leg`` file (parsed once, then checked and lowered)."""
+    return list(compile_each(check_for_compile(path, progress), progress, done))
 
 
 def check_lowered(path: str | Path) -> list[Model]:
