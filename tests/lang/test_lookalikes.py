@@ -61,3 +61,27 @@ def test_only_a_character_that_truly_looks_like_ascii_is_given_an_ascii_spelling
     assert [ascii_for(ch) for ch in "º²êµ〜"] == [None] * 5
     assert lookalike("ê") is None
     assert _error("planar", "plênar")[2].startswith("'ê' is not a letter of a name: names are")
+
+
+@pytest.mark.parametrize(
+    ("letter", "written"),
+    [("м", "m"), ("к", "k"), ("с", "c"), ("о", "o"), ("а", "a"), ("е", "e"), ("р", "p"),
+     ("х", "x"), ("у", "y"), ("ο", "o"), ("κ", "k"), ("ν", "v"), ("α", "a"), ("υ", "u"),
+     ("χ", "x"), ("γ", "y"), ("ϲ", "c")],
+)  # fmt: skip
+def test_cyrillic_and_greek_letters_drawn_like_latin_ones_are_named(
+    letter: str, written: str
+) -> None:
+    """'--set speed=1м/s' (a Cyrillic em) was told only that 'м/s' is no unit."""
+    assert ascii_for(letter) == written
+    line, col, told = _error("inertia 0.03 kg", f"inertia 0.03 {letter}g")
+    assert (line, col) == (3, HOPPER.split("\n")[2].index("0.03 kg") + 6)
+    assert told.startswith(f"'{letter}' is ") and f"not the ASCII '{written}'" in told
+
+
+def test_a_cyrillic_em_in_an_option_unit_is_named() -> None:
+    from legdsl.pipeline.settings import UsageError, parse_given
+
+    with pytest.raises(UsageError) as caught:
+        parse_given("1м/s", "--set 'speed=1м/s'")
+    assert "'м' is CYRILLIC SMALL LETTER EM, U+043C, not the ASCII 'm'" in str(caught.value)

@@ -11,9 +11,9 @@ import unicodedata
 # Letters of other scripts drawn like Latin ones, which Unicode's compatibility
 # normalisation (NFKC) leaves as they are; the other look-alikes it folds to ASCII.
 _LETTERS = {
-    **dict(zip("аеорсухіјѕԁһӏԛԝ", "aeopcyxijsdhlqw", strict=True)),  # Cyrillic
-    **dict(zip("АВЕКМНОРСТХЅІЈ", "ABEKMHOPCTXSIJ", strict=True)),
-    **dict(zip("ΑΒΕΖΗΙΚΜΝΟΡΤΥΧοικνρ", "ABEZHIKMNOPTYXoikvp", strict=True)),  # Greek
+    **dict(zip("аеорсухіјѕԁһӏԛԝмкԍ", "aeopcyxijsdhlqwmkg", strict=True)),  # Cyrillic
+    **dict(zip("АВЕКМНОРСТХЅІЈҮԌ", "ABEKMHOPCTXSIJYG", strict=True)),
+    **dict(zip("ΑΒΕΖΗΙΚΜΝΟΡΤΥΧϹοικνραυχγϲϳ", "ABEZHIKMNOPTYXCoikvpauxycj", strict=True)),  # Greek
 }
 _SLASHES = {"∕": "/", "⁄": "/"}  # NFKC folds '㎧' to 'm∕s', with a division slash
 # Dashes written for a minus sign (NFKC keeps them; a wave dash is no minus look-alike).
