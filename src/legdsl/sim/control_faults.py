@@ -19,6 +19,7 @@ from typing import Any
 
 import sympy
 
+from legdsl.check.values import shown_path
 from legdsl.ir import controller as ir
 from legdsl.ir.controller import (
     BODY_MEMBERS,
@@ -168,6 +169,14 @@ def _span(where: Where) -> Span | None:
     return where[0] if where and isinstance(where[0], Span) else None
 
 
+def _place(at: Span | EachPass) -> str:
+    """``file:line:col`` as messages name a file: the standard library as ``stdlib/NAME``, the
+    same on every machine, not the absolute path of this machine's copy."""
+    span = at.span if isinstance(at, EachPass) else at
+    file = shown_path(span.file)
+    return f"{file}:{span.line}:{span.col}" if span.line > 0 else file
+
+
 def _where(where: Where) -> str:
     """'file:line:col', then the action calls and each blocks it came through, innermost
     first: ' (inlined from the action called at A, called at B; for m = fl in the each at C)'."""
@@ -177,14 +186,17 @@ def _where(where: Where) -> str:
     for w in where[1:]:
         if isinstance(w, EachPass):
             var = w.var.partition("#")[0]  # the checker numbers each block's variable
-            through.append(f"; for {var} = {w.leg} in the each at {w.span}")
+            through.append(f"; for {var} = {w.leg} in the each at {_place(w.span)}")
             called = False
         else:
             through.append(
-                f", called at {w}" if called else f"; inlined from the action called at {w}"
+                f", called at {_place(w)}"
+                if called
+                else f"; inlined from the action called at {_place(w)}"
             )
             called = True
-    return f"{where[0]} ({''.join(through)[2:]})" if through else str(where[0])
+    first = _place(where[0])
+    return f"{first} ({''.join(through)[2:]})" if through else first
 
 
 def explain(
