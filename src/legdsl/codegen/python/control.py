@@ -16,6 +16,7 @@ from sympy import Expr, Symbol
 
 from legdsl import __version__
 from legdsl.check.values import stdlib_name
+from legdsl.codegen.manifest import shown_used
 from legdsl.codegen.python.dynamics import _environment, _names, function_body
 from legdsl.lower.control import LoweredController, Where, sensor_symbol
 from legdsl.lower.straightline import Block, substituted
@@ -122,17 +123,14 @@ def control_programs(lc: LoweredController, event_text: dict[str, str]) -> Contr
 
 def shown_file(file: str, source: str) -> str:
     """A span's file as the generated code names it, the same on every machine: the standard
-    library's as ``stdlib/NAME``, a used file's from the compiled file's folder."""
+    library's as ``stdlib/NAME``, a used file's as ``manifest.shown_used`` says."""
     path = Path(file)
     if not path.is_absolute():
         return file
     library = stdlib_name(path)
     if library is not None:
         return library
-    home = Path(source).resolve().parent
-    if path.is_relative_to(home):
-        return str(Path(source).parent / path.relative_to(home))
-    return path.name
+    return shown_used(path, source)
 
 
 def origin(where: Where, source: str) -> str:
