@@ -40,11 +40,16 @@ class ZeroTest:
                 for x in ir.leaves(e)
             )
             if not gravity:
-                return "this is 0"
+                return (
+                    "this is 0; divide by something that is not 0 (a number, a parameter or "
+                    "a reading), or leave the division out"
+                )
             # 'g - g' is 0 whatever g is: blaming the creature's gravity would be false
-            cancels = self.poly(e) == {}
-            return "this is 0 " + (
-                "(its terms cancel)" if cancels else "(the creature's gravity, g, is 0)"
+            if self.poly(e) == {}:
+                return "this is 0 (its terms cancel); divide by something that is not always 0"
+            return (
+                "this is 0 (the creature's gravity, g, is 0); give the creature a gravity "
+                "('gravity 9.81 m/s^2'), or divide by something that is not 0"
             )
         if constant is not None or self.poly(e) != {}:
             return ""

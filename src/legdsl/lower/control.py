@@ -40,6 +40,7 @@ from legdsl.ir.constants import body_constant, coord_constant, leg_constant
 from legdsl.ir.controller import Binding, Controller
 from legdsl.ir.model import Model
 from legdsl.lang.errors import InternalError, LegError, Span
+from legdsl.lower.folds import NO_VALUE, dropped, past_double
 
 Roles = dict[str, tuple[str, ...]]  # role -> legs, under one binding
 
@@ -142,6 +143,16 @@ class Lowerer:
         # arguments, which takes seconds on a placement's expressions
         self._calls: dict[tuple[str, tuple[Any, ...]], Any] = {}
         self._hold_branches = False  # see value()
+        # the first part found with no finite value, or left out by a fold: where (the signal
+        # it is in), and what to tell
+        self._fault: tuple[Span | None, str] | None = None
+        self._in_signals: list[Span] = []  # the signals being written out, innermost last
+        self._spans = {s.name: s.span for s in controller.signals}
+        self._declared = {
+            Symbol(f"{kind}_{c.name}"): sympy.Float(c.value)
+            for kind, values in (("input", controller.inputs), ("param", controller.params))
+            for c in values
+        }
 
     def lower(self) -> LoweredController:
         events: dict[tuple[int, int], sympy.Basic] = {}
@@ -225,12 +236,16 @@ class Lowerer:
 
     # ------------------------------------------------------------ things
     def value(self, e: ir.Expr, roles: Roles, where: Where) -> Any:
-        """``e`` in sympy; an error at its line in the user's file where sympy has made a
-        number of it, or of a part of it, that is infinite, NaN or complex in every state (a
-        product past a double, ``x * 1e200 * 1e200``; a division by a difference that is always
-        0): the checker refuses such constants, but sees no further than them. A part is looked
-        at before it is used, since sympy's min, max and comparisons raise on an infinity.
-        A select's branch with no value is the run's fault where it is taken, not the file's."""
+        """``e`` in sympy; an error where sympy has made a number of it, or of a part of it,
+        that is infinite, NaN or complex in every state (a division by a difference that is
+        always 0), or past a double (sympy gathers a product's numbers into one: ``x * 1e200
+        * 1e200`` is ``1e400*x``), or where folding leaves out a part that has no value with
+        the parameters and inputs as declared (``0 * (x / zero)``, ``zero`` declared 0, is 0 to
+        sympy: the division that a run would refuse is never made). The error is at the
+        signal the part is in, if it is the user's, else at the statement's line. A part is
+        looked at before it is used, since sympy's min, max and comparisons raise on an
+        infinity. A select's branch with no value is the run's fault where it is taken, not
+        the file's."""
         value = self._try(e, roles)
         if not _finite_everywhere(value):
             # sympy carries a function into a select's branches (sqrt(select(c, -1, x)) is
@@ -241,21 +256,52 @@ class Lowerer:
                 value = self._try(e, roles)
             finally:
                 self._hold_branches = False
-        if not _finite_everywhere(value):
+        if not _finite_everywhere(value) or self._fault is not None:
+            at, why = self._fault or (None, NO_VALUE)
             user = next((w for w in where if w.file == self.model.span.file), where[-1])
-            raise LegError.at(
-                user.span if isinstance(user, EachPass) else user,
-                "this gives no finite real number, whatever the creature's state (sympy makes an infinity, NaN "
-                "or a complex number of it: a product or power past a double, or a division "
-                "by something that is always 0); write it otherwise",
-            )
+            if at is not None and at.file == self.model.span.file:
+                user = at
+            raise LegError.at(user.span if isinstance(user, EachPass) else user, why)
         return value
 
     def _try(self, e: ir.Expr, roles: Roles) -> Any:
+        self._fault = None
+        self._in_signals = []
         try:
             return self.expr(e, roles)
         except _NoValue:
             return sympy.nan
+
+    def _look(self, e: ir.Binary | ir.Call, operands: tuple[Any, ...], result: Any) -> Any:
+        """``result`` of ``e`` on ``operands``; notes the first part that is not finite (past
+        a double, or no number at all), and a fold that leaves out a part with no value."""
+        if self._fault is not None:
+            return result
+        at = self._in_signals[-1] if self._in_signals else None
+        if not _finite_everywhere(result):
+            past = [
+                f
+                for f in getattr(result, "atoms", lambda _: ())(sympy.Float)
+                if not math.isfinite(float(f))
+            ]
+            if past and not result.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan, sympy.I):
+                self._fault = (at, past_double(past[0], operands))
+            elif at is not None:
+                self._fault = (at, NO_VALUE)
+        elif getattr(result, "is_Number", False) and any(
+            isinstance(x, sympy.Basic) and x.free_symbols for x in operands
+        ):
+            # folded to a number: made again of the operands with the parameters and inputs
+            # as declared, it has no value if what the fold left out has none
+            declared = [x.subs(self._declared) for x in operands]
+            op = _BINARY[e.op] if isinstance(e, ir.Binary) else FUNCTIONS[e.func]
+            try:
+                finite = all(_finite_everywhere(x) for x in (*declared, op(*declared)))
+            except (TypeError, ValueError, ZeroDivisionError):  # (min and max refuse zoo)
+                finite = False
+            if not finite:
+                self._fault = (at, dropped(e, result, operands))
+        return result
 
     def legs(self, legs: ir.Legs, roles: Roles) -> tuple[str, ...]:
         if legs.each is not None:
@@ -282,7 +328,8 @@ class Lowerer:
             return -operand if e.op == "-" else sympy.Not(operand)
         if isinstance(e, ir.Binary):
             operands = (self.expr(e.left, roles), self.expr(e.right, roles))
-            return _BINARY[e.op](*_finite(*operands, real=e.op in _COMPARED))
+            result = _BINARY[e.op](*_finite(*operands, real=e.op in _COMPARED))
+            return self._look(e, operands, result)
         if isinstance(e, ir.Event):
             flags = self.flags(e.thing, roles)
             if e.kind == "touchdown":
@@ -297,7 +344,7 @@ class Lowerer:
         key = (e.func, args)
         if key not in self._calls:
             self._calls[key] = FUNCTIONS[e.func](*args)
-        return self._calls[key]
+        return self._look(e, args, self._calls[key])
 
     def calls(self) -> list[tuple[str, tuple[Any, ...], Any]]:
         """Each built-in function's call lowered so far, as written (its name and arguments),
@@ -310,7 +357,11 @@ class Lowerer:
         if e.kind == "integral":  # the machine's, read as a sensor (legdsl.sim.machine)
             return self.sense(f"integral.{e.name}")
         if e.kind == "signal":
-            return self.expr(self.signals[e.name], roles)
+            self._in_signals.append(self._spans[e.name])
+            try:
+                return self.expr(self.signals[e.name], roles)
+            finally:
+                self._in_signals.pop()
         if e.name == "time":
             self.sensors.add("time")
             return Symbol("time")
