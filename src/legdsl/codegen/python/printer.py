@@ -7,7 +7,9 @@ anything bigger prints as a power, so that its base is evaluated once; the
 straight-line builder names such bases first (``Block.finish``), so generated
 code unrolls only powers of names. An inverse square root stays ``x**(-0.5)``,
 one call of ``pow``: ``1/math.sqrt(x)`` rounds twice and gives another double
-for about a quarter of all x (docs/compiler.md).
+for about a quarter of all x (docs/compiler.md). A fractional power of a base that may be
+negative prints as ``math.pow``: ``**`` would give a complex number where C's ``leg_pow``
+flags, and ``math.pow`` raises there.
 """
 
 from __future__ import annotations
@@ -100,6 +102,10 @@ class LegPrinter(PythonCodePrinter):
             return f"1/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
         if _is_half(exp):
             return f"math.sqrt({self._print(base)})"
+        if not _whole(exp) and not _never_negative(base):
+            # Python's ** gives a complex number for a negative base and a fractional power,
+            # where C's leg_pow flags: math.pow raises there (ValueError), and is the same pow
+            return f"math.pow({self._print(base)}, {self._print(exp)})"
         base_text = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
         return f"{base_text}**{self.parenthesize(exp, PRECEDENCE['Pow'], strict=True)}"
 
@@ -134,6 +140,23 @@ class LegPrinter(PythonCodePrinter):
 @lru_cache(maxsize=1 << 16)
 def _ordered_terms(expr: Expr, order: str | None) -> tuple[Expr, ...]:
     return tuple(expr.as_ordered_terms(order=order))
+
+
+def _whole(exp: Expr) -> bool:
+    """Whether a power is a whole number (a negative base raised to it is real)."""
+    return bool(exp.is_Integer or (exp.is_Float and float(exp).is_integer()))
+
+
+def _never_negative(e: Expr) -> bool:
+    """Whether ``e`` is never negative for real values of what it reads: a positive number,
+    an even power, and sums and products of them (``x*x + z*z``)."""
+    if e.is_Number:
+        return bool(e.is_nonnegative)
+    if e.is_Add or e.is_Mul:
+        return all(_never_negative(a) for a in e.args)
+    if e.is_Pow:
+        return _whole(e.exp) and int(e.exp) % 2 == 0
+    return False
 
 
 def _is_half(exp: Expr) -> bool:
