@@ -105,7 +105,9 @@ def _options(options: dict[str, Any], model: Model, scale: float | None) -> Iter
     if options.get("integrator", runner.integrator) != runner.integrator:
         yield from ("--integrator", str(options["integrator"]))
     for key, flag in (("drop", "--drop"), ("fall_height", "--fall-height")):
-        if options.get(key) is not None:
+        if isinstance(options.get(key), str):  # --fall-height off
+            yield from (flag, str(options[key]))
+        elif options.get(key) is not None:
             yield from (flag, f"{_written(options[key])}m")
     tilt = options.get("fall_tilt")
     if tilt is not None and not math.isclose(tilt, runner.fall_tilt):

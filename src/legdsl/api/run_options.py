@@ -18,7 +18,7 @@ from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import bare_number
-from legdsl.pipeline.options import RUN_NUMERIC
+from legdsl.pipeline.options import OFF_VALUES, RUN_NUMERIC, is_off
 from legdsl.pipeline.settings import refuse_repeated
 from legdsl.sim.run_loop import RunOptions
 
@@ -37,7 +37,13 @@ def run_options(model: Model, time: object, options: dict[str, Any]) -> RunOptio
         raise UsageError(f"run(): fall_tilt={tilt!r} has no unit, and a bare number is degrees "
                          f"on the command line but radians in Python: write fall_tilt='{tilt.strip()}"
                          f" deg', or the number {tilt.strip()} for radians")  # fmt: skip
-    options = with_units(options)
+    # fall_height='off', fall_tilt='off': the fall rule's height or tilt turned off
+    off = {
+        key: OFF_VALUES[key]
+        for key, value in options.items()
+        if key in OFF_VALUES and is_off(value)
+    }
+    options = with_units({key: value for key, value in options.items() if key not in off}) | off
     known = [f.name for f in fields(RunOptions) if f.name != "duration"]
     for key in options:  # else RunOptions' own TypeError, which names no way out
         if key not in known:

@@ -21,7 +21,6 @@ from legdsl.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_TERMINATED,
     Command,
-    numeric,
 )
 from legdsl.cli.process import ENDING_SIGNALS, exit_status, sigterm_unwinds
 from legdsl.lang.errors import Diagnostic, Span, UsageError
@@ -32,8 +31,8 @@ _SIMULATION_OPTIONS: tuple[tuple[str, float | None, str | None, str], ...] = (
     ("--control-dt", 0.002, None, "control interval in s, or with its unit: 2ms (default: the simulation block, else 0.002)"),
     ("--record-rate", 200.0, None, "samples per second to record, or 100Hz (default: the simulation block, else 200; 0 records every step)"),
     ("--drop", None, "H", "start with the lowest foot H metres above the ground (or 30cm)"),
-    ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start)"),
-    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees (or 1rad) is a fall (default 60)"),
+    ("--fall-height", None, "Z", "the root below Z metres is a fall (default 30%% of its height over its feet at the start); off: none is (a creature that crawls or lies on the ground)"),
+    ("--fall-tilt", 60.0, "DEG", "the root tilted beyond DEG degrees (or 1rad) is a fall (default 60); off: none is"),
 )  # fmt: skip
 
 
@@ -79,6 +78,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_output_dir,
         check_run_options,
         os_error,
+        read_run_option,
         space_note,
     )
     from legdsl.pipeline.report import ProgressBar
@@ -86,10 +86,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     from legdsl.pipeline.session import RunSession, check_file
     from legdsl.pipeline.settings import refuse_repeated
 
-    values = {
-        field: numeric(args, flag[2:].replace("-", "_"), flag, spec)
-        for field, (flag, spec) in RUN_NUMERIC.items()
-    }
+    values: dict[str, Any] = {}  # in SI, --fall-height off and --fall-tilt off as OFF_VALUES
+    for field, (flag, _) in RUN_NUMERIC.items():
+        given = getattr(args, flag[2:].replace("-", "_"))
+        values[field] = read_run_option(field, flag, given) if isinstance(given, str) else given
     tilt = values.pop("fall_tilt")
     if not isinstance(args.fall_tilt, str):
         tilt = math.radians(tilt)  # the default, in degrees

@@ -3,8 +3,9 @@ before any work starts.
 
 Every numeric option takes a number with an optional unit, as ``--set`` does: ``--time 2s``,
 ``--dt 0.4ms``, ``--record-rate 100Hz``, ``--drop 5cm``, ``--fall-tilt 30deg``; a bare number
-is in the option's own unit (s, Hz, m, deg). Values that make no sense (not finite, zero or
-negative where a duration or a step is meant) are a ``UsageError``: exit status 2.
+is in the option's own unit (s, Hz, m, deg). ``--fall-height off`` and ``--fall-tilt off`` turn
+the fall rule's height or tilt off (``read_run_option``). Values that make no sense (not finite,
+zero or negative where a duration or a step is meant) are a ``UsageError``: exit status 2.
 """
 
 from __future__ import annotations
@@ -29,18 +30,20 @@ from legdsl.pipeline.settings import parse_given
 from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.suggested_values import written
 from legdsl.sim.recorder import recording_budget, sample_bytes
-from legdsl.sim.run_loop import INITIAL_ROWS, RunOptions, run_samples
+from legdsl.sim.run_loop import FALL_OFF, INITIAL_ROWS, RunOptions, run_samples
 from legdsl.sim.stability import where_step
 
 
 @dataclass(frozen=True)
 class Numeric:
     """How one option reads: its kind (a key of ``units.KINDS``), the unit of a bare number,
-    and the smallest value it takes (``positive``: above zero; ``nonnegative``: zero or more)."""
+    and the smallest value it takes (``positive``: above zero; ``nonnegative``: zero or more);
+    ``off``: what the word ``off`` turns off, where the option takes it (``read_run_option``)."""
 
     kind: str
     bare: str
     least: str = "positive"  # or "nonnegative", or "any"
+    off: str = ""  # e.g. "the fall rule's height"
 
 
 # legdsl run's numeric options: RunOptions field -> (flag, how it reads)
@@ -50,9 +53,37 @@ RUN_NUMERIC: dict[str, tuple[str, Numeric]] = {
     "control_dt": ("--control-dt", Numeric("time", "s")),
     "record_rate": ("--record-rate", Numeric("frequency", "Hz", "nonnegative")),
     "drop": ("--drop", Numeric("length", "m", "nonnegative")),
-    "fall_height": ("--fall-height", Numeric("length", "m", "nonnegative")),
-    "fall_tilt": ("--fall-tilt", Numeric("angle", "deg")),
+    "fall_height": ("--fall-height", Numeric("length", "m", "nonnegative", off="height")),
+    "fall_tilt": ("--fall-tilt", Numeric("angle", "deg", off="tilt")),
 }
+# what ``off`` reads as: no height is a fall; no tilt is past upside down (180 deg)
+OFF_VALUES: dict[str, float | str] = {"fall_height": FALL_OFF, "fall_tilt": math.pi}
+# the advice with a refused fall limit: the way to turn the rule off
+FALL_OFF_ADVICE = (
+    "to turn the fall rule's {what} off (a creature built to crawl or lie on the ground), "
+    "write {off}"
+)
+
+
+def read_run_option(field: str, flag: str, text: str) -> float | str:
+    """``legdsl run``'s option ``field`` (a key of ``RUN_NUMERIC``) written as ``text``, in SI;
+    ``off`` (``--fall-height off``, ``fall_tilt='off'``) as ``OFF_VALUES`` has it."""
+    spec = RUN_NUMERIC[field][1]
+    if spec.off and is_off(text):
+        return OFF_VALUES[field]
+    return read_numeric(flag, text, spec)
+
+
+def is_off(text: object) -> bool:
+    """Whether an option's value is the word ``off`` (any case, spaces around it)."""
+    return isinstance(text, str) and text.strip().lower() == "off"
+
+
+def _off_written(flag: str) -> str:
+    """``--fall-height off`` as the option is written: ``fall_height='off'`` in Python."""
+    return f"{flag}'off'" if flag.endswith("=") else f"{flag} off"
+
+
 WINDOW = Numeric("time", "s", "nonnegative")  # --from and --to
 
 
@@ -71,10 +102,11 @@ def read_numeric(flag: str, text: str, spec: Numeric) -> float:
             f"{where}: {flag} is {a_kind(want)}, but {given.text} is {a_kind(given.dim)}; "
             f"write e.g. {flag}{sep}{written(given, want, spec.bare)}"
         )
+    off = FALL_OFF_ADVICE.format(what=spec.off, off=_off_written(flag)) if spec.off else ""
     if spec.least == "positive" and not value > 0:
-        raise UsageError(f"{where}: {flag} must be more than zero")
+        raise UsageError(f"{where}: {flag} must be more than zero" + f"; {off}" * bool(off))
     if spec.least == "nonnegative" and value < 0:
-        raise UsageError(f"{where}: {flag} must not be negative")
+        raise UsageError(f"{where}: {flag} must not be negative" + f"; {off}" * bool(off))
     return value
 
 
@@ -93,15 +125,20 @@ def check_fall_tilt(tilt: object) -> None:
     """A fall tilt (radians) is more than zero and at most upside down; ``legdsl run`` asks
     before it compiles (``--fall-tilt 181`` was refused only after a compile)."""
     if not _real(tilt):
-        raise UsageError(f"--fall-tilt {tilt!r}: must be a number of radians more than zero")
+        raise UsageError(
+            f"--fall-tilt {tilt!r}: must be a number of radians more than zero, or 'off'"
+        )
     tilt = float(tilt)  # type: ignore[arg-type]  # a Real, as _real said
     if not (math.isfinite(tilt) and tilt > 0):
-        raise UsageError(f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero")
+        raise UsageError(
+            f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero; "
+            + FALL_OFF_ADVICE.format(what="tilt", off="--fall-tilt off (fall_tilt='off' in Python)")
+        )
     if tilt > math.pi * (1 + 1e-12):  # fall_tilt=60 in Python is 60 rad, not 60 degrees
         raise UsageError(
             f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
-            "(180 deg), so no tilt would stop the run; give at most 180deg (in Python a number "
-            "is radians: write fall_tilt='60 deg')"
+            "(180 deg), so no tilt would stop the run; give at most 180deg, or off (in Python a "
+            "number is radians: write fall_tilt='60 deg')"
         )
 
 
@@ -119,8 +156,17 @@ def check_run_options(options: RunOptions, flags: bool = True) -> None:
         "fall_height": ("--fall-height", options.fall_height),
     }
     for flag, value in checks.values():
-        if value is not None and not (_real(value) and math.isfinite(value) and value >= 0):
-            raise UsageError(f"{flag} {value!r}: must be a finite number, zero or more")
+        if value is None or (flag == "--fall-height" and value == FALL_OFF):
+            continue
+        # a number here (off was passed over): the ignore is for the type, not the value
+        if not (_real(value) and math.isfinite(value) and value >= 0):  # type: ignore[arg-type,operator]
+            off = FALL_OFF_ADVICE.format(
+                what="height", off="--fall-height off (fall_height='off' in Python)"
+            )
+            raise UsageError(
+                f"{flag} {value!r}: must be a finite number, zero or more"
+                + f"; {off}" * (flag == "--fall-height")
+            )
     if options.dt > options.duration:  # first: the advice below would lead to it
         shorter = f", or a --dt of {options.duration:g}s or less" if options.duration**2 > 0 else ""
         raise UsageError(

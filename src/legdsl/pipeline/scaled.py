@@ -17,7 +17,7 @@ import dataclasses
 import decimal
 import math
 import re
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -124,9 +124,17 @@ def scale_options(options: RunOptions, scale: float) -> RunOptions:
         dt=options.dt / tick,
         control_dt=options.control_dt / tick,
         record_rate=options.record_rate * tick,
-        fall_height=None if options.fall_height is None else options.fall_height / scale,
+        fall_height=_fall_height(options.fall_height, scale),
         drop=None if options.drop is None else options.drop / scale,
     )
+
+
+def _fall_height(
+    height: float | Literal["off"] | None, scale: float
+) -> float | Literal["off"] | None:
+    """A ``--fall-height`` for the unscaled model: divided by ``scale``; None and ``off`` as
+    they are."""
+    return height if height is None or isinstance(height, str) else height / scale
 
 
 def scale_checks(sim: Simulation, scale: float) -> None:
@@ -148,7 +156,7 @@ def scale_checks(sim: Simulation, scale: float) -> None:
         if said == "fell" and _FELL_TO.search(sim.message):
             pos, _ = sim._root_pose()
             given = sim.options.fall_height
-            limit = given if given is not None else 0.3 * start_height
+            limit = given if isinstance(given, float | int) else 0.3 * start_height  # not off
             above = pos[2] - sim._ground_under(pos)
             sim.message = _FELL_TO.sub(
                 _fell_to(repr(float(above)), repr(float(limit))), sim.message

@@ -136,7 +136,9 @@ class CSimulation(Simulation):
         c.check_every = loop.check_every
         c.record_every, c.capacity = loop.record_every, loop.capacity
         c.has_fall_height = int(opts.fall_height is not None)
-        c.fall_height = opts.fall_height if opts.fall_height is not None else 0.0
+        # --fall-height off (FALL_OFF): no height is below -infinity, as _check has no limit
+        height = opts.fall_height
+        c.fall_height = -math.inf if isinstance(height, str) else height or 0.0
         c.fall_tilt, c.start_height = opts.fall_tilt, loop.start_height
         c.size_scale, c.step_budget = self.size_scale, STEP_BUDGET
         self._array("v_factor", self.v_factors)

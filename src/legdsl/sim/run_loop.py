@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from legdsl.lang.errors import Span
 from legdsl.sim.recorder import recording_budget
@@ -21,6 +21,9 @@ def default_control_dt(dt: float) -> float:
     return max(CONTROL_DT, dt)
 
 
+FALL_OFF: Literal["off"] = "off"  # --fall-height off: the fall rule's height is turned off
+
+
 @dataclass
 class RunOptions:
     duration: float = 5.0
@@ -28,10 +31,10 @@ class RunOptions:
     integrator: str = "euler"  # semi-implicit Euler, or "rk4"
     control_dt: float = CONTROL_DT  # with another dt: default_control_dt(dt)
     record_rate: float = 200.0  # samples per second; 0 records every step
-    fall_height: float | None = (
-        None  # root below this is a fall; default 30% of its height over its feet
-    )
-    fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall
+    # root below this is a fall; None: 30% of its height over its feet; FALL_OFF ("off"):
+    # no height is a fall (a creature that crawls or lies on the ground)
+    fall_height: float | Literal["off"] | None = None
+    fall_tilt: float = math.radians(60.0)  # root tilted beyond this is a fall (pi: none is)
     drop: float | None = None  # start with the lowest contact this high above the ground
 
 

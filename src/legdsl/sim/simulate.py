@@ -359,10 +359,10 @@ class Simulation:
         pos, rot = self._root_pose()
         tilt = math.acos(max(-1.0, min(1.0, rot[8])))
         limit = self.options.fall_height
-        # A root that starts at the level of its feet (a sled, a wheel) cannot fall lower.
+        # No limit for a root that starts at its feet's level (a sled), nor for "off" (C: -inf)
         height = limit if limit is not None else 0.3 * start_height if start_height > 0 else None
         above = pos[2] - self._ground_under(pos)
-        if height is not None and above < height:
+        if isinstance(height, float | int) and above < height:
             shown, least = apart(above, height)
             self.message = f"the root fell to {shown} m above the ground (the limit is {least} m)"
             return "fell"
