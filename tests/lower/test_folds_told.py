@@ -55,9 +55,9 @@ def test_a_fold_that_drops_a_part_with_no_value_is_told_at_the_signal(
     zero = f"-1 {unit}" if "sqrt" in signal else f"0 {unit}"
     code, err = _check(tmp_path, signal, zero, capsys)
     assert code == 2
-    assert ":9:3: error: this is always 0 as compiled" in err
-    assert "leaves out a part that has no value with 'zero' as declared" in err
-    assert "; remove the part that is left out, or give 'zero' a value" in err
+    assert ":9:3: error: a part of this gives no finite real number with 'zero' as declared" in err
+    assert "the compiled code leaves it out: this is always 0 as compiled" in err
+    assert "; remove that part, or give 'zero' a value" in err
     assert "Traceback" not in err
 
 

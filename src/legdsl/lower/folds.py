@@ -53,9 +53,9 @@ def dropped(e: ir.Binary | ir.Call, result: Any, operands: tuple[Any, ...]) -> s
     how = because.get(e.op, "it folds") if isinstance(e, ir.Binary) else f"{e.func}() folds"
     declared = f" with {', '.join(names)} as declared" if names else ""
     return (
-        f"this is always {float(result):g} as compiled ({how}), so the "
-        f"compiled code leaves out a part that has no value{declared} (a division by 0, or a "
-        "function outside its domain), and a run does not fault on it as it would without the "
-        f"fold; remove the part that is left out, or give {' and '.join(names) or 'it'} a "
-        "value where it has one"
+        f"a part of this gives no finite real number{declared} (a division by 0, or a "
+        "function outside its domain), and the compiled code leaves it out: this is always "
+        f"{float(result):g} as compiled ({how}), so a run does not fault on it as it does "
+        f"without the fold; remove that part, or give {' and '.join(names) or 'it'} a value "
+        "where it has one"
     )
