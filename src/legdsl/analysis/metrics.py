@@ -30,6 +30,10 @@ Definitions (docs/metrics.md has the long form):
 - **Positive actuator work**, **energy per metre** and **cost of transport** over the
   window (``energy``): the rise of the recorded running sums of max(0, tau qd) dt, per
   metre of the centre of mass's horizontal path, and divided by the weight ``M g``.
+- A creature whose root body is **welded** to the world (``fixed at``; the caller says so,
+  from the creature, as ``legdsl run``'s summary decides it) goes nowhere and cannot pitch or
+  roll: the rows and per-stride series of travel and of the root's attitude (``TRAVEL``)
+  read n/a, each saying why (``results.WELDED``), however its centre of mass sways.
 
 This module is the entry, ``compute_metrics``, and the names the command line uses; the work
 is done in ``strides`` (strides, stances, flights), ``friction``, ``rows`` and ``support``
@@ -51,8 +55,10 @@ from legdsl.analysis.pairs import pair_rows
 from legdsl.analysis.resolution import natural_sizes
 from legdsl.analysis.results import (
     FRICTION_EDGE,
+    WELDED,
     GaitMetrics,
     MetricsError,
+    Summary,
 )
 from legdsl.analysis.rows import summary_rows
 from legdsl.analysis.strides import (
@@ -71,6 +77,23 @@ from legdsl.analysis.strides import (
 )
 from legdsl.analysis.support import with_support_rows
 from legdsl.sim.trajectory import Trajectory
+
+# the rows that mean the creature's travel over the ground or its root body's attitude, and
+# the per-stride series they average: n/a for a root welded to the world (the centre of mass
+# of a test rig sways with its limbs: a stride "length" of 0.061 m, a "speed" of 0.036 m/s)
+TRAVEL = {
+    "stride_length": "length",
+    "pitch_magnitude": "pitch_magnitude",
+    "roll_magnitude": "roll_magnitude",
+    "running_speed": "speed",
+    "speed_error": "speed_error",
+    "distance": None,
+    "energy_per_metre": None,
+    "cost_of_transport": None,
+}
+# what a path report measures of the centre of mass's way along the path (path_report.py)
+PATH_TRAVEL = ("progress", "laps", "past_end", "lateral_rms", "lateral_max", "lateral_mean",
+               "path_speed")  # fmt: skip
 
 
 def parse_groups(specs: Sequence[str]) -> dict[str, list[str]]:
@@ -104,6 +127,7 @@ def compute_metrics(
     min_stance: float | None = None,
     ground_normal: tuple[float, float, float] = LEVEL,
     events: Sequence[Mapping[str, Any]] | None = None,
+    welded: bool = False,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
@@ -117,6 +141,8 @@ def compute_metrics(
     ``ground_normal``: the ground's unit normal, which the friction needed is measured
     against (a slope's; the trajectory does not say it). ``events``: run.json's, which time
     the touchdown spreads and the support phases to the step (``contact_times``).
+    ``welded``: the creature's root body is welded to the world (``pipeline.start_pose.
+    welded_root``; the trajectory does not say it): its rows of travel and attitude read n/a.
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -179,7 +205,7 @@ def compute_metrics(
         "min_normal_fraction": min_normal_fraction,
         "min_stance_s": min_stance,
     }
-    return GaitMetrics(
+    measured = GaitMetrics(
         t_from=float(t_from),
         t_to=t_to,
         reference=ref_name,
@@ -204,3 +230,27 @@ def compute_metrics(
         option_notes={flag: said for flag, said in notes.items() if said},
         sizes=natural_sizes(tr),
     )
+    return without_travel(measured) if welded else measured
+
+
+def without_travel(metrics: GaitMetrics, why: str = WELDED) -> GaitMetrics:
+    """``metrics`` of a creature that goes nowhere and cannot pitch or roll (its root welded to
+    the world): the ``TRAVEL`` rows n/a (NaN, no values), each saying ``why``, and their
+    per-stride series NaN (null in JSON); the other rows (stances, flights, energies, forces)
+    stand."""
+    metrics.summaries = [
+        Summary(s.key, s.label, math.nan, math.nan, 0, s.how, why) if s.key in TRAVEL else s
+        for s in metrics.summaries
+    ]
+    for series in TRAVEL.values():
+        if series in metrics.per_stride:
+            metrics.per_stride[series] = [math.nan] * len(metrics.per_stride[series])
+    return metrics
+
+
+def without_path_travel(report: Mapping[str, Any], why: str = WELDED) -> dict[str, Any]:
+    """A path report (``path_report``) of a creature that goes nowhere: its progress, laps,
+    lateral deviations and speed along the path n/a (None), saying ``why``, and no off-path
+    note (its centre of mass swayed; it did not run off the path)."""
+    gone = {k: None for k in PATH_TRAVEL if k in report}
+    return {k: v for k, v in report.items() if k != "note"} | gone | {"why": why}

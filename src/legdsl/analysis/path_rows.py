@@ -15,7 +15,8 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
 
     def num(key: str, unit: str) -> str:
         v = report.get(key)
-        return "n/a" if v is None else f"{figure(v)}{unit}"
+        why = f" ({report['why']})" if report.get("why") else ""
+        return f"n/a{why}" if v is None else f"{figure(v)}{unit}"
 
     window = window_label(report)
     covered = "laps of" if report.get("closed", True) else "of its"  # open: the fraction covered
@@ -31,13 +32,13 @@ def path_rows(report: Mapping[str, Any]) -> list[tuple[str, str]]:
     if report.get("speed_before_start"):
         speed += "; from before its start"
     speed += ")"
+    deviation = f"{num('lateral_max', ' m')} / {num('lateral_mean', ' m')}"
+    if report.get("why"):  # a creature that goes nowhere (welded): metrics.without_path_travel
+        progress = deviation = f"n/a ({report['why']})"
     return [
         ("path", shown_path(str(report["path"]))),
         (f"lateral deviation RMS ({window})", num("lateral_rms", " m")),
-        (
-            f"lateral deviation max / mean ({window})",
-            f"{num('lateral_max', ' m')} / {num('lateral_mean', ' m')}",
-        ),
+        (f"lateral deviation max / mean ({window})", deviation),
         (f"progress along the path ({progress_label(report)})", progress),
         (speed, num("path_speed", " m/s")),
     ]

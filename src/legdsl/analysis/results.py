@@ -17,6 +17,9 @@ from legdsl.figures import figure
 from legdsl.files import write_atomic
 
 FRICTION_EDGE = 0.010  # s: the paper's "period of up to 10 ms" at each end of a stance
+# why a row of travel or of the root's attitude reads n/a for a creature whose root body is
+# welded to the world (``fixed at``): legdsl run's summary gives its mean speed the same reason
+WELDED = "its root is welded to the world"
 
 
 class MetricsError(ValueError):
@@ -88,6 +91,7 @@ class Summary:
     # "mean", "weighted mean" (the running speed's, by the strides' durations; std unweighted),
     # "max", "min" (n: how many samples fall below 0), or "total" over the window (n: its samples)
     how: str = "mean"
+    why: str = ""  # why the row reads n/a where it means nothing for the creature (``WELDED``)
 
 
 @dataclass
@@ -143,7 +147,8 @@ class GaitMetrics:
             "option_notes": self.option_notes,
             "options": self.options,
             "summary": {
-                s.key: {k: v for k, v in asdict(s).items() if k != "key"} for s in self.summaries
+                s.key: {k: v for k, v in asdict(s).items() if k != "key" and (k != "why" or v)}
+                for s in self.summaries
             },
             "strides": self.per_stride,
             "stances": [asdict(s) | {"duration": s.duration} for s in self.stances],
@@ -175,7 +180,8 @@ class GaitMetrics:
                 s.how,
                 figure(std, std if value == 0.0 != s.value else value),  # to the value's decimals
             )
-            lines.append(f"{s.label:<{width}}  {figure(value):>10}  {spread:>10}  {s.n:>4}")
+            why = f"  ({s.why})" if s.why else ""  # as legdsl run's "n/a (its root is ...)"
+            lines.append(f"{s.label:<{width}}  {figure(value):>10}  {spread:>10}  {s.n:>4}{why}")
         if zeroed:
             lines.append(
                 f"({zeroed} row{'s read' if zeroed > 1 else ' reads'} 0.000: under {ROUND_OFF:g} "

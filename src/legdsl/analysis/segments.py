@@ -77,6 +77,9 @@ def segment_table(report: Sequence[dict[str, Any]]) -> str:
     ]
     for r in report:
         where = f"  {r['controller']:<14} {r['from']:>7.2f} to {r['to']:>7.2f} s"
+        if r.get("why"):  # a creature that goes nowhere (its root welded to the world)
+            lines.append(f"{where}  speed n/a ({r['why']})")
+            continue
         if r["speed"] is None:
             lines.append(f"{where}  too short to measure")
             continue

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from legdsl.analysis.metrics import parse_groups
+from legdsl.analysis.metrics import parse_groups, without_path_travel
 from legdsl.analysis.path_report import followed_in, followed_reports, time_unit
 from legdsl.analysis.results import GaitMetrics, MetricsError
 from legdsl.analysis.series_units import series_unit
@@ -18,6 +18,7 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import ROWS, Kinematics
 from legdsl.pipeline.measure import measure
 from legdsl.pipeline.scaled import q_factors
+from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.sim.trajectory import Trajectory
 
@@ -51,13 +52,16 @@ def run_metrics(
     except MetricsError as e:
         raise UsageError(str(e)) from None
     slides = _joint_slides(model, trajectory, joint, against)
+    welded = welded_root(model) is not None  # goes nowhere: its travel rows n/a, as the command's
     metrics = measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
                       leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
                       against=against, joint_slides=slides,
-                      ground_normal=model_ground_normal(model), events=info.get("events"))  # fmt: skip
+                      ground_normal=model_ground_normal(model), events=info.get("events"),
+                      welded=welded)  # fmt: skip
     followed = followed_in(info, "the run's run.json")
-    metrics.path_reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to,
-                                                          time_unit(info))]  # fmt: skip
+    reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to,
+                                              time_unit(info))]  # fmt: skip
+    metrics.path_reports = [without_path_travel(r) for r in reports] if welded else reports
     return metrics
 
 

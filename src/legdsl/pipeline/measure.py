@@ -6,12 +6,18 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from legdsl.analysis.metrics import compute_metrics, parse_groups
+from legdsl.analysis.metrics import compute_metrics, parse_groups, without_path_travel
 from legdsl.analysis.pairs import PAIR_NAMES, group_hint
 from legdsl.analysis.path_report import followed_reports, time_unit
 from legdsl.analysis.plot import run_followed, samples_in_window
-from legdsl.analysis.recorded import one_run, recorded_model, run_source
-from legdsl.analysis.results import FRICTION_EDGE, GaitMetrics, MetricsError, write_json
+from legdsl.analysis.recorded import model_if_readable, one_run, recorded_model, run_source
+from legdsl.analysis.results import (
+    FRICTION_EDGE,
+    WELDED,
+    GaitMetrics,
+    MetricsError,
+    write_json,
+)
 from legdsl.analysis.segments import segment_report
 from legdsl.analysis.series_units import series_unit
 from legdsl.analysis.strides import debounced
@@ -20,6 +26,7 @@ from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import Kinematics, clearance_row, kinematics_or_why, with_clearance
+from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.terrain_rows import ground_normal, terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -52,7 +59,9 @@ def measure_run(
     strides start at its reference pair's touchdowns. A request the run cannot answer (no or a
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``. ``min_stance``
     (s) is ``compute_metrics``'s: a shorter contact is no touchdown; ``friction_edge`` (s) its
-    ``edge``, left out at each end of a stance for the interior friction row.
+    ``edge``, left out at each end of a stance for the interior friction row. A creature
+    whose root is welded to the world (``welded_root``, as ``legdsl run``'s summary decides
+    it, from its .leg file) has its rows of travel and attitude, and its path reports, n/a.
     """
     run = Path(run)
     trajectory = Trajectory.load(run)  # a missing or damaged file is a UsageError
@@ -73,6 +82,8 @@ def measure_run(
             leg = leg if leg is not None else first
     except MetricsError as e:
         raise UsageError(str(e)) from None
+    model = model_if_readable(run)  # None: a trajectory whose creature is not at hand
+    welded = model is not None and welded_root(model) is not None
     metrics = measure(
         trajectory,
         kinematics_or_why(run, trajectory, None if generated is None else Path(generated)),
@@ -87,6 +98,7 @@ def measure_run(
         edge=friction_edge,
         ground_normal=ground_normal(run),
         events=_events(run),
+        welded=welded,
     )
     try:
         write_json(metrics, run / "metrics.json")
@@ -95,6 +107,7 @@ def measure_run(
                              "metrics are only printed")  # fmt: skip
     followed, unit = run_followed(run), _time_unit(run)
     reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to, unit)]
+    reports = [without_path_travel(r) for r in reports] if welded else reports
     metrics.path_reports = reports
     return metrics, reports
 
@@ -147,14 +160,20 @@ def _rows_can_read(table2: str, given: dict[str, list[str]]) -> None:
 
 def run_segments(run: str | Path) -> list[dict[str, Any]]:
     """The controller segments of a run that switched controllers (none for other runs),
-    each measured (``legdsl.analysis.segments``)."""
+    each measured (``legdsl.analysis.segments``); their speeds n/a for a creature whose root
+    is welded to the world."""
     run = Path(run)
     if not (run / "run.json").is_file():
         return []
     segments = load_run_info(run).get("segments")
     if not isinstance(segments, list) or not all(isinstance(s, dict) for s in segments):
         return []
-    return segment_report(Trajectory.load(run), segments, _time_unit(run))
+    report = segment_report(Trajectory.load(run), segments, _time_unit(run))
+    model = model_if_readable(run)
+    if model is None or welded_root(model) is None:
+        return report
+    gone = {"speed": None, "error_percent": None, "why": WELDED}  # it goes nowhere
+    return [r | gone for r in report]
 
 
 def _slides(run: Path, joint: str) -> bool:

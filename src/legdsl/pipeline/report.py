@@ -7,6 +7,7 @@ import time
 from typing import Any
 
 from legdsl.analysis.resolution import natural, natural_sizes, resolved
+from legdsl.analysis.results import WELDED
 from legdsl.figures import figure, figures
 from legdsl.ir.model import Model
 from legdsl.pipeline.start_pose import welded_root
@@ -191,7 +192,7 @@ def _mean_speed_said(model: Model, tr: Any) -> str:
     goes nowhere however its centre of mass sways (as its energy per metre is in the metrics:
     docs/metrics.md): a 2 km arm swinging on a fixed base read 0.839 m/s over 3 s."""
     if welded_root(model) is not None:
-        return "n/a (its root is welded to the world)"
+        return f"n/a ({WELDED})"
     speed = resolved(_mean_speed(tr), natural("m/s", natural_sizes(tr)))  # 0, not -5.3e-18
     return f"{figure(speed)} m/s"
 
@@ -210,14 +211,19 @@ def path_summary(report: dict[str, Any]) -> str:
 
 
 def run_path_reports(
-    machine: Any, result: RunResult, scale: float | None, unit: float
+    machine: Any, result: RunResult, scale: float | None, unit: float, model: Model | None = None
 ) -> list[Any]:
     """The report of each path a run followed, from ``PATH_FROM`` after its start or takeover
-    for a creature whose natural time is ``unit`` (``legdsl.analysis.path_report``)."""
+    for a creature whose natural time is ``unit`` (``legdsl.analysis.path_report``); n/a for
+    a ``model`` whose root is welded to the world, as ``legdsl metrics`` has them."""
+    from legdsl.analysis.metrics import without_path_travel
     from legdsl.analysis.path_report import followed_reports
     from legdsl.pipeline.scenes import followed_paths
 
     if machine is None or not len(result.trajectory):
         return []
     followed = followed_paths(machine, result.sim_time, scale)
-    return [r for _, r in followed_reports(result.trajectory, followed, None, None, unit)]
+    reports = [r for _, r in followed_reports(result.trajectory, followed, None, None, unit)]
+    if model is not None and welded_root(model) is not None:  # it goes nowhere
+        return [without_path_travel(r) for r in reports]
+    return reports

@@ -411,7 +411,7 @@ class Plan:
         if self.scale is not None:
             result = scaled.scale_result(result, self.model, self.scale)
         unit = size * (self.scale or 1.0) ** 0.5  # the creature as run
-        reports = run_path_reports(machine, result, self.scale, unit)
+        reports = run_path_reports(machine, result, self.scale, unit, self.model)
         return Run(self.model, self.controller, self.options, settings or self.settings,
                    machine, result, reports, self.scale, self.source_sha256,
                    time_unit=unit, generated=self.generated, sources=self.sources)  # fmt: skip
