@@ -59,6 +59,7 @@ def check_stderr(name: str, stderr: str) -> None:
         assert m is not None, lines[i]
         row, col = int(m["line"]), int(m["col"])
         line = source[row - 1].expandtabs(1)
+        line = "".join("\ufffd" if ch < " " or "\x7f" <= ch < "\xa0" else ch for ch in line)
         caret = re.fullmatch(r"    (?P<pad> *)\^~*", lines[i + 2])
         assert caret is not None, lines[i + 2]
         if len(line) <= SHOWN:

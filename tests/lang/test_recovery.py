@@ -91,10 +91,12 @@ def test_a_device_or_a_file_far_larger_than_a_leg_file_is_refused_unread(
     [
         ("m·s⁻²", "; did you mean 'm*s^-2'?"),  # as typeset: a dot and superscripts
         ("N⋅s/m", "; did you mean 'N*s/m'?"),
-        # a prefix legdsl lacks: it suggested 'm*N*s/m', a metre-newton; now the value
+        # a prefix legdsl lacks: it suggested 'm*N*s/m', a metre-newton; now the value, and
+        # the metre-newton as the other reading
         (
             "mN*s/m",
-            ": it has no prefix 'm' (milli); it writes forces (its 'mN') in N, kN: write '0.001 N*s/m'",
+            ": it has no prefix 'm' (milli); it writes forces (its 'mN') in N, kN: write '0.001 N*s/m'"
+            ", or '1 N*m*s/m' if the 'm' meant metres",
         ),
         ("kJ", ": it has no prefix 'k' (kilo): write '1000 J'"),  # was "unexpected ..."
     ],

@@ -29,7 +29,7 @@ def offset_span(file: str, text: str, start: int, length: int) -> Span:
 
 # The unit written after a number, loosely: symbols with spaces, parentheses or '**'
 # between them ('9.81 m s^-2', '200 N s/m', 'm/(s^2)', 'm/s**2'), which legdsl does not read.
-_LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)?-?\d+)?(?![A-Za-z0-9_])"
+_LOOSE_ATOM = rf"(?:{_UNIT_SYMBOL})(?:(?:\^|\*\*)?-?\d+|\^\(-?\d+\))?(?![A-Za-z0-9_])"
 # No two runs of blanks meet without a symbol between them ('[ \t]+\(?[ \t]*' would try
 # every way of splitting a long run of blanks between them: minutes on a line that ends in
 # 100 000 spaces), so each is read in linear time.
@@ -52,7 +52,8 @@ def _tidy_unit(written: str) -> str | None:
     """``written`` in legdsl's spelling: '*' between symbols, '^' for powers, no
     parentheses ('/' divides by the one symbol after it), a lone trailing negative power
     as a division ('m*s^-2' is 'm/s^2'); None if that is no unit legdsl reads."""
-    text = re.sub(r"(?<=[A-Za-z])(-?\d)", r"^\1", written.replace("**", "^"))
+    unbracketed = re.sub(r"\^\((-?\d+)\)", r"^\1", written)  # 'm*s^(-1)': its power's
+    text = re.sub(r"(?<=[A-Za-z])(-?\d)", r"^\1", unbracketed.replace("**", "^"))
     parts = re.findall(r"[A-Za-z]+(?:\^-?\d+)?|[*/()]|[ \t]+", text)
     out: list[str] = []
     group: str | None = None  # the operator before an open parenthesis
@@ -108,7 +109,9 @@ def unit_spelling(text: str, pos: int) -> UnitSpelling | None:
         if tidy is None or tidy == written:
             continue
         also = ""
-        if "(" in written or ")" in written:
+        if re.search(r"\^\(-?\d+\)", written):
+            why = "a unit takes no parentheses, around a power neither"
+        elif "(" in written or ")" in written:
             why = "a unit takes no parentheses ('/' divides by the one symbol after it)"
         elif "**" in written:
             why = "a power in a unit is written with '^'"

@@ -13,7 +13,11 @@ import itertools
 import math
 import re
 from dataclasses import dataclass
-from decimal import Decimal
+
+from legdsl.lang.numbers_said import apart as apart
+from legdsl.lang.numbers_said import out_of_range as out_of_range
+from legdsl.lang.numbers_said import percentage
+from legdsl.lang.unit_tables import _FOREIGN, _PREFIX_FACTORS, _UNIT_NAMES
 
 Dim = tuple[int, int, int, int]  # exponents of kg, m, s, rad
 
@@ -106,23 +110,6 @@ def parse_unit(text: str) -> tuple[float, Dim]:
         pos += 1
 
 
-_MANTISSA = re.compile(r"\s*[-+]?(\d*\.?\d*)")
-
-
-def out_of_range(written: str, value: float) -> str | None:
-    """Why a number, as written, has no double to hold it: too large (it would be infinite),
-    or too small (not zero, yet it would read as 0); None for a number that reads."""
-    if not math.isfinite(value):
-        return f"'{written}' is too large a number"
-    mantissa = _MANTISSA.match(written)
-    if value == 0 and mantissa is not None and re.search("[1-9]", mantissa.group(1)):
-        return (
-            f"'{written}' is too small a number: nearer 0 than a double holds (5e-324), it "
-            "would read as 0; write 0 if you mean zero"
-        )
-    return None
-
-
 def unit_pattern() -> str:
     """A regular expression for a unit string made of the known unit symbols."""
     names = "|".join(sorted(UNITS, key=len, reverse=True))
@@ -208,34 +195,6 @@ class Quantity:
 
 # Words written as units that legdsl does not know ('kgs', 'm/sec', 'lb', '60°', 'µm'):
 # whether a word after a number was meant as a unit, and the sentence naming it.
-# Units spelt out, or from elsewhere, in the singular (a final 's' is dropped before
-# looking), with the symbol to suggest instead (None: no such unit in legdsl).
-_UNIT_NAMES: dict[str, str | None] = {
-    "sec": "s", "second": "s", "msec": "ms", "millisecond": "ms", "minute": "min",
-    "meter": "m", "metre": "m", "centimeter": "cm", "centimetre": "cm", "millimeter": "mm",
-    "millimetre": "mm", "kilometer": "km", "kilometre": "km", "kilogram": "kg", "kilo": "kg",
-    "gram": "g", "newton": "N", "kilonewton": "kN", "joule": "J", "watt": "W", "hertz": "Hz",
-    "degree": "deg", "radian": "rad", "revolution": "rev", "fps": "Hz",
-    "hour": None, "hr": None, "h": None, "inch": None, "in": None, "ft": None, "feet": None,
-    "lb": None, "mph": None, "kph": None, "kmh": None, "mp": "m/s", "rpm": "rev/min",
-    "t": None, "tonne": None, "ton": None, "oz": None, "ounce": None, "pound": None,
-    "mi": None, "mile": None, "yd": None, "yard": None, "°": "deg",
-}  # fmt: skip
-# Units from elsewhere that legdsl has no symbol for: (factor to a unit it has, that unit)
-_FOREIGN: dict[str, tuple[float, str]] = {
-    "in": (0.0254, "m"), "inch": (0.0254, "m"), "ft": (0.3048, "m"), "feet": (0.3048, "m"),
-    "foot": (0.3048, "m"), "yd": (0.9144, "m"), "yard": (0.9144, "m"), "mi": (1609.344, "m"),
-    "mile": (1609.344, "m"), "lb": (0.45359237, "kg"), "pound": (0.45359237, "kg"),
-    "oz": (0.028349523125, "kg"), "ounce": (0.028349523125, "kg"), "t": (1000.0, "kg"),
-    "tonne": (1000.0, "kg"), "ton": (1000.0, "kg"), "h": (60.0, "min"), "hr": (60.0, "min"),
-    "hour": (60.0, "min"), "mph": (0.44704, "m/s"), "kph": (1/3.6, "m/s"), "kmh": (1/3.6, "m/s"),
-}  # fmt: skip
-# SI prefixes legdsl has no symbol with: prefix -> (name, factor)
-_PREFIX_FACTORS: dict[str, tuple[str, float]] = {
-    "k": ("kilo", 1e3), "c": ("centi", 1e-2), "d": ("deci", 1e-1), "m": ("milli", 1e-3),
-    "u": ("micro", 1e-6), "µ": ("micro", 1e-6), "μ": ("micro", 1e-6), "n": ("nano", 1e-9),
-    "M": ("mega", 1e6), "G": ("giga", 1e9),
-}  # fmt: skip
 _UNIT_SYMBOL = "|".join(sorted(UNITS, key=len, reverse=True))
 
 
@@ -288,34 +247,21 @@ def looks_like_unit(word: str, fuzzy: bool = True) -> bool:
     )
 
 
-def apart(a: float, b: float, digits: int = 3) -> tuple[str, str]:
-    """``a`` and ``b`` to ``digits`` significant digits, or to as many more as tell them apart
-    ('fell to 0.2099 m (the limit is 0.21 m)', not 'fell to 0.21 m (the limit is 0.21 m)')."""
-    for n in range(digits, 18):
-        shown = f"{a:.{n}g}", f"{b:.{n}g}"
-        if shown[0] != shown[1] or a == b:
-            break
-    return shown
-
-
-def percentage(number: str | None) -> str:
-    """The message for a number written as a percentage: the plain number to write instead,
-    the user's own (``number``, the digits before '%') where it reads as one."""
-    try:
-        plain = format(Decimal(number or "").scaleb(-2).normalize(), "f")
-    except ArithmeticError:
-        return "a percentage is written as a plain number: '0.5', not '50%'"
-    return f"a percentage is written as a plain number: '{plain}', not '{number}%'"
-
-
-def unknown_unit(word: str, number: str | tuple[str, ...] | None = None) -> str:
+def unknown_unit(
+    word: str, number: str | tuple[str, ...] | None = None, want: Dim | None = None
+) -> str:
     """The message for a word written as a unit that is none; ``number``, the number
-    written before it (a vector's numbers), if known, for the value to write instead."""
+    written before it (a vector's numbers), if known, for the value to write instead;
+    ``want``, the dimension the value must have, if known, to suggest only units of it."""
     if word == "%" and not isinstance(number, tuple):  # '--set k=30%', as a file's '30%'
         return percentage(number)
-    other = other_system(word, number)
+    other = metre_or_milli(word, number, want)
     if other is not None:
         return other
+    if (whole := re.sub(r"\^\(([-+]?\d+)\)", r"^\1", word)) != word and _parses(whole):
+        return (  # 'm*s^(-1)': a whole power, in parentheses as a unit takes none
+            f"a unit takes no parentheses, around a power neither: write '{whole}', not '{word}'"
+        )
     if re.search(r"\^[-+]?(?:\d+(?:\.\d*)?[eE]|\d{4})", word):  # 'm^1e300', 'm^10000'
         return (
             f"'{word}' has a power past any unit's: a unit's powers are small whole numbers "
@@ -419,6 +365,47 @@ def other_system(word: str, number: str | tuple[str, ...] | None) -> str | None:
         if best != base:
             ways.append(f"'{_decimal(scaled[best])} {best}{power}{rest}'")
     return message + ": write " + " or ".join(ways)
+
+
+def _parses(unit: str) -> bool:
+    try:
+        parse_unit(unit)
+    except UnitError:
+        return False
+    return True
+
+
+def metre_or_milli(
+    word: str, number: str | tuple[str, ...] | None, want: Dim | None = None
+) -> str | None:
+    """``other_system``'s sentence, with an 'm' before a symbol ('mN/rad') read both ways it
+    may be meant: milli ('0.15 N/rad') or a metre run into it ('150 N*m/rad', m*N); only
+    the reading of ``want``, the dimension the value must have, where one has it."""
+    told = other_system(word, number)
+    found = re.search(rf"(?<![A-Za-z])m({_UNIT_SYMBOL})(\^-?\d+)?(?![A-Za-z])", word)
+    if told is None or found is None or "m" + found[1] in UNITS:
+        return told
+    metre = word[: found.start()] + found[1] + (found[2] or "") + "*m" + word[found.end() :]
+    if not _parses(metre):
+        return told
+    milli_fits = want is not None and parse_unit(metre_free(word, found))[1] == want
+    if want is not None and parse_unit(metre)[1] == want and not milli_fits:
+        said = f"'{word}' is not a unit legdsl knows: units multiplied are joined by '*', "
+        said += f"and it has no prefix 'm' (milli) for '{found[1]}'"
+        if isinstance(number, tuple):
+            return said + f": write '({', '.join(number)}) {metre}'"
+        return said + (f": write '{number} {metre}'" if number else f"; write it in {metre}")
+    if milli_fits:
+        return told
+    shown = f"({', '.join(number)})" if isinstance(number, tuple) else number
+    if shown:
+        return told + f", or '{shown} {metre}' if the 'm' meant metres"
+    return told + f" (or in {metre} if the 'm' meant metres)"
+
+
+def metre_free(word: str, found: re.Match[str]) -> str:
+    """``word`` with the prefix 'm' at ``found`` dropped (its unit as milli reads it)."""
+    return word[: found.start()] + found[1] + (found[2] or "") + word[found.end() :]
 
 
 def _stand_in(symbol: str) -> tuple[float, str, str] | None:

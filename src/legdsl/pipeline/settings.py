@@ -108,8 +108,9 @@ def _odd(value: str) -> str:
     return ""
 
 
-def parse_given(value: str, where: str) -> Given:
-    """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message."""
+def parse_given(value: str, where: str, want: Dim | None = None) -> Given:
+    """``2.5m/s`` -> Given("2.5", "m/s", 2.5, velocity); ``where`` starts an error message;
+    ``want``, the dimension the value must have if known, to suggest units of it only."""
     if separated := _SEPARATED.match(value):
         number = separated.group().strip()
         raise UsageError(f"{where}: {number!r} is not a number: write it with the digits "
@@ -132,7 +133,7 @@ def parse_given(value: str, where: str) -> Given:
             told = (
                 unit_after_slash(number, unit[1:])
                 if re.fullmatch(r"/[A-Za-z][\w^*/-]*", unit)
-                else unknown_unit(unit, number)
+                else unknown_unit(unit, number, want)
             )  # ('6/s', as a file's '6 /s' is told)
             if odd := _odd(unit):  # 'м/s' with a Cyrillic 'м': said as in a file
                 told = f"{unit!r} is not a unit legdsl knows{odd}"
@@ -454,7 +455,7 @@ def _command_time(original: str) -> tuple[str, float | None]:
             f"--set {original}: no time after '@': write e.g. --set {original}4s (from 4 s on), "
             f"or leave the '@' out to set it from the start" + _caret(original, len(text), 1)
         )
-    given = parse_given(when, f"--set {original}")
+    given = parse_given(when, f"--set {original}", _TIME)
     check_dimension(f"--set {original}", "the time after '@' is in seconds", given, _TIME, "@{}")
     return text, given.value
 
