@@ -105,7 +105,9 @@ def test_an_inverse_square_root_stays_one_power() -> None:
     # 1/math.sqrt(x) rounds twice and differs from pow(x, -0.5) in about a quarter of
     # doubles, which changes runs; the power is kept (see docs/compiler.md)
     text = print_expr(1 / sympy.sqrt(x))
-    assert "**" in text
+    # one power: '**', or math.pow where the base may be negative (it raises there, as C's
+    # leg_pow flags), never a square root divided into 1
+    assert ("**" in text or "math.pow(" in text) and "sqrt" not in text, text
     for value in random_doubles(200, seed=3):
         assert run(text, x=abs(value)) == abs(value) ** -0.5
 
