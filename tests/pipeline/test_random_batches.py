@@ -29,7 +29,6 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import LegError, UsageError
 from legdsl.pipeline.batch import Batch, Copies
 from legdsl.pipeline.session import Run, RunSession
-from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.run_loop import RunOptions
 
 pytestmark = [
@@ -108,7 +107,7 @@ def _starts(rng: np.random.Generator, session: RunSession, q: list[float], v: li
     3 cm, joints turned or slid a little, every rate nudged."""
     model = session.model
     q0, v0 = np.tile(np.array(q, dtype=float), (n, 1)), np.tile(np.array(v, dtype=float), (n, 1))
-    free = welded_root(model) is None  # its root's coordinates come first
+    free = model.welded_root is None  # its root's coordinates come first
     root = model.dofs[0].joint if free and model.dofs else None
     for k in range(1, n):
         if rng.random() < 0.2:

@@ -141,8 +141,8 @@ def compute_metrics(
     ``ground_normal``: the ground's unit normal, which the friction needed is measured
     against (a slope's; the trajectory does not say it). ``events``: run.json's, which time
     the touchdown spreads and the support phases to the step (``contact_times``).
-    ``welded``: the creature's root body is welded to the world (``pipeline.start_pose.
-    welded_root``; the trajectory does not say it): its rows of travel and attitude read n/a.
+    ``welded``: the creature's root body is welded to the world (``Model.welded_root``;
+    the trajectory does not say it): its rows of travel and attitude read n/a.
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.

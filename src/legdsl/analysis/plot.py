@@ -19,7 +19,7 @@ import numpy as np
 from legdsl.analysis.path_report import Followed, followed_in
 from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
-from legdsl.analysis.plot_panels import draw_joints, joint_groups, welded_note, welded_root
+from legdsl.analysis.plot_panels import draw_joints, joint_groups, welded_note
 from legdsl.analysis.plot_panels import legend as _legend
 from legdsl.analysis.plot_units import scale_axes, scale_axis
 from legdsl.figures import figure
@@ -151,7 +151,7 @@ def plot_run(
     ending = run_ending(load_run_info(run)) if (run / "run.json").is_file() else None
     model = model_if_readable(run)  # None: no ground drawn, no welded root told
     ground = ground_under_com(run, tr, model)
-    welded = welded_root(model) if model is not None else None
+    welded = model.welded_root if model is not None else None
     drawn = Drawn(run.name, run, ground, switch_times(run), ending, welded)
     return draw_run(plt, tr, drawn, out, angles, t_from, t_to)
 
@@ -161,7 +161,7 @@ class Drawn:
     """What Figure 6 takes of a run besides its samples: its title, how its messages name it
     (its directory), the ground under its centre of mass (None: a flat floor) and its
     controller changes (``switch_times``), how it ended where not ok (``run_ending``), and
-    its root body's name where it is welded to the world (``welded_root``). The API's
+    its root body's name where it is welded to the world (``Model.welded_root``). The API's
     ``Run.plot`` gives them from memory."""
 
     title: str

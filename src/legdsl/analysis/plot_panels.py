@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from legdsl.ir.model import Model
     from legdsl.sim.trajectory import Trajectory
 
 LINE_STYLES = ("-", "--", "-.", ":")
@@ -62,12 +61,6 @@ def draw_joints(
             legend(ax)
         part = f", {n + 1} of {len(groups)}" if len(groups) > 1 else ""
         ax.set_ylabel(f"leg '{leg}'{part}\njoint angles (deg)" if leg else "joint angles (deg)")
-
-
-def welded_root(model: Model) -> str | None:
-    """The root body's name when it is welded to the world (``fixed at``), else None."""
-    root = next((j for j in model.joints if j.parent is None), None)
-    return root.child if root is not None and root.kind == "fixed" else None
 
 
 def welded_note(ax: Any, root: str) -> None:

@@ -33,13 +33,12 @@ def draw_figure6(run: Any, out: Path, t_from: float) -> None:
         segment_switches,
     )
     from legdsl.analysis.plot_ending import run_ending
-    from legdsl.analysis.plot_panels import welded_root
 
     plt = pyplot()
     tr, info = run.trajectory, run.info
     title = run.directory.name if run.directory is not None else run.model.name
     ground = ground_height(run.model, tr, float(info.get("scale") or 1.0))
-    welded = welded_root(run.model)  # its pitch panel says so
+    welded = run.model.welded_root  # its pitch panel says so
     drawn = Drawn(title, "this run", ground, segment_switches(info), run_ending(info), welded)
     try:
         with atomic_same_name(out) as picture:  # no half PNG under its name

@@ -18,7 +18,6 @@ from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import ROWS, Kinematics
 from legdsl.pipeline.measure import measure
 from legdsl.pipeline.scaled import q_factors
-from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.terrain_rows import model_ground_normal
 from legdsl.sim.trajectory import Trajectory
 
@@ -52,7 +51,7 @@ def run_metrics(
     except MetricsError as e:
         raise UsageError(str(e)) from None
     slides = _joint_slides(model, trajectory, joint, against)
-    welded = welded_root(model) is not None  # goes nowhere: its travel rows n/a, as the command's
+    welded = model.welded_root is not None  # goes nowhere: its travel rows n/a, as the command's
     metrics = measure(trajectory, _kinematics(model, info, dynamics), t_from=t_from, t_to=t_to,
                       leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
                       against=against, joint_slides=slides,

@@ -373,6 +373,13 @@ class Model:
         return tuple(angular)
 
     @property
+    def welded_root(self) -> str | None:
+        """The root body's name when it is welded to the world (``fixed at``): it goes
+        nowhere, and has no height to fall from or attitude to measure; else None."""
+        root = next((j for j in self.joints if j.parent is None), None)
+        return root.child if root is not None and root.kind == "fixed" else None
+
+    @property
     def total_mass(self) -> float:
         return sum(b.mass for b in self.bodies)
 

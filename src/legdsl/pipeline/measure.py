@@ -26,7 +26,6 @@ from legdsl.check.source import check_model
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.apex import Kinematics, clearance_row, kinematics_or_why, with_clearance
-from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.terrain_rows import ground_normal, terrain_rows
 from legdsl.pipeline.touchdown import touchdown_speed_row
 from legdsl.sim.trajectory import Trajectory, load_run_info
@@ -60,7 +59,7 @@ def measure_run(
     damaged trajectory, an unknown leg, an empty window) raises ``UsageError``. ``min_stance``
     (s) is ``compute_metrics``'s: a shorter contact is no touchdown; ``friction_edge`` (s) its
     ``edge``, left out at each end of a stance for the interior friction row. A creature
-    whose root is welded to the world (``welded_root``, as ``legdsl run``'s summary decides
+    whose root is welded to the world (``Model.welded_root``, as ``legdsl run``'s summary decides
     it, from its .leg file) has its rows of travel and attitude, and its path reports, n/a.
     """
     run = Path(run)
@@ -83,7 +82,7 @@ def measure_run(
     except MetricsError as e:
         raise UsageError(str(e)) from None
     model = model_if_readable(run)  # None: a trajectory whose creature is not at hand
-    welded = model is not None and welded_root(model) is not None
+    welded = model is not None and model.welded_root is not None
     metrics = measure(
         trajectory,
         kinematics_or_why(run, trajectory, None if generated is None else Path(generated)),
@@ -170,7 +169,7 @@ def run_segments(run: str | Path) -> list[dict[str, Any]]:
         return []
     report = segment_report(Trajectory.load(run), segments, _time_unit(run))
     model = model_if_readable(run)
-    if model is None or welded_root(model) is None:
+    if model is None or model.welded_root is None:
         return report
     gone = {"speed": None, "error_percent": None, "why": WELDED}  # it goes nowhere
     return [r | gone for r in report]

@@ -27,7 +27,6 @@ from legdsl.lang.scaling import COMPUTABLE_STEP, MOST_STEPS, SMALLEST_STEP
 from legdsl.lang.units import KINDS, UNITS, a_kind
 from legdsl.pipeline.outputs import not_standard_output
 from legdsl.pipeline.settings import parse_given
-from legdsl.pipeline.start_pose import welded_root
 from legdsl.pipeline.suggested_values import written
 from legdsl.sim.recorder import recording_budget, sample_bytes
 from legdsl.sim.run_loop import FALL_OFF, INITIAL_ROWS, RunOptions, run_samples
@@ -223,7 +222,7 @@ def check_drop(drop: float, model: Model, scale: float | None = None) -> None:
     lift), or with H * eps (the spacing of doubles near H, at most) more than
     ``DROP_RESOLUTION`` of the shortest link (of the creature scaled by ``scale``): refused.
     It needs the checked creature alone: ``legdsl run`` asks before compiling it."""
-    welded = welded_root(model)
+    welded = model.welded_root
     if welded is not None:
         raise UsageError(
             f"--drop lifts a free root, but creature '{model.name}' is welded to the world (its "

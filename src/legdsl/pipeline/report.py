@@ -10,7 +10,6 @@ from legdsl.analysis.resolution import natural, natural_sizes, resolved
 from legdsl.analysis.results import WELDED
 from legdsl.figures import figure, figures
 from legdsl.ir.model import Model
-from legdsl.pipeline.start_pose import welded_root
 from legdsl.sim.run_loop import RunResult
 
 
@@ -191,7 +190,7 @@ def _mean_speed_said(model: Model, tr: Any) -> str:
     """The centre of mass's mean speed along x; n/a for a creature welded to the world, which
     goes nowhere however its centre of mass sways (as its energy per metre is in the metrics:
     docs/metrics.md): a 2 km arm swinging on a fixed base read 0.839 m/s over 3 s."""
-    if welded_root(model) is not None:
+    if model.welded_root is not None:
         return f"n/a ({WELDED})"
     speed = resolved(_mean_speed(tr), natural("m/s", natural_sizes(tr)))  # 0, not -5.3e-18
     return f"{figure(speed)} m/s"
@@ -224,6 +223,6 @@ def run_path_reports(
         return []
     followed = followed_paths(machine, result.sim_time, scale)
     reports = [r for _, r in followed_reports(result.trajectory, followed, None, None, unit)]
-    if model is not None and welded_root(model) is not None:  # it goes nowhere
+    if model is not None and model.welded_root is not None:  # it goes nowhere
         return [without_path_travel(r) for r in reports]
     return reports

@@ -48,7 +48,7 @@ from legdsl.pipeline.scenes import (
     switches_to_the_running,
 )
 from legdsl.pipeline.settings import Settings, overwritten_notes, sort_settings
-from legdsl.pipeline.start_pose import check_fall_height, check_start, welded_root
+from legdsl.pipeline.start_pose import check_fall_height, check_start
 from legdsl.sim import switching
 from legdsl.sim.coupled import inverse_inertia
 from legdsl.sim.machine import StateMachine
@@ -205,7 +205,7 @@ class RunSession:
         check_run_options(asked, self.step_flags)
         if asked.drop is not None:
             check_drop(asked.drop, self.model, scale)
-        welded = welded_root(self.model)
+        welded = self.model.welded_root
         if welded is not None and asked.fall_height is not None:  # it never falls (runtime.md)
             self.tell("note", f"--fall-height is left out: creature '{self.model.name}' is "
                        f"welded to the world (its root body '{welded}' is 'fixed'): it never falls")  # fmt: skip

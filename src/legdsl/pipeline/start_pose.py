@@ -24,7 +24,7 @@ def check_fall_height(sim: Any) -> None:
     the run as fallen before its first step: refused, as a negative one is. Told in the
     numbers of a ``--scale L`` run's creature."""
     limit = sim.options.fall_height
-    if limit is None or isinstance(limit, str) or welded_root(sim.model) is not None:  # off
+    if limit is None or isinstance(limit, str) or sim.model.welded_root is not None:  # off
         return
     root = sim.dyn.body_poses(list(sim.q))[0][0]
     above = root[2] - (sim.ground.height(root[0], root[1]) if sim.ground is not None else 0.0)
@@ -37,12 +37,6 @@ def check_fall_height(sim: Any) -> None:
             f"ground, so the run would end as fallen before its first step; give a "
             f"--fall-height below {above * size:.4g}m"
         )
-
-
-def welded_root(model: Model) -> str | None:
-    """The root body's name when it is welded to the world (no z to lift), else None."""
-    root = next(j for j in model.joints if j.parent is None)
-    return root.child if root.kind == "fixed" else None
 
 
 def check_start(model: Model, sim: Any, source: str | Path, row: int | None = None) -> None:
@@ -62,7 +56,7 @@ def check_start(model: Model, sim: Any, source: str | Path, row: int | None = No
     if not under:
         return
     name, depth = max(under, key=lambda c: c[1])
-    welded = welded_root(model)
+    welded = model.welded_root
     fix = (
         _row_fix(model, sim, row, depth)
         if row is not None
