@@ -50,13 +50,19 @@ def axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
 
 
 def world_poses(mocap, frame: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Each joint's (position, rotation) in the file's frame: T(offset + position) R, composed."""
+    """Each joint's (position, rotation) in the file's frame: T(t) R, composed down the tree,
+    read as Blender reads it: a joint with position channels has them as its whole local
+    translation t, in place of its OFFSET (io_anim_bvh's import_bvh.py poses a bone at
+    ``Matrix.Translation(Vector(bvh_loc) - bvh_node.rest_head_local)`` from its rest head at
+    the OFFSET, and its exporter writes the bone's location there); t is the OFFSET otherwise."""
     out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for name in mocap.get_joints_names():  # parents are listed before their children
         channels = mocap.joint_channels(name)
         values = dict(zip(channels, mocap.frame_joint_channels(frame, name, channels), strict=True))
-        t = np.array(mocap.joint_offset(name), dtype=float)
-        t += [values.get(f"{a}position", 0.0) for a in "XYZ"]
+        if any(c.endswith("position") for c in channels):
+            t = np.array([values.get(f"{a}position", 0.0) for a in "XYZ"], dtype=float)
+        else:
+            t = np.array(mocap.joint_offset(name), dtype=float)
         r = np.eye(3)
         for c in channels:
             if c.endswith("rotation"):
@@ -124,6 +130,27 @@ def test_hinge_angles_are_the_runs_joint_coordinates(exported) -> None:
                 assert error == pytest.approx(0, abs=1e-4)
             checked += 1
     assert checked >= motion.frames
+
+
+def test_a_slides_position_channels_are_its_whole_local_translation(exported) -> None:
+    """A joint that slides (the hopper's, the quadruped's legs) has position channels holding
+    its origin plus the slide's displacement along its axis (the OFFSET at zero slide), as
+    Blender reads them: they used to hold the displacement alone, which Blender put in place
+    of the OFFSET, so the hopper's shank sat 0.3 m off."""
+    motion, mocap, q, model = exported
+    checked = 0
+    for joint in model.joints:
+        if joint.parent is None or [d.motion for d in joint.dofs] != ["slide"]:
+            continue
+        dof = joint.dofs[0]
+        channels = [f"{a}position" for a in "XYZ"]
+        for f in range(motion.frames):
+            values = np.array(mocap.frame_joint_channels(f, joint.child, channels))
+            local = np.array(joint.origin) + np.array(dof.axis) * q[f, dof.q_index]
+            assert np.allclose(values, Z_UP_TO_Y_UP @ local, atol=2e-6), joint.name
+            checked += 1
+    if any(d.motion == "slide" for j in model.joints if j.parent is not None for d in j.dofs):
+        assert checked >= motion.frames
 
 
 def test_cli_writes_bvh(tmp_path: Path) -> None:

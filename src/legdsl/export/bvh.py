@@ -11,8 +11,11 @@
 * Channels: the root has ``Xposition Yposition Zposition Zrotation Xrotation
   Yrotation`` (its world position and orientation); a joint with only hinges
   has ``Zrotation Xrotation Yrotation``; a joint with a slide also has the
-  three position channels, which hold the slide's displacement added to the
-  offset. Rotations are in degrees, applied in the listed order (the
+  three position channels, which hold its whole local translation (the offset
+  plus the slide's displacement, so the offset at rest): as Blender's importer
+  and exporter and motion-capture tools read them, position channels replace
+  ``OFFSET``, they are not added to it (the root's ``OFFSET`` is 0 and its
+  channels its world position, the same either way). Rotations are in degrees, applied in the listed order (the
   joint's local rotation is Rz Rx Ry), relative to the parent joint; each
   frame's angles are the solution nearest the frame before's (whole turns
   added), so that a channel never jumps by a turn between frames.
@@ -144,10 +147,8 @@ def bvh_text(motion: Motion) -> str:
         row: list[str] = []
         for b in order:
             r = Z_UP_TO_Y_UP @ quaternion_to_matrix(rotations[f, b]) @ Z_UP_TO_Y_UP.T
-            if motion.parents[b] < 0:
+            if motion.parents[b] < 0 or slides[b]:  # the whole local translation
                 row.append(fmt(Z_UP_TO_Y_UP @ translations[f, b]))
-            elif slides[b]:
-                row.append(fmt(Z_UP_TO_Y_UP @ (translations[f, b] - offsets[b])))
             previous[b] = nearest_euler(euler_zxy(r), previous[b])
             row.append(fmt(previous[b], ANGLE_DECIMALS))
         lines.append(" ".join(row))
