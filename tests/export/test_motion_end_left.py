@@ -63,3 +63,42 @@ def test_the_player_and_the_video_say_it_too(
     assert main([*argv, "--fps", rate]) == 0
     said = capsys.readouterr()
     assert "1.30 s" in said.out + said.err and "left out" not in said.out + said.err
+
+
+def animate_video(run_dir: Path, generated: Path, out: Path, capsys: pytest.CaptureFixture[str],
+                  *options: str) -> str:  # fmt: skip
+    argv = ["animate", str(run_dir), "--generated", str(generated), "--video", str(out)]
+    assert main([*argv, "--size", "64x64", *options]) == 0
+    captured = capsys.readouterr()
+    return captured.out + captured.err
+
+
+def test_a_video_says_what_its_own_frames_leave_out(
+    run_dir: Path, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """animate --video at --fps 1 wrote 2 frames (the last at 1.00 s) of a 1.30 s run with no
+    note and '1.30 s of motion': the note was of its keyframes (60 per second), not its frames.
+    Its frames, every 1/(fps x slow-motion) of the run, are said, and their span; the --fps
+    that ends at the last sample is not named below 60 frames of the run a second (the frames
+    are read from keyframes 60 per second, which may end before it)."""
+    said = animate_video(run_dir, generated, tmp_path / "v.gif", capsys, "--fps", "1")
+    assert "2 frames at 1 fps, 1.00 s of motion)" in said
+    assert "the run's last 0.30 s (to 1.30 s) falls short of a whole frame and is left out" in said
+    assert "ends at it" not in said
+    said = animate_video(
+        run_dir, generated, tmp_path / "s.gif", capsys, "--fps", "2", "--slow-motion", "1.5"
+    )
+    assert "4 frames at 2 fps, 1.00 s of motion, 1.5 times slower)" in said
+    assert "the run's last 0.30 s (to 1.30 s) falls short of a whole frame and is left out" in said
+
+
+def test_a_videos_span_is_its_frames(
+    run_dir: Path, generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 7 fps video of the 1.30 s run: 10 frames, the last at 9/7 = 1.286 s, said as the span
+    of motion it shows (its keyframes, 60 a second, end at 1.30 s, which was said), and nothing
+    left out where that is less than 5% of the run."""
+    said = animate_video(run_dir, generated, tmp_path / "v.gif", capsys, "--fps", "7")
+    frames = int(re.search(r"(\d+) frames at 7 fps", said).group(1))  # type: ignore[union-attr]
+    assert f"{frames} frames at 7 fps, {(frames - 1) / 7:.2f} s of motion)" in said
+    assert "1.29 s of motion" in said and "left out" not in said

@@ -205,12 +205,15 @@ def _cmd_animate(args: argparse.Namespace) -> int:
                 progress.end()
         slowed = f", {slow:g} times slower" if slow != 1.0 else ""
         _say_made(made, video, messages_for(args.output, args.video))
+        # the video's own frames, every 1/(fps slow) of the run, read from keyframes 60 per
+        # second at least: an --fps ends them at the last sample only above that
+        named = slow if fps * slow >= 60.0 else None
+        left = _end_left(motion, fps * slow, named, (result.span, result.frames))
         print(
             f"legdsl: wrote {video} ({human_size(result.size)}, {result.frames} "
             f"frame{'s' if result.frames != 1 else ''} at "
-            f"{fps:g} fps, {seconds_text(motion.duration)} of motion{slowed}) in {result.seconds:.1f} s"
-            # keyframes at 60 per second at least: --fps ends them at the last sample above it
-            + _end_left(motion, max(fps * slow, 60.0), slow if fps * slow >= 60.0 else None),
+            f"{fps:g} fps, {seconds_text(result.span)} of motion{slowed}) in {result.seconds:.1f} s"
+            + left,
             file=messages_for(args.output, args.video),
         )
         if not args.output:
@@ -367,16 +370,21 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     return 0
 
 
-def _end_left(motion: Any, fps: float, slow: float | None = 1.0) -> str:
-    """What the keyframes leave out of the run's end (frames every 1/fps stop at the last
-    whole one), where over 5% of the run, with the --fps that ends at it: that rate divided
-    by ``slow`` (a video's slow motion; None: no --fps does)."""
+def _end_left(
+    motion: Any, fps: float, slow: float | None = 1.0, video: tuple[float, int] | None = None
+) -> str:
+    """What the frames leave out of the run's end (frames every 1/fps stop at the last whole
+    one), where over 5% of the run, with the --fps that ends at it: that rate divided by
+    ``slow`` (a video's slow motion; None: no --fps does). The frames are the keyframes, or
+    ``video``'s (the span from its first frame to its last, and their count), every 1/fps of
+    the run, which may stop well before its keyframes do (a video at --fps 1)."""
     end, start = motion.last_sample, float(motion.times[0])
-    if end is None or motion.frames < 2 or end - motion.duration <= 0.05 * (end - start):
+    span, frames = (motion.duration, motion.frames) if video is None else video
+    if end is None or frames < 2 or end - span <= 0.05 * (end - start):
         return ""  # a few percent short (2.98 s of a 2.995 s run at 60 per second): as usual
     rate = math.ceil((end - start) * fps - 1e-9) / (end - start)  # a whole number of frames
     fix = f": --fps {rate / slow:.10g} ends at it" if slow else ""
-    left = f"{seconds_text(end - motion.duration)} (to {seconds_text(end)})"
+    left = f"{seconds_text(end - span)} (to {seconds_text(end)})"
     return f"; the run's last {left} falls short of a whole frame and is left out{fix}"
 
 

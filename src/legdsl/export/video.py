@@ -46,6 +46,7 @@ class VideoResult:
     frames: int
     seconds: float  # wall time to render and encode
     size: int  # bytes
+    span: float = 0.0  # s of the run from its first frame to its last (simulated time)
 
 
 # ---------------------------------------------------------------- rendering
@@ -99,7 +100,8 @@ def render_video(
                 _write_gif(frames, tmp, fps, report)
     finally:
         plt.close(fig)
-    return VideoResult(path, len(times), time.perf_counter() - start, path.stat().st_size)
+    took = time.perf_counter() - start
+    return VideoResult(path, len(times), took, path.stat().st_size, float(times[-1]))
 
 
 def _frame(fig: Any, view: View, snap: Snapshot) -> np.ndarray:
