@@ -450,6 +450,7 @@ def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
     """Write ``out/animation.html`` for a run that was just simulated."""
     from legdsl.export.motion import motion_from
     from legdsl.export.player import write_player
+    from legdsl.export.stances import recorded_every_step
 
     path = out / "animation.html"
     if len(result.trajectory) == 0:
@@ -463,6 +464,7 @@ def animate_result(out: Path, model: Any, result: Any, dynamics: Any) -> Path:
             events=result.events,
             status=result.status,
             message=result.message or "",
+            every_step=recorded_every_step(result.steps, len(result.trajectory)),
         )
     except UsageError as refused:  # one frame of a run that moves, as legdsl animate refuses it
         print(

@@ -26,7 +26,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from legdsl.export.frames import enough_frames, frame_times, interpolate, interpolate_q
-from legdsl.export.stances import stance_note
+from legdsl.export.stances import recorded_every_step, stance_note
 from legdsl.ir.model import Body, Model, Terrain
 from legdsl.lang.errors import UsageError
 from legdsl.sim.trajectory import FLOAT32_MAX, Trajectory, load_run_info
@@ -225,6 +225,7 @@ def load_motion(
         fps=fps,
         status=str(run.info.get("status", "ok")),
         message=str(run.info.get("message", "") or ""),
+        every_step=recorded_every_step(run.info.get("steps"), run.info.get("samples")),
     )
     ended = run.info.get("ended_at", run.info.get("sim_time"))
     motion.ended_at = float(ended) if isinstance(ended, int | float) else None
@@ -340,9 +341,11 @@ def motion_from(
     status: str = "ok",
     message: str = "",
     flag: str = "--fps",
+    every_step: bool = False,
 ) -> Motion:
     """The run's frames at ``fps`` (``flag`` names that rate in a refusal: one frame of a
-    run that moves is refused here, for every player, as ``legdsl animate`` refuses it)."""
+    run that moves is refused here, for every player, as ``legdsl animate`` refuses it);
+    ``every_step``: the run recorded every step (its note's advice then differs)."""
     tr = trajectory
     _within_float32(tr, status)
     enough_frames(float(tr.t[-1] - tr.t[0]), fps, flag=flag)
@@ -395,7 +398,7 @@ def motion_from(
         contact_bodies=tuple(names.index(c.body) for c in model.contacts),
         contact_points=np.array([c.point for c in model.contacts], dtype=float).reshape(-1, 3),
         touching=tr.contact[index].reshape(len(at), nc).astype(bool),
-        note=stance_note(model, tr, fps),  # here, for every player: `run --animate` had none
+        note=stance_note(model, tr, fps, every_step=every_step),  # here, for every player
     )
 
 

@@ -59,10 +59,21 @@ def _rounded_up(x: float) -> float:
     return float(f"{math.ceil(x / step - 1e-9) * step:.2g}")
 
 
-def stance_note(model: Model, tr: Trajectory, fps: float, slow: float | None = None) -> str:
+def recorded_every_step(steps: object, samples: object) -> bool:
+    """Whether a run of ``steps`` integration steps that kept ``samples`` samples recorded
+    every step (``record_rate 0 Hz``, or a rate at or above the step's): then only a smaller
+    step records faster. False where either count is unknown."""
+    return isinstance(steps, int) and isinstance(samples, int) and 0 < steps < samples
+
+
+def stance_note(
+    model: Model, tr: Trajectory, fps: float, slow: float | None = None, every_step: bool = False
+) -> str:
     """A note when ``fps`` gives a typical stance fewer than FRAMES_PER_STANCE keyframes (naming
     the rate that gives it that many), or ''. For a video (``slow``: its --slow-motion), the
-    frames per simulated second are ``fps * slow``, and the note names the slow motion."""
+    frames per simulated second are ``fps * slow``, and the note names the slow motion. Where
+    the samples are too few, it says to record faster, or (``every_step``: the run recorded
+    every step) that only a smaller step does."""
     stance = typical_stance(model, tr)
     span = float(tr.t[-1] - tr.t[0]) if len(tr) > 1 else 0.0
     if stance is None or stance[1] <= 0 or span <= 0:
@@ -81,7 +92,11 @@ def stance_note(model: Model, tr: Trajectory, fps: float, slow: float | None = N
     if rate >= recorded:
         advice = (
             f"the run's {recorded:.4g} samples per second give it the most (--fps {recorded:.4g}); "
-            "record it faster for more (legdsl run --record-rate)"
+            + (
+                "they are every step it took, so only a smaller step gives more (legdsl run --dt)"
+                if every_step
+                else "record it faster for more (legdsl run --record-rate)"
+            )
         )
     else:
         advice = f"--fps {rate:g} gives it {FRAMES_PER_STANCE}"
