@@ -91,11 +91,13 @@ def import_held(name: str) -> ModuleType:
 @contextlib.contextmanager
 def handled(signals: tuple[int, ...], handler: Any) -> Iterator[None]:
     """``handler`` for each of ``signals`` meanwhile, but for one ignored when the process
-    started (``nohup``, a background job's SIGQUIT): that one stays ignored."""
+    started (``nohup``, a background job's SIGINT and SIGQUIT): that one stays ignored.
+    SIGINT too: it was taken over all the same, so ``legdsl run ... &`` from a script (SIGINT
+    ignored) was stopped by a SIGINT while simulating, though not while compiling."""
     previous: dict[int, Any] = {}
     try:
         for sig in signals:
-            if signal.getsignal(sig) is not signal.SIG_IGN or sig == signal.SIGINT:
+            if signal.getsignal(sig) is not signal.SIG_IGN:
                 previous[sig] = signal.signal(sig, handler)
     except ValueError:  # not the main thread (main() called from a thread): leave them be
         pass
