@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import math
 import re
+import shlex
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -161,19 +162,44 @@ def _say_made(made: Path | None, out: Path, say: Any) -> None:
         print(f"legdsl: {made_note(made, out)}", file=say)
 
 
-def _player_name(output: str | None) -> None:
+def written_by(path: str, args: argparse.Namespace) -> str | None:
+    """The command that writes a file named as ``path`` is (the player, a video, a motion
+    export) from the run ``args`` name (with their --source and --generated), or None for a
+    name none of them writes."""
+    suffix = Path(path).suffix.lower()
+    if suffix in (".html", ".htm"):
+        words = ["animate", args.run, "-o", path]
+    elif suffix in (".mp4", ".gif"):
+        words = ["animate", args.run, "--video", path]
+    elif suffix[1:] in MOTION_FORMATS:
+        words = ["export-motion", args.run, "-o", path]
+    else:
+        return None
+    words += ["--source", args.source] if args.source else []
+    words += ["--generated", args.generated] if args.generated != "generated" else []
+    return shlex.join(["legdsl", *words])
+
+
+def _player_name(output: str | None, args: argparse.Namespace) -> None:
     """``-o`` names the HTML player: a video's or another format's name would hold HTML."""
     suffix = Path(output).suffix.lower() if output else ""
     if suffix in (".mp4", ".gif"):
         raise UsageError(
             f"-o {output}: -o writes the HTML player; render a video with --video {output}"
         )
+    other = written_by(output, args) if output and suffix not in (".html", ".htm") else None
+    if output and other:  # a .glb: the player's name, or export-motion, which writes glTF
+        better = Path(output).with_suffix(".html")
+        raise UsageError(
+            f"-o {output}: this writes the HTML player; name it {better}, or write "
+            f"{suffix[1:].upper()} with {other}"
+        )
     if output:
         named_as(output, "-o", (".html", ".htm"), "the HTML player")
 
 
 def _cmd_animate(args: argparse.Namespace) -> int:
-    _player_name(args.output)
+    _player_name(args.output, args)
     overlays = parse_overlays(args.overlays)
     args.fps = frame_rate(args.fps)
     run = Path(args.run)
@@ -189,7 +215,11 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         size = parse_size(args.size or ("640x360" if video.suffix.lower() == ".gif" else "960x540"))
         if video.suffix.lower() not in (".mp4", ".gif"):  # ffmpeg's format is the name's
             better = video.with_suffix(".mp4") if video.suffix else f"{video}.mp4"
-            raise UsageError(f"--video {video}: write an .mp4 or a .gif (e.g. {better})")
+            other = written_by(args.video, args)  # the player's name, or a glTF's
+            player = video.suffix.lower() in (".html", ".htm")
+            also = (f"; the HTML player is written with -o {shlex.quote(args.video)}" if player
+                    else f"; {video.suffix[1:].upper()} is written by {other}" if other else "")  # fmt: skip
+            raise UsageError(f"--video {video}: write an .mp4 or a .gif (e.g. {better}){also}")
         gif = video.suffix.lower() == ".gif"
         fps = video_fps(args.fps, 30.0, gif)
         slow = args.slow_motion if args.slow_motion is not None else 1.0
@@ -334,6 +364,12 @@ def _cmd_export_motion(args: argparse.Namespace) -> int:
     args.fps = frame_rate(args.fps)
     args.format = motion_format(args.format, args.output)
     out = Path(args.output) if args.output else Path(args.run) / f"motion.{args.format}"
+    if args.output and Path(args.output).suffix.lower() in (".html", ".htm", ".mp4", ".gif"):
+        raise UsageError(  # the player's or a video's name: animate writes those
+            f"-o {args.output}: export-motion writes glTF, USD or BVH (name it "
+            f"{out.with_suffix('.' + args.format)}); {written_by(args.output, args)} "
+            f"writes the {'HTML player' if out.suffix.lower() in ('.html', '.htm') else 'video'}"
+        )
     named = {"usda": (".usda", ".usd"), "usd": (".usd", ".usdc"), "usdc": (".usdc", ".usd")}
     what = "binary USD" if args.format in ("usd", "usdc") else args.format.upper()
     named_as(

@@ -3,6 +3,7 @@ the user wrote where that is plain: the advice keeps their number and their unit
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Protocol
 
@@ -37,7 +38,8 @@ def written(given: Given, want: Dim, unit: str, write: str = "{}") -> str:
     meant milli" was put in its place): the user's number, or, for a quantity whose
     dimension is the wanted one's inverse (a frequency for a time), its reciprocal: 500Hz
     for a time is 0.002s, never 500s; a frequency for a turning rate is turns a second: 1Hz
-    for deg/s is 360deg/s, never 1deg/s."""
+    for deg/s is 360deg/s, never 1deg/s; and an angular velocity for a frequency is its turns a
+    second: 3600rev/min for Hz is 60Hz, never 3600Hz."""
     inverse = given.dim is not None and all(a == -b for a, b in zip(given.dim, want, strict=True))
     if inverse and given.value != 0 and want != DIMENSIONLESS:
         value = f"{1 / given.value / parse_unit(unit)[0]:g}{unit}"
@@ -46,6 +48,11 @@ def written(given: Given, want: Dim, unit: str, write: str = "{}") -> str:
         turned = turning_rate(given.value, parse_unit(unit)[0])
         turns = f"{given.value:g} turn" + ("" if given.value == 1 else "s")
         return f"{write.format(f'{turned:g}{unit}')} ({given.text} is {turns} a second)"
+    if given.dim == ANGULAR_VELOCITY and want == FREQUENCY:  # 3600rev/min for Hz: 60Hz
+        turns_a_second = given.value / (2.0 * math.pi)
+        turns = f"{turns_a_second:.6g} turn" + ("" if turns_a_second == 1 else "s")
+        hz = f"{turns_a_second / parse_unit(unit)[0]:.6g}{unit}"
+        return f"{write.format(hz)} ({given.text} is {turns} a second)"
     kept = _kept(given.unit, want)
     prefix = _PREFIXES.get(given.unit, "")
     if prefix and given.dim and kept == given.unit + si_unit(want) and kept != unit:
