@@ -95,6 +95,37 @@ def test_a_damaged_object_is_compiled_again(
 
 
 @needs_c_compiler
+def test_another_entrys_object_or_library_copied_over_one_is_built_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each cached object was checked against its own seal alone: the kangaroo's dynamics.c
+    object copied over the hopper's (whole, sealed) linked into a hopper library that crashed
+    every run (SIGSEGV, exit 139). The seal names the file it was kept as, whose name is the
+    hash of what it was built from: another's is compiled again, and so is another library."""
+    monkeypatch.setenv("LEGDSL_CACHE", str(tmp_path))
+    files = build.sources(GENERATED / "hopper", "hop")
+    first = build.build("hopper", files)
+    whole = first.path.read_bytes()
+    other = build.build("kangaroo", build.sources(GENERATED / "kangaroo", "hop"))
+    for unit in ("dynamics.c", "dynamics_some.c"):
+        (hoppers,) = [
+            kept
+            for kept in (tmp_path / cache.OBJECTS).glob(f"{unit}-*.o")
+            if kept.name == f"{unit}-{build.unit_key(unit, files, build.find_compiler())}.o"
+        ]
+        (kangaroos,) = set((tmp_path / cache.OBJECTS).glob(f"{unit}-*.o")) - {hoppers}
+        hoppers.write_bytes(kangaroos.read_bytes())
+    first.path.unlink()
+    units = compiled_units(monkeypatch)
+    again = build.build("hopper", files)
+    assert sorted(units) == ["dynamics.c", "dynamics_some.c"]
+    assert again.path.read_bytes() == whole
+    first.path.write_bytes(other.path.read_bytes())  # a library alike
+    assert not cache.sealed(first.path)
+    assert not build.build("hopper", files).cached and first.path.read_bytes() == whole
+
+
+@needs_c_compiler
 def test_the_trim_takes_the_least_recently_used_objects_too(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

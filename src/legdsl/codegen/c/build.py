@@ -309,7 +309,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             if wrong is not None:  # the compiler's failure, whatever the C: it said it was done
                 raise CompilerUnusable(f"{_named(compiler)} wrote no loadable library for {name} "
                                        f"({wrong}), though it exited 0; {_fix(compiler, True)}")  # fmt: skip
-            seal(partial)
+            seal(partial, final.name)  # its name is its key: another's is not taken for it
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
 
 

@@ -9,7 +9,9 @@ reused. The compiler writes into a temporary file in the cache directory, which 
 renamed to the final name: two runs that build the same library at once each rename a
 complete file, and a reader never sees a half-written one. A library ends with its own
 SHA-256 after its last ELF byte (``seal``; the loader reads no further than the ELF says), and
-one whose digest does not match, cut short or damaged on the disk, is built again: loading it
+the name it is kept under, whose hash says what it was built from; one whose digest or name does
+not match, cut short or damaged on the disk, or another entry's copied over it (another
+creature's object, which linked into a library that crashed each run), is built again: loading it
 could crash the process (a truncated library is a SIGBUS, not an error); a library or object
 is kept only when it is a whole ELF file, and a library loaded only when it still is
 (``elf_problem``: a compiler may exit 0 having written one cut short). Each use touches the
@@ -33,7 +35,7 @@ from pathlib import Path
 
 from legdsl.files import temp_sibling
 
-SEAL = b"\nlegdsl-sha256:"  # then the library's digest, in hex, at its very end
+SEAL = b"\nlegdsl-sha256:"  # then the digest, in hex, a space and the name, at its very end
 CACHE_BYTES = 512 * 2**20  # the cache's size, past which the least recently used go
 OBJECTS = "objects"  # the cache's folder of compiled translation units
 MODULES = "modules"  # the cache's folder of generated modules (legdsl.codegen.kept)
@@ -71,42 +73,48 @@ def read_kept(kept: Path) -> bytes | None:
 
 
 def keep_sealed(data: bytes, kept: Path) -> None:
-    """``data`` kept at ``kept``, sealed with its SHA-256 and renamed into place whole: two
-    processes that keep the same file each rename a whole one."""
+    """``data`` kept at ``kept``, sealed with its SHA-256 and its name and renamed into place
+    whole: two processes that keep the same file each rename a whole one."""
     kept.parent.mkdir(parents=True, exist_ok=True)
     temporary = temp_sibling(kept, "new")
     try:
-        temporary.write_bytes(data + _seal_of(data))
+        temporary.write_bytes(data + _seal_of(data, kept.name))
         os.replace(temporary, kept)
     finally:
         temporary.unlink(missing_ok=True)
 
 
-def seal(path: Path) -> None:
-    """Append the library's SHA-256 to it (``sealed`` checks it before a load)."""
-    seal = _seal_of(path.read_bytes())
+def seal(path: Path, name: str | None = None) -> None:
+    """Append the library's SHA-256 to it, and the name it is to be kept under (``path``'s own
+    unless given: a library is built under a temporary name), which ``sealed`` checks too."""
+    seal = _seal_of(path.read_bytes(), name or path.name)
     with open(path, "ab") as out:
         out.write(seal)
 
 
-def _seal_of(body: bytes) -> bytes:
-    """The seal that ends a file whose bytes before it are ``body`` (``unsealed`` reads it)."""
-    return SEAL + hashlib.sha256(body).hexdigest().encode()
+def _seal_of(body: bytes, name: str) -> bytes:
+    """The seal that ends a file kept as ``name`` whose bytes before it are ``body`` (``unsealed``
+    reads it): their digest, then the name. The names of the cache are the hashes of what their
+    files are built from, so an entry copied or renamed over another (whole, and sealed as
+    its own) is found out and built again, not used as the other."""
+    return SEAL + hashlib.sha256(body).hexdigest().encode() + b" " + name.encode()
 
 
 def sealed(path: Path) -> bool:
-    """Whether the library is whole: its last bytes are the digest of the ones before."""
+    """Whether the library is whole and its own: its last bytes are the digest of the ones
+    before and its name."""
     return unsealed(path) is not None
 
 
 def unsealed(path: Path) -> bytes | None:
-    """The file's bytes before its seal, or None if it is missing, cut short or damaged."""
+    """The file's bytes before its seal, or None if it is missing, cut short, damaged, or was
+    sealed under another name (another entry's, copied over it)."""
     try:
         data = path.read_bytes()
     except OSError:
         return None
     body, mark, digest = data.rpartition(SEAL)
-    return body if mark and mark + digest == _seal_of(body) else None
+    return body if mark and mark + digest == _seal_of(body, path.name) else None
 
 
 def elf_problem(data: bytes) -> str | None:
