@@ -48,10 +48,12 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from legdsl.analysis.contact_times import contact_times
+from legdsl.analysis.ended import measured_until
 from legdsl.analysis.energy import energy_rows
 from legdsl.analysis.friction import LEVEL, MIN_NORMAL_FRACTION, contact_friction
 from legdsl.analysis.option_notes import friction_edge_note, min_stance_note, time_text
 from legdsl.analysis.pairs import pair_rows
+from legdsl.analysis.plot_ending import run_ending
 from legdsl.analysis.resolution import natural_sizes
 from legdsl.analysis.results import (
     FRICTION_EDGE,
@@ -128,6 +130,7 @@ def compute_metrics(
     ground_normal: tuple[float, float, float] = LEVEL,
     events: Sequence[Mapping[str, Any]] | None = None,
     welded: bool = False,
+    run_info: Mapping[str, Any] | None = None,
 ) -> GaitMetrics:
     """Measure a run: strides by the reference ``leg`` (a leg, a group name, or a contact;
     default the first leg's foot), virtual legs from ``groups``, the per-stride magnitude of
@@ -142,7 +145,10 @@ def compute_metrics(
     against (a slope's; the trajectory does not say it). ``events``: run.json's, which time
     the touchdown spreads and the support phases to the step (``contact_times``).
     ``welded``: the creature's root body is welded to the world (``Model.welded_root``;
-    the trajectory does not say it): its rows of travel and attitude read n/a.
+    the trajectory does not say it): its rows of travel and attitude read n/a. ``run_info``:
+    run.json's content, which says how the run ended: the window of a run that fell or
+    diverged ends at the reference's last touchdown before it did (``ended``), and the
+    result says how it ended (``status``, ``ending``; None: a trajectory without run.json).
 
     The peak vertical acceleration is that of the centre of mass computed from the ground
     reaction, ``sum(force[:, :, 2]) / total_mass - gravity``, divided by gravity.
@@ -162,9 +168,12 @@ def compute_metrics(
     if not (math.isfinite(edge) and edge >= 0):
         raise MetricsError(f"--friction-edge {edge!r}: give a time of 0 s or more, e.g. 10ms")
     units = stance_units(tr, dict(groups or {}))
-    scuffs = scuff_note(tr, units, t_from, t_to) if min_stance is None else ""
     raw, tr = tr, debounced(tr, min_stance)
     ref_name, ref_contacts = reference(tr, units, leg)
+    ending = None if run_info is None else run_ending(dict(run_info))
+    t_to, cut = measured_until(t, touching(tr, ref_contacts), ref_name if tr.contact_names
+                               else None, t_from, t_to, ending)  # fmt: skip
+    scuffs = scuff_note(raw, units, t_from, t_to) if min_stance is None else ""
     times = contact_times(tr, events)
     cols = coordinates(tr, joint, against)
 
@@ -229,6 +238,9 @@ def compute_metrics(
         scuff_note=scuffs,
         option_notes={flag: said for flag, said in notes.items() if said},
         sizes=natural_sizes(tr),
+        status=None if run_info is None else str(run_info.get("status", "ok") or "ok"),
+        ending=ending,
+        cut=cut,
     )
     return without_travel(measured) if welded else measured
 

@@ -45,13 +45,21 @@ class Ending:
 
 
 def run_ending(info: dict[str, Any]) -> Ending | None:
-    """How the run whose run.json holds ``info`` ended, or None where it ended ok."""
+    """How the run whose run.json holds ``info`` ended, or None where it ended ok. A run told
+    diverged after it ran on (an energy rise without a source) diverged at ``diverged_at``, as
+    ``legdsl run`` says it, not at its ``ended_at``: every reader names that time."""
     status = str(info.get("status", "ok") or "ok")
     if status == "ok":
         return None
     ended = info.get("ended_at", info.get("sim_time"))
-    at = float(ended) if isinstance(ended, int | float) and not isinstance(ended, bool) else None
+    if status == "diverged" and _number(info.get("diverged_at")):
+        ended = info["diverged_at"]
+    at = float(ended) if isinstance(ended, int | float) and _number(ended) else None
     return Ending(status, at, str(info.get("cause") or info.get("message") or ""))
+
+
+def _number(x: Any) -> bool:
+    return isinstance(x, int | float) and not isinstance(x, bool)
 
 
 def shown_span(t: Any, ending: Ending | None, t_to: float | None) -> tuple[float, float]:

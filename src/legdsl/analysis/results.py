@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from legdsl.analysis.ended import ending_note
+from legdsl.analysis.plot_ending import Ending
 from legdsl.analysis.resolution import ROUND_OFF, label_unit, natural, resolved
 from legdsl.figures import figure
 from legdsl.files import write_atomic
@@ -119,6 +121,11 @@ class GaitMetrics:
     # the natural size of a value in kg, m, s and rad for the run's creature (resolution.py):
     # the table prints a value under its round-off as 0; empty: every value as measured
     sizes: dict[str, float] = field(default_factory=dict)
+    # how the run ended, as its run.json says (None: a trajectory without one); where it did
+    # not end ok, how (``plot_ending.Ending``) and where its window was cut (``ended``)
+    status: str | None = None
+    ending: Ending | None = None
+    cut: str = ""
 
     @property
     def n_strides(self) -> int:
@@ -136,9 +143,19 @@ class GaitMetrics:
     def value(self, key: str) -> float:
         return self.summary(key).value
 
+    def ending_note(self, where: str = "the run") -> str:
+        """What is said of the metrics of a run that did not end ok (``where``: ``the run in
+        runs/b``), as ``plot`` and ``animate`` say it; "" for a run that did."""
+        return "" if self.ending is None else ending_note(self.ending, where, self.cut)
+
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready data; NaN becomes null."""
+        ended: dict[str, Any] = {} if self.status is None else {"status": self.status}
+        if self.ending is not None:
+            ended |= {"ended_at": self.ending.at, "cause": self.ending.cause,
+                      "ending_note": self.ending_note()}  # fmt: skip
         data = {
+            **ended,
             "window": {"from": self.t_from, "to": self.t_to},
             "reference": self.reference,
             "n_strides": self.n_strides,

@@ -353,8 +353,11 @@ class Run:
         command's "path following" rows) say how the run followed each path it was given, over
         the same window."""
         self._recorded("metrics()")
-        return run_metrics(self.model, self.trajectory, self.info, self._dynamics_module, start,
-                           end, leg, groups, min_stance, friction_edge, joint, against)  # fmt: skip
+        metrics = run_metrics(self.model, self.trajectory, self.info, self._dynamics_module,
+                              start, end, leg, groups, min_stance, friction_edge, joint, against)  # fmt: skip
+        if note := metrics.ending_note("this run"):  # it fell, diverged or was interrupted
+            notes.warn(note)
+        return metrics
 
     def save(self, directory: str | Path) -> Path:
         """Write the run directory (trajectory.npz, trajectory.csv, run.json)."""

@@ -56,7 +56,7 @@ def run_metrics(
                       leg=leg, groups=given, min_stance=shortest, edge=edge, joint=joint,
                       against=against, joint_slides=slides,
                       ground_normal=model_ground_normal(model), events=info.get("events"),
-                      welded=welded)  # fmt: skip
+                      welded=welded, run_info=info)  # fmt: skip
     followed = followed_in(info, "the run's run.json")
     reports = [r for _, r in followed_reports(trajectory, followed, t_from or None, t_to,
                                               time_unit(info))]  # fmt: skip

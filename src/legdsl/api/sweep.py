@@ -25,6 +25,7 @@ import itertools
 import math
 import os
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from legdsl.analysis.sweep_plot import as_number
+from legdsl.api.notes import LegdslWarning
 from legdsl.api.sweep_axes import Axis, _at_most
 from legdsl.api.sweep_axes import bare_in_si as bare_in_si  # (read from here before)
 from legdsl.api.sweep_axes import parse_axis as parse_axis
@@ -173,7 +175,9 @@ def _row(job: Job, run: Any) -> dict[str, Any]:
     try:
         first = job.groups[0].partition("=")[0] if job.groups else None
         pairs = {"leg": first, "groups": list(job.groups)} if first else {}
-        metrics = run.metrics(start=min(job.start, end), **pairs)
+        with warnings.catch_warnings():  # the outcome cell says how the run ended
+            warnings.simplefilter("ignore", LegdslWarning)
+            metrics = run.metrics(start=min(job.start, end), **pairs)
         values = {s.key: s.value for s in metrics.summaries}
         # the stride-to-stride spread of the speed: a mean on the command may hide a gait
         # swinging 0.5 m/s about it over seconds

@@ -33,7 +33,9 @@ def cmd_metrics(args: argparse.Namespace) -> int:
             for flag, note in metrics.option_notes.items()]  # fmt: skip
     sized = _size_note(args.dir, args.table2) if args.table2 is not None else None
     missed = [r.get("note") for r in reports]  # a path the centre of mass kept off
-    for note in (metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten, sized, *missed):
+    ended = metrics.ending_note(f"the run in {args.dir}")  # as plot and animate say it
+    notes = (ended, metrics.unmeasured, metrics.scuff_note, *told, metrics.unwritten, sized)
+    for note in (*notes, *missed):
         if note:
             print(f"legdsl: note: {note}", file=sys.stderr)
     if args.json:

@@ -98,6 +98,7 @@ def measure_run(
         ground_normal=ground_normal(run),
         events=_events(run),
         welded=welded,
+        run_info=load_run_info(run) if (run / "run.json").is_file() else None,  # how it ended
     )
     try:
         write_json(metrics, run / "metrics.json")
