@@ -50,6 +50,39 @@ def test_a_stale_tree_that_cannot_be_written_says_to_give_another(
     ), err
 
 
+@pytest.mark.parametrize("tree_is", ["fresh", "without dynamics.py"])
+def test_modules_that_are_missing_are_not_said_to_be_out_of_date(
+    tree_is: str,
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A fresh --generated under ``ulimit -f 30``: the modules "are out of date and cannot be
+    written there", though there were none, and "free some space there" for a file-size limit."""
+    import errno
+    import os
+
+    tree = tmp_path / "generated"
+    if tree_is != "fresh":
+        shutil.copytree(GENERATED / "hopper", tree / "hopper")
+        (tree / "hopper" / "dynamics.py").unlink()
+
+    def too_large(*args: object) -> Path:
+        raise OSError(errno.EFBIG, os.strerror(errno.EFBIG), str(tree / "hopper"))
+
+    monkeypatch.setattr(generated_module, "write_module_dir", too_large)
+    argv = ["run", str(CREATURES / "hopper.leg"), "--time", "0.05", "--backend", "python",
+            "--generated", str(tree), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    state = "missing" if tree_is == "fresh" else "incomplete"
+    assert err[-1].startswith(
+        f"legdsl: the generated modules of hopper in {tree} are {state} and cannot be written "
+        "there (File too large"
+    ), err
+    assert err[-1].endswith("; raise that limit, or give --generated a directory you can write")
+
+
 def test_a_generated_path_that_is_a_file_says_to_give_a_directory(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -15,6 +15,7 @@ compiled before, anywhere, is copied from legdsl's cache instead (``legdsl.codeg
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import importlib.util
 import os
@@ -206,11 +207,28 @@ def _recompile(
         write_module_dir(generated, model.name, files)
     except OSError as e:
         fix = "free some space there" if e.errno in REFUSED_WRITES else "make it writable"
+        if e.errno == errno.EFBIG:  # no disk to free: the process's own limit
+            fix = "raise that limit"
+        state = _state(generated / model.name, why)
         raise UsageError(
-            f"the generated modules of {model.name} in {generated} are out of date and cannot "
-            f"be written there ({_why(e)}); {fix}, or give --generated a directory "
+            f"the generated modules of {model.name} in {generated} {state} "
+            f"and cannot be written there ({_why(e)}); {fix}, or give --generated a directory "
             "you can write"
         ) from None
+
+
+def _state(folder: Path, why: str) -> str:
+    """What is wrong with the generated modules in ``folder``, for a message that cannot write
+    them (``why``: the first file found missing or stale): "are missing" when there are none
+    (a fresh --generated; they were said to be out of date), "are incomplete" when a file is
+    missing, else "are out of date"."""
+    try:
+        present = any(folder.iterdir())
+    except OSError:
+        present = False
+    if not present:
+        return "are missing"
+    return "are incomplete" if why.endswith(" is missing") else "are out of date"
 
 
 DYNAMICS = ("dynamics.py", "dynamics.c", "dynamics_some.c", "dynamics.h")  # as compiles write them
