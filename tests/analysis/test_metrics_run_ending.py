@@ -100,7 +100,7 @@ def test_every_reader_says_a_run_diverged_when_legdsl_run_said_it() -> None:
     ending = run_ending(DIVERGED)
     assert ending is not None and ending.at == 1.2  # not ended_at, 1.2558
     assert ending.text.startswith("diverged at t = 1.2 s")
-    assert ending.title(80).startswith("diverged at 1.200 s")
+    assert ending.title(80).startswith("diverged at 1.2 s: the total")
 
 
 def test_run_metrics_warns_of_a_run_that_fell(tmp_path: Path, generated: Path) -> None:

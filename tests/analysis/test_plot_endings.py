@@ -61,8 +61,8 @@ def test_a_run_that_fell_is_told_on_stderr_and_in_each_picture(
     err = capsys.readouterr().err
     assert f"note: the run in {run} did not end ok (fell at t = 0.4704 s: the root fell" in err
     figure6, footfall = figures
-    assert figure6._suptitle.get_text().startswith("fell at 0.470 s: the root fell")
-    assert footfall.axes[0].get_title().startswith("fell at 0.470 s: the root fell")
+    assert figure6._suptitle.get_text().startswith("fell at 0.4704 s: the root fell")
+    assert footfall.axes[0].get_title().startswith("fell at 0.4704 s: the root fell")
     for ax in (*figure6.axes, footfall.axes[0]):  # a vertical line where it ended
         ends = [line for line in ax.lines if list(line.get_xdata()) == [0.4704, 0.4704]]
         assert ends, ax
@@ -125,3 +125,33 @@ def test_a_tiny_creature_s_axes_are_in_mm_um_and_ms(tmp_path: Path, figures: lis
     ticks = [t.get_text() for t in height.get_yticklabels() if t.get_text()]
     assert all(80 <= float(t) <= 120 for t in ticks), ticks  # 0.09 to 0.11 mm
     assert not height.yaxis.get_offset_text().get_text()
+
+
+LONG = {  # an energy rise's cause, told whole on standard error and shortened in the titles
+    "status": "diverged",
+    "ended_at": 0.4704,
+    "diverged_at": 0.3432,
+    "cause": "the total energy rose from 171.3 J at t = 0.3380 s to 5.269e+04 J at t = 0.3432 s "
+    "(one sample later) with only 0.0438 J of actuator work between, and nothing else in a "
+    "creature adds energy. Likely cause: the step 0.4 ms is too large for the contact stiffness",
+}
+
+
+def test_a_long_title_fits_in_a_footfall_diagram_of_one_row(
+    tmp_path: Path, figures: list[Any], recwarn: pytest.WarningsRecorder
+) -> None:
+    """Its 1.35 in had no room for the lines saying how the run diverged: "Tight layout not
+    applied" on standard error and the title cut off at the picture's top."""
+    run = _run(tmp_path / "run", LONG)
+    assert main(["plot", str(run), "-o", str(tmp_path / "f.png")]) == 0
+    assert not [w for w in recwarn if "layout" in str(w.message)]
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    for fig in figures:
+        renderer = FigureCanvasAgg(fig).get_renderer()  # closed: its canvas is gone
+        titles = [ax.title for ax in fig.axes] + ([fig._suptitle] if fig._suptitle else [])
+        drawn = [t for t in titles if t.get_text()]
+        assert drawn[-1].get_text().startswith("diverged at 0.3432 s: the total energy")
+        for title in drawn:
+            box = title.get_window_extent(renderer)
+            assert box.y0 >= 0 and box.y1 <= fig.bbox.y1, (title.get_text(), box, fig.bbox)

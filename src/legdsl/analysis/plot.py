@@ -17,7 +17,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from legdsl.analysis.path_report import Followed, followed_in
-from legdsl.analysis.plot_ending import Ending, mark_ending, run_ending, shown_span
+from legdsl.analysis.plot_ending import (
+    Ending,
+    lay_out,
+    mark_ending,
+    run_ending,
+    shown_span,
+    title_room,
+)
 from legdsl.analysis.plot_marks import LABEL_STEP, seconds_per_pixel, stack_labels, visible_bars
 from legdsl.analysis.plot_panels import draw_joints, joint_groups, welded_note
 from legdsl.analysis.plot_panels import legend as _legend
@@ -258,9 +265,9 @@ def draw_run(
         ),
         fontsize=10 if drawn.ending is not None else None,
     )
-    fig.tight_layout()
+    lay_out(fig)
     if stack_labels(labels) > 1:  # rows of labels over the top panel: laid out again
-        fig.tight_layout()
+        lay_out(fig)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=100, format=picture_format(out))
     plt.close(fig)
@@ -297,7 +304,11 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     else:
         end = float(tr.t[-1]) if t_to is None else min(t_to, float(tr.t[-1]))
     rows = footfall_bars(tr)
-    fig, ax = plt.subplots(figsize=(9, 0.9 + 0.45 * max(len(rows), 1)))
+    title = (ending.title(110) + "\n" if ending is not None else "") + (
+        f"{run.name}: footfalls (each foot's stance as a bar)"
+    )  # its lines above the rows: the picture taller by them
+    tall = 0.9 + 0.45 * max(len(rows), 1) + title_room(title, 10)
+    fig, ax = plt.subplots(figsize=(9, tall))
     ax.set_yticks(range(len(rows)), [name for name, _ in reversed(rows)])
     labels = []
     for t, controller in switch_times(run):
@@ -311,20 +322,16 @@ def plot_footfall(run: Path, out: Path, t_from: float = 0.0, t_to: float | None 
     ax.set_xlabel("time (s)")
     scale_axis(ax.xaxis, ax.xaxis.label, (t_from, end))  # ms for a tiny creature's run
     mark_ending([ax], ending, t_from, end, word=False)
-    ax.set_title(
-        (ending.title(110) + "\n" if ending is not None else "")
-        + f"{run.name}: footfalls (each foot's stance as a bar)",
-        fontsize=10,
-    )
+    ax.set_title(title, fontsize=10)
     ax.set_axisbelow(True)  # the grid behind the bars
     ax.grid(True, axis="x", color="0.9")
-    fig.tight_layout()
+    lay_out(fig)
     if (levels := stack_labels(labels)) > 1:  # taller by the rows of labels, the legs' as they were
         room = (levels - 1) * LABEL_STEP * fig.dpi / 72  # px
         bottom, top = ax.get_ylim()
         ax.set_ylim(bottom, top + room * (top - bottom) / ax.get_window_extent().height)
         fig.set_figheight(fig.get_figheight() + room / fig.dpi)
-        fig.tight_layout()
+        lay_out(fig)
     pixel = seconds_per_pixel(ax, t_from, end)  # the axes laid out: a pixel's time
     for k, (_name, stances) in enumerate(rows):
         y = len(rows) - 1 - k

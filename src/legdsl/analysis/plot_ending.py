@@ -9,6 +9,7 @@ time it ended (the time axis reaching it when the window does).
 from __future__ import annotations
 
 import textwrap
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,9 +32,11 @@ class Ending:
         return self.status + when + (f": {self.cause}" if self.cause else "")
 
     def title(self, width: int) -> str:
-        """``fell at 0.470 s: the root ...``, shortened and wrapped to ``width`` characters."""
-        when = f" at {self.at:.3f} s" if self.at is not None else ""
-        cause = textwrap.shorten(self.cause, TITLE_CHARS, placeholder=" ...") if self.cause else ""
+        """``fell at 0.4704 s: the root ...``, shortened and wrapped to ``width`` characters;
+        its time as the note (and ``legdsl run``) says it."""
+        when = f" at {self.at:g} s" if self.at is not None else ""
+        cut = "\u00a0..."  # a no-break space: wrapped with its last word, not on a line alone
+        cause = textwrap.shorten(self.cause, TITLE_CHARS, placeholder=cut) if self.cause else ""
         return textwrap.fill(self.status + when + (f": {cause}" if cause else ""), width)
 
     def note(self, run: Any, out: Any) -> str:
@@ -87,3 +90,26 @@ def mark_ending(
         return []
     return [top.text(ending.at, 1.0, f" {ending.status}", color=ENDED_COLOR, fontsize=8,
                      va="bottom", ha="right", transform=top.get_xaxis_transform())]  # fmt: skip
+
+
+LINE = 1.25  # a title's line, in its font's sizes (matplotlib spaces lines 1.2 apart)
+
+
+def title_room(title: str, fontsize: float) -> float:
+    """The height (in) a title's lines after its first take: a picture sized for a one-line
+    title grows by it (a footfall diagram of one row, 1.35 in tall, had no room for the
+    lines saying how its run diverged, and its title was cut off at the top)."""
+    return title.count("\n") * fontsize * LINE / 72
+
+
+def lay_out(fig: Any, tries: int = 4) -> None:
+    """``fig.tight_layout()``, the figure made taller where its margins could not hold what
+    is around its axes (matplotlib warned "Tight layout not applied" on standard error and
+    drew the title off the picture)."""
+    for _ in range(tries):
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            fig.tight_layout()
+        if not any("Tight layout not applied" in str(w.message) for w in said):
+            return
+        fig.set_figheight(fig.get_figheight() * 1.5)
