@@ -245,7 +245,9 @@ static double ground_torsion(const leg_sim *s, int i, double yaw, double rate, i
     return -s->torsion_k * e - s->torsion_b * rate;
 }
 
-/* Outside the friction cone the anchor follows the foot (GroundContact._slip). */
+/* Outside the friction cone the foot slides; where the spring alone pulls harder than the cone,
+ * the anchor follows the foot, straight towards it, until the spring holds exactly the cone's
+ * force (GroundContact._slip). */
 static void slip(leg_sim *s, int i, const double *p, const double *pv, double d, const double *n,
                  int *err) {
     double f[3], t1[3], t2[3], e[3];
@@ -255,15 +257,17 @@ static void slip(leg_sim *s, int i, const double *p, const double *pv, double d,
     double *a = s->anchor + 3 * i;
     e[0] = p[0] - a[0]; e[1] = p[1] - a[1]; e[2] = p[2] - a[2];
     double k = s->tangent_k, b = s->tangent_b;
-    double f1 = -k * dot3(e, t1) - b * dot3(pv, t1);
-    double f2 = LEG_PLANAR ? 0.0 : -k * dot3(e, t2) - b * dot3(pv, t2);
-    double ft = leg_hypot(f1, f2);
+    double s1 = -k * dot3(e, t1);
+    double s2 = LEG_PLANAR ? 0.0 : -k * dot3(e, t2);
+    double f1 = s1 - b * dot3(pv, t1);
+    double f2 = LEG_PLANAR ? 0.0 : s2 - b * dot3(pv, t2);
     double limit = s->friction * fn;
-    s->slipping[i] = ft > limit;
-    if (!s->slipping[i] || k <= 0.0) return;
-    double scale = leg_div(limit, ft);
-    double off1 = leg_div(f1 * scale + b * dot3(pv, t1), k);
-    double off2 = LEG_PLANAR ? 0.0 : leg_div(f2 * scale + b * dot3(pv, t2), k);
+    s->slipping[i] = leg_hypot(f1, f2) > limit;
+    double st = leg_hypot(s1, s2);
+    if (!(st > limit) || k <= 0.0) return;
+    double scale = leg_div(limit, st);
+    double off1 = leg_div(s1 * scale, k);
+    double off2 = leg_div(s2 * scale, k);
     double base[3] = {p[0] + d * n[0], p[1] + d * n[1], p[2] + d * n[2]};
     a[0] = base[0] + off1 * t1[0] + off2 * t2[0];
     a[1] = base[1] + off1 * t1[1] + off2 * t2[1];
