@@ -298,9 +298,7 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
         return
     target = _replaced(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    with contextlib.suppress(OSError):  # a killed writer's (kill -9: .v.mp4.tmp-... stayed)
-        for left in leftovers(target.parent, target.name):
-            remove(left)
+    _remove_leftovers(target)  # a killed writer's (kill -9: .v.mp4.tmp-... stayed)
     tmp = temp_sibling(target, suffix=suffix)
     try:
         with _refusals_of(tmp, path):
@@ -308,7 +306,7 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
         instant(f"wrote {tmp.name}")
         _rename(tmp, target, path)
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        _discard(tmp)
         raise
 
 
@@ -325,6 +323,7 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
         return
     target = _replaced(path)
     target.parent.mkdir(parents=True, exist_ok=True)
+    _remove_leftovers(target)  # a killed drawing's folder (kill -9: .figure6.png.tmp-... stayed)
     folder = temp_sibling(target, suffix="")
     try:
         inner = folder / path.name
@@ -335,7 +334,23 @@ def atomic_same_name(path: str | Path) -> Iterator[Path]:
         if inner.exists():
             _rename(inner, target, path)
     finally:
-        remove(folder)
+        _discard(folder)
+
+
+def _remove_leftovers(target: Path) -> None:
+    """Remove the temporary siblings of ``target`` whose writers were killed."""
+    with contextlib.suppress(OSError):
+        for left in leftovers(target.parent, target.name):
+            remove(left)
+
+
+def _discard(tmp: Path) -> None:
+    """Remove a temporary file or folder, if there is one, without an error of its own: on a
+    read-only disk even removing a missing file fails (EROFS), and that error, naming the
+    hidden temporary name, replaced the write's own, which names the file the user asked for
+    ("Read-only file system (rofs/old/.animation.html.tmp-27114-70b89766.html)")."""
+    with contextlib.suppress(OSError):
+        remove(tmp)
 
 
 @contextlib.contextmanager
@@ -370,9 +385,21 @@ def writing_alone(directory: Path) -> Iterator[None]:
             print(f"legdsl: {directory} is in use by another legdsl command (a run, or one "
                   "drawing from it): waiting for it to finish", file=sys.stderr)  # fmt: skip
             fcntl.flock(fd, fcntl.LOCK_EX)
+        _remove_all_leftovers(directory)
         yield
     finally:
         os.close(fd)
+
+
+def _remove_all_leftovers(directory: Path) -> None:
+    """Remove every temporary file or folder in ``directory`` whose writer was killed: a run's
+    own and those of the pictures, players and exports drawn there (a ``legdsl plot`` killed
+    left ``.figure6.png.tmp-PID-RANDOM/``, which no later run removed)."""
+    with contextlib.suppress(OSError):
+        for p in directory.iterdir():
+            m = _LEFTOVER.match(p.name)
+            if m and not _pid_alive(int(m.group("pid"))):
+                remove(p)
 
 
 def file_sha256(path: Path) -> str | None:

@@ -102,7 +102,7 @@ def test_the_player_to_stdout_says_its_message_on_stderr(run_dir: Path, capsys) 
 
 def test_a_dash_names_dev_stdout_where_only_export_reads_it(run_dir: Path, capsys) -> None:
     assert main(["plot", str(run_dir), "-o", "-"]) == 2
-    assert "output /dev/stdout" in capsys.readouterr().err
+    assert "write -o /dev/stdout" in capsys.readouterr().err  # as plot --help spells it
 
 
 def test_a_urdf_may_be_named_xml(tmp_path: Path, capsys) -> None:

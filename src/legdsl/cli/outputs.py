@@ -37,16 +37,15 @@ def cmd_plot(args: argparse.Namespace) -> int:
     )
     from legdsl.analysis.plot_ending import run_ending
     from legdsl.analysis.recorded import one_run
-    from legdsl.pipeline.options import check_output_file
     from legdsl.sim.trajectory import Trajectory, load_run_info
 
     read_window(args)
     run = Path(args.dir)
-    if args.output:
-        named_as(args.output, "--output", PICTURES, "a PNG picture (or .svg, .pdf)")
+    if args.output:  # named as plot --help's usage line names it (it said --output)
+        named_as(args.output, "-o", PICTURES, "a PNG picture (or .svg, .pdf)")
     tr = Trajectory.load(run)  # a missing or damaged run is a UsageError before anything is drawn
     one_run(run, tr)  # and so is a trajectory.npz of another run than run.json's
-    out = check_output_file(args.output or run / "figure6.png", "--output")
+    out = _picture_file(args.output, run)
     say = messages_for(args.output)
     room_for("draw the run", ROOM_TO_DRAW)
     made = new_directory(out)
@@ -78,6 +77,20 @@ def cmd_plot(args: argparse.Namespace) -> int:
     if (ending := run_ending(load_run_info(run))) is not None:  # as animate says it
         print(ending.note(run, f"{out} (and the pictures beside it)"), file=sys.stderr)
     return 0
+
+
+def _picture_file(output: str | None, run: Path) -> Path:
+    """Where Figure 6 goes: ``-o``'s file, else DIR/figure6.png; one that cannot be written
+    is refused naming ``-o`` where it was given (a read-only run directory's figure6.png was
+    refused as "--output ...", an option not given)."""
+    from legdsl.pipeline.options import check_output_file
+
+    if output:
+        return check_output_file(output, "-o")
+    try:
+        return check_output_file(run / "figure6.png", "")
+    except UsageError as e:
+        raise UsageError(f"{str(e).lstrip()} (or draw it elsewhere: -o FILE.png)") from None
 
 
 # what an export's name says it holds, where --format is not given
