@@ -118,3 +118,12 @@ def test_run_metrics_warns_of_a_run_that_fell(tmp_path: Path, generated: Path) -
         metrics = legdsl.open_run(where).metrics()
     assert metrics.status == "fell" and metrics.t_to < 1.4
     assert metrics.n_strides <= whole.n_strides
+
+
+def test_a_run_that_diverged_before_any_touchdown_measures_an_empty_window(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    run = _run(tmp_path / "run", DIVERGED | {"diverged_at": 0.2})
+    data, err = _metrics(run, capsys)
+    assert "measured up to 0.000 s, the window's start, as main did not touch down in it" in err
+    assert data["window"]["to"] == 0.0 and data["n_strides"] == 0

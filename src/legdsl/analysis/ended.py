@@ -36,7 +36,7 @@ def measured_until(
         before = t[rises][(t[rises] < ending.at - EPS_T) & (t[rises] >= t_from - EPS_T)]
         cut = float(before[-1]) if before.size else t_from
         where = (f"the last touchdown of {reference} before then" if before.size else
-                 f"the window's start: {reference} touched down in it no more before then")  # fmt: skip
+                 f"the window's start, as {reference} did not touch down in it before then")  # fmt: skip
     if cut >= t_to:
         return t_to, ""
     return cut, f"its metrics are measured up to {cut:.3f} s, {where}"
