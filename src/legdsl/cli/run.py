@@ -46,6 +46,7 @@ class _Interrupts:
     def __init__(self, out: Path) -> None:
         self.out = out
         self.simulating = True
+        self.started = False  # the simulation has started: a run stopped now is still written
         self.stopped = False  # the simulation was told to stop
         self.late: list[str] = []  # the signals noted and not obeyed
 
@@ -58,6 +59,8 @@ class _Interrupts:
                 raise KeyboardInterrupt
             raise Interrupted(signal.Signals(signum).name)
         self.late.append(signal.Signals(signum).name)
+        if not self.started:  # stopped while preparing (a compiler that hung): nothing to write
+            return
         print(
             f"legdsl: finishing {self.out}/ first; it takes a moment", file=sys.stderr, flush=True
         )
@@ -159,6 +162,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         for note in (repeated, space_note(out, "--out", options, model)):
             if note is not None:
                 print(f"legdsl: note: {note}", file=sys.stderr)
+        interrupts.started = True
         try:
             simulated = plan.sim.run(progress)
         finally:  # a run stopped short (a fall, Ctrl-C, an error): its bar's line ended first

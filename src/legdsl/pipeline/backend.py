@@ -17,7 +17,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
-from legdsl.codegen.c.build import DYNAMICS_FILES
+from legdsl.codegen.c.build import DYNAMICS_FILES, STILL
 from legdsl.files import cache_dir
 from legdsl.ir.model import Model
 from legdsl.lang import ast
@@ -129,9 +129,14 @@ def make_simulation(
     def building(text: str) -> None:
         print(f"legdsl: {text}", file=log, flush=True)
 
+    def still(text: str) -> None:
+        if text.startswith(STILL):
+            building(text)
+
     # on a terminal, a build's seconds (a minute for a large creature) are announced; a log
-    # keeps to the one line a failed build is
-    said = building if log is not None and log.isatty() else None
+    # keeps to the one line a failed build is, and hears of a compiler that runs on (a hung
+    # one said nothing until it was killed)
+    said = None if log is None else building if log.isatty() else still
     for name in names:
         folder = _fresh_sources(model, source, generated, log, syntax, name)
         try:

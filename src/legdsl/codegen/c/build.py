@@ -91,6 +91,10 @@ LIBS = ("-lm",)
 # and 1.5 GB on the 2 MB dynamics.c of an 82-DOF chain; the doubles are the same at any -O
 # (nothing is fused or reordered without fast-math), the step a little slower.
 LARGE_UNIT = 1_000_000
+# a compiler still running after PATIENCE[0] s, then every PATIENCE[1] s, is said to be (a hung
+# one, LEGDSL_CC a wrapper gone wrong, said nothing until it was killed)
+PATIENCE = (10.0, 30.0)
+STILL = "still building"  # how those notes start (``build``'s ``starting`` is told them too)
 LANGUAGE = ("-x", "c")  # C even to a C++ driver (LEGDSL_CC=g++), whose symbols would be mangled
 SIZES_FILE = "legdsl_sizes.h"  # written at each build from dynamics.h: sizes_header
 SIZES = ("LEG_NQ", "LEG_NV", "LEG_NB", "LEG_NC", "LEG_FREE3D", "LEG_PLANAR")
@@ -221,7 +225,8 @@ def build(
     starting: Callable[[str], None] | None = None,
 ) -> Built:
     """The shared library of ``files`` (compiled now unless the cache has it; ``starting`` is
-    told what is built, before the compiler runs)."""
+    told what is built, before the compiler runs, and then, while it runs past ``PATIENCE``,
+    which units it is still compiling and for how long: notes that start with ``STILL``)."""
     compiler = compiler or find_compiler()
     if compiler is None:
         raise NoCompiler(no_compiler() or "no C compiler found")
@@ -240,7 +245,7 @@ def build(
         starting(f"building the C library of {name} ({lines} lines of C; kept in {root})")
     start = time.perf_counter()
     try:
-        _compile(name, files, compiler, root, final)
+        _compile(name, files, compiler, root, final, starting)
     except BuildFailed as e:
         why = probe(compiler, root)
         if why is not None:  # the compiler, not the generated C: the user's to fix
@@ -250,8 +255,16 @@ def build(
     return Built(final, cached=False, seconds=time.perf_counter() - start)
 
 
-def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, final: Path) -> None:
-    """Compile ``files`` into the library ``final``, through a temporary directory in ``root``."""
+def _compile(
+    name: str,
+    files: dict[str, str],
+    compiler: Compiler,
+    root: Path,
+    final: Path,
+    waiting: Callable[[str], None] | None = None,
+) -> None:
+    """Compile ``files`` into the library ``final``, through a temporary directory in ``root``
+    (``waiting`` told of compilers still running: ``_outputs``)."""
     # a compiler pass that outlived its kill may still write: what it leaves goes with the
     # leftovers (``trim``), not as an error in place of the KeyboardInterrupt
     with tempfile.TemporaryDirectory(
@@ -288,7 +301,8 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                 commands.append(command)
                 _start(command, compiler, work, started)
             # all, failed or not; their files named as the units are (control.c:37:37: ...)
-            errors = [_said(p.communicate()).replace(f"{work}{os.sep}", "") for p in started]
+            said = _outputs(started, compiled, f"{name}: {_named(compiler)}", waiting)
+            errors = [err.replace(f"{work}{os.sep}", "") for err in said]
             codes = [process.returncode for process in started]
             for command, code, err in zip(commands, codes, errors, strict=True):
                 _check(code, command, err, name, compiler)
@@ -298,7 +312,7 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
             objects = [str(Path(work) / f"{unit}.o") for unit in UNITS]
             command = [compiler.path, *every, "-o", str(partial), *objects, *LIBS]
             linker = _start(command, compiler, work, started)
-            err = _said(linker.communicate())
+            (err,) = _outputs([linker], ["the link"], f"{name}: {_named(compiler)}", waiting)
             if linker.returncode != 0:  # the kept objects may be why: built again next time
                 for unit in set(UNITS) - set(compiled):
                     kept[unit].unlink(missing_ok=True)
@@ -311,6 +325,34 @@ def _compile(name: str, files: dict[str, str], compiler: Compiler, root: Path, f
                                        f"({wrong}), though it exited 0; {_fix(compiler, True)}")  # fmt: skip
             seal(partial, final.name)  # its name is its key: another's is not taken for it
         os.replace(partial, final)  # atomic: a concurrent build renames an identical file
+
+
+def _outputs(
+    started: list[subprocess.Popen[str]],
+    units: list[str],
+    who: str,
+    waiting: Callable[[str], None] | None,
+) -> list[str]:
+    """What each process of ``started`` (compiling ``units``) wrote (``_said``), once all have
+    ended; ``waiting`` is told which are still running after ``PATIENCE[0]`` s and then every
+    ``PATIENCE[1]`` s, by ``who`` (the library, the compiler) and for how long."""
+    start = time.monotonic()
+    note = start + PATIENCE[0]
+    said = []
+    for process in started:
+        while True:
+            left = None if waiting is None else max(0.0, note - time.monotonic())
+            try:
+                said.append(_said(process.communicate(timeout=left)))
+                break
+            except subprocess.TimeoutExpired:
+                assert waiting is not None
+                running = [u for u, p in zip(units, started, strict=False) if p.poll() is None]
+                seconds = time.monotonic() - start
+                waiting(f"{STILL} the C library of {who} has run {seconds:.0f} s on "
+                        f"{', '.join(running)} (if it hangs, stop it and set LEGDSL_CC to another compiler)")  # fmt: skip
+                note += PATIENCE[1]
+    return said
 
 
 PROBE = (
