@@ -86,3 +86,29 @@ def test_run_animate_of_a_run_recorded_every_step(
     text = text.out + text.err
     assert "the run's 2500 samples per second give it the most (--fps 2500)" in text
     assert EVERY_STEP in text and "--record-rate" not in text
+
+
+def test_the_apis_animate_of_a_run_recorded_every_step(
+    runs: dict[str, Path], tmp_path: Path, generated: Path
+) -> None:
+    """Run.animate() gave the old advice (--record-rate) where the command said --dt."""
+    import legdsl
+    from legdsl.api import LegdslWarning
+
+    with pytest.warns(LegdslWarning) as told:
+        legdsl.open_run(runs["every"], generated=generated).animate(tmp_path / "a.html", fps=2500)
+    text = " ".join(str(w.message) for w in told)
+    assert EVERY_STEP in text and "--record-rate" not in text
+
+
+def test_the_apis_frame_rate_takes_a_whole_number(runs: dict[str, Path], generated: Path) -> None:
+    """Run.animate(fps=30) died of AttributeError ('int' object has no attribute 'isascii')."""
+    import legdsl
+    from legdsl.api import LegdslWarning
+    from legdsl.lang.errors import UsageError
+
+    run = legdsl.open_run(runs["sampled"], generated=generated)
+    with pytest.warns(LegdslWarning, match="record it faster"):  # the one-step stances
+        assert run.animate(fps=30).name == "animation.html"
+    with pytest.raises(UsageError, match=r"fps=True: give the frames per second as a number"):
+        run.animate(fps=True)

@@ -41,6 +41,7 @@ from legdsl.api.read_only import read_only, read_only_trajectory
 from legdsl.api.run_options import session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
+from legdsl.export.stances import recorded_every_step
 from legdsl.files import write_atomic, writing_alone
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -460,6 +461,7 @@ class Run:
             message=str(self.info.get("message") or ""),
             fps=fps,
             flag="fps=",
+            every_step=recorded_every_step(self.info.get("steps"), self.info.get("samples")),
         )
 
 

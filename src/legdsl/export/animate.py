@@ -102,8 +102,10 @@ def _positive(value: float | None, flag: str) -> None:
 
 def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
     """``--fps 30`` or ``--fps 30Hz``: frames per second, a frequency with its unit checked."""
-    if text is None or isinstance(text, float):
-        value = text
+    if text is None or isinstance(text, int | float) and not isinstance(text, bool):
+        value = None if text is None else float(text)  # the API's fps=2500 as well as 2500.0
+    elif not isinstance(text, str):  # the API's fps=True or fps=[60]
+        raise UsageError(f"{flag}{text!r}: give the frames per second as a number, e.g. 60")
     else:
         try:  # a bare number (inf and nan too, told as such below): frames per second; not
             value = float(text if text.isascii() and "_" not in text else "?")  # 6_0, as 60

@@ -25,6 +25,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from legdsl.analysis.plot_ending import run_ending
 from legdsl.export.frames import enough_frames, frame_times, interpolate, interpolate_q
 from legdsl.export.stances import recorded_every_step, stance_note
 from legdsl.ir.model import Body, Model, Terrain
@@ -227,7 +228,8 @@ def load_motion(
         message=str(run.info.get("message", "") or ""),
         every_step=recorded_every_step(run.info.get("steps"), run.info.get("samples")),
     )
-    ended = run.info.get("ended_at", run.info.get("sim_time"))
+    ending = run_ending(run.info)  # a run told diverged after it ran on: at diverged_at
+    ended = ending.at if ending is not None else run.info.get("ended_at", run.info.get("sim_time"))
     motion.ended_at = float(ended) if isinstance(ended, int | float) else None
     motion.cause = str(run.info.get("cause") or motion.message)
     if video is not None:  # a video's frames are its own, not the rate they are read at
