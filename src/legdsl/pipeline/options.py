@@ -28,7 +28,7 @@ from legdsl.lang.units import KINDS, UNITS, a_kind
 from legdsl.pipeline.outputs import not_standard_output
 from legdsl.pipeline.settings import parse_given
 from legdsl.pipeline.suggested_values import written
-from legdsl.sim.recorder import recording_budget, sample_bytes
+from legdsl.sim.recorder import address_space_left, recording_budget, sample_bytes
 from legdsl.sim.run_loop import FALL_OFF, INITIAL_ROWS, RunOptions, run_samples
 from legdsl.sim.stability import where_step
 
@@ -278,20 +278,30 @@ def recording_note(options: RunOptions, model: Model, flags: bool = True) -> str
     ``recording_budget`` (the old arrays and the new while it doubles): it will stop early,
     as interrupted (None: it fits, or the system does not say how much memory it has); its
     advice in ``legdsl run``'s flags if ``flags``, else in the API's arguments (a Python
-    caller was told "(exit 130)" and "--record-rate")."""
-    budget, per = recording_budget(), sample_bytes(model)
-    samples = run_samples(options)
+    caller was told "(exit 130)" and "--record-rate"). The budget is the run's as it grows:
+    under ``ulimit -v``, half of what the limit leaves once the recording held so far is
+    taken, so the figure told is the one the run tells as it stops, in GiB as it does (it was
+    the budget now, as if the recording took no room: 937 MB here, then 0.705 GiB there)."""
+    per, samples = sample_bytes(model), run_samples(options)
+    budget, left = recording_budget(), address_space_left()
+    if budget is None:
+        return None
+
+    def cap(rows: int) -> int:  # the run's budget once it holds ``rows`` samples
+        return budget if left is None else min(budget, (left - rows * per) // 2)
+
     rows = INITIAL_ROWS
-    while budget is not None and rows < samples and (rows + min(samples, 2 * rows)) * per <= budget:
+    while rows < samples and (rows + min(samples, 2 * rows)) * per <= cap(rows):
         rows = min(samples, 2 * rows)
-    if budget is None or rows >= samples:
+    if rows >= samples:
         return None
     ends = options.duration * rows / samples
     return (
-        f"this run would record {samples:.3g} samples ({samples * per / 1e6:.3g} MB), and its "
-        f"recording may take {budget / 1e6:.3g} MB of memory (half of what the run may use: "
-        f"the rest is for writing it): it will stop as interrupted{' (exit 130)' * flags} "
-        f"near t = {ends:.3g} s with {rows} samples; to run it all, record fewer samples "
+        f"this run would record {samples:.3g} samples ({samples * per / 2**30:.3g} GiB); it "
+        f"will stop as interrupted{' (exit 130)' * flags} near t = {ends:.3g} s with {rows} "
+        "samples, its recording filling half of the memory the run may take (about "
+        f"{max(0, cap(rows)) / 2**30:.3g} GiB; the rest is for writing it); to run it all, "
+        "record fewer samples "
         + (
             "(a lower --record-rate, or a shorter --time)"
             if flags
