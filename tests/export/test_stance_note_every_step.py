@@ -112,3 +112,18 @@ def test_the_apis_frame_rate_takes_a_whole_number(runs: dict[str, Path], generat
         assert run.animate(fps=30).name == "animation.html"
     with pytest.raises(UsageError, match=r"fps=True: give the frames per second as a number"):
         run.animate(fps=True)
+
+
+def test_a_frame_rate_of_numpys_numbers() -> None:
+    """fps=np.int64(30), np.float32(30), np.array(30) were told 'give the frames per second as
+    a number' (as run()'s time= takes them), and fps=10**400 raised OverflowError."""
+    import numpy as np
+
+    from legdsl.export.animate import frame_rate
+    from legdsl.lang.errors import UsageError
+
+    for fps in (np.int64(30), np.float32(30), np.int32(30), np.array(30), np.array(30.0)):
+        assert frame_rate(fps, "animate(): fps=") == 30.0
+    for refused in (np.True_, np.array([30]), 10**400):
+        with pytest.raises(UsageError, match=r"^animate\(\): fps="):
+            frame_rate(refused, "animate(): fps=")

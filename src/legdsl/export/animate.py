@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import numbers
 import re
 import shlex
 import sys
@@ -102,8 +103,16 @@ def _positive(value: float | None, flag: str) -> None:
 
 def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
     """``--fps 30`` or ``--fps 30Hz``: frames per second, a frequency with its unit checked."""
-    if text is None or isinstance(text, int | float) and not isinstance(text, bool):
-        value = None if text is None else float(text)  # the API's fps=2500 as well as 2500.0
+    if getattr(text, "shape", None) == () and getattr(text, "dtype", None) is not None:
+        text = text[()]  # type: ignore[index]  # numpy's 0-d array: its number
+    if text is None:
+        value = None
+    elif isinstance(text, numbers.Real) and not isinstance(text, bool):  # 30, np.int64(30)
+        try:
+            value = float(text)
+        except OverflowError:
+            size = int(text).bit_length()  # too many digits to print
+            raise UsageError(f"{flag} a whole number of about 2**{size}: too large") from None
     elif not isinstance(text, str):  # the API's fps=True or fps=[60]
         raise UsageError(f"{flag}{text!r}: give the frames per second as a number, e.g. 60")
     else:
