@@ -49,10 +49,16 @@ def reworded(message: str, vary: Mapping[str, Any]) -> str:
         message = message.replace(cli, api)
     if message.startswith("run(): "):  # run()'s own reading of the arguments they share
         return "run_copies(): " + message.removeprefix("run(): ")
-    match = re.match(r"--set (\S+?)(?:=(\S*))?: (.*)$", message, re.S)
+    # the name and value as --set wrote them, or quoted as a whole ('speed=3.6km/h', which
+    # was told as set["'speed"] = "3.6km/h'")
+    match = re.match(
+        r"--set (?:'([^'\s=]+)(?:=([^'\s]*))?'|(\S+?)(?:=(\S*))?): (.*)$", message, re.S
+    )
     if match is None:
         return message
-    name, value, why = match.group(1), match.group(2), match.group(3)
+    quoted = match.group(1) is not None
+    name, value = (match.group(1), match.group(2)) if quoted else (match.group(3), match.group(4))
+    why = match.group(5)
     if value is not None and "@" in value:  # set={'speed@2': '1 m/s'}, as --set speed=1m/s@2
         value, _, when = value.partition("@")
         name = f"{name}@{when}"

@@ -5,17 +5,20 @@ each checked as a single run's would be."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from copy import copy
 
 import numpy as np
 
 from legdsl.lang.errors import UsageError
+from legdsl.lang.units import UnitError, parse_unit, unknown_unit
 from legdsl.pipeline.backend import CUnavailable
 from legdsl.pipeline.batch_memory import check_recordings
 from legdsl.pipeline.session import RunSession
 from legdsl.pipeline.settings import Settings, sort_settings
 from legdsl.pipeline.start_pose import check_fall_height, check_start
+from legdsl.pipeline.suggested_values import setting_unit
 from legdsl.sim.c_backend import CSimulation
 from legdsl.sim.machine import overwritten
 from legdsl.sim.run_loop import RunOptions
@@ -53,9 +56,11 @@ class BatchSetup:
                 )
             if not (isinstance(given, tuple | list) and len(given) == 2
                     and isinstance(given[1], str)):  # fmt: skip
+                own = setting_unit(session.model, controller, name)
                 raise UsageError(
                     f"vary {name}: give its {n} values and their unit as a pair, e.g. "
-                    f"{{{name!r}: (values, 'm/s')}} ('' for a number without one)"
+                    f"{{{name!r}: (values, {'m/s' if own is None else own!r})}}"
+                    + (" ('' for a number without one)" if own is None else "")
                 )
         self.session, self.n = session, n
         self.controller, self.settings, self.paths = controller, list(settings), list(paths)
@@ -98,7 +103,7 @@ class BatchSetup:
             )
         if not np.all(np.isfinite(values)):
             raise UsageError(f"vary {name}: every value must be finite")
-        unit = unit.replace(" ", "")
+        unit = self._unit(name, unit)
         for probe in (values.min(), values.max(), 1.0):
             found = self._sorted([f"{name}={float(probe)!r}{unit}"])
         one = {**found.inputs, **found.params, **found.actuators}.get(name)
@@ -106,6 +111,29 @@ class BatchSetup:
             raise UsageError(f"vary {name}: name an input or parameter of {self.controller} alone")
         self._given[name] = (values, unit)
         return values * one  # ``one`` is 1 unit in SI (units scale; none is affine)
+
+    def _unit(self, name: str, unit: str) -> str:
+        """``vary``'s unit read as a unit alone ('N * m' as 'N*m'): it is written after each
+        value as ``--set`` takes it, and a unit '1 m/s' made 2.0 a copy's 2.01 m/s, recorded
+        as 2.0 (a number in the unit is refused, as any text that is not a unit)."""
+        text = re.sub(r"\s*([*/^])\s*", r"\1", unit.strip())
+        if not text:
+            return ""
+        try:
+            parse_unit(text)
+            return text
+        except UnitError:
+            pass
+        own = setting_unit(self.session.model, self.controller, name)
+        example = f"vary={{{name!r}: (values, {'m/s' if own is None else own!r})}}"
+        if re.match(r"[-+]?(?:\d|\.\d|[eE][-+]?\d)", text):  # '1 m/s', 'e-1 m/s'
+            why = (f"{unit!r} is not a unit: the unit is read alone, each copy's value is one "
+                   "of the values; scale the values themselves and give the unit alone, e.g. "
+                   f"{example}")  # fmt: skip
+        else:
+            why = unknown_unit(text).replace("write the value in", "give the values in")
+            why = f"{why}; give e.g. {example}"
+        raise UsageError(f"vary {name}: {why}")
 
     def _sorted(self, texts: list[str]) -> Settings:
         return sort_settings(texts, self.session.model, self.controller)

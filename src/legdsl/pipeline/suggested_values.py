@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Protocol
+from typing import Any, Protocol
 
 from legdsl.lang.turning import ANGULAR_VELOCITY, FREQUENCY, turning_rate
 from legdsl.lang.units import DIMENSIONLESS, Dim, UnitError, parse_unit, si_unit
@@ -78,3 +78,24 @@ def _kept(written: str, want: Dim) -> str | None:
         except UnitError:
             pass
     return None
+
+
+def setting_unit(model: Any, controller: str | None, name: str) -> str | None:
+    """The unit to give ``name``'s values in (``run_copies``' ``vary=`` advice): the file's own
+    for an input or parameter of ``controller`` ('' for a dimensionless one), the kind's for an
+    actuator setting (``hip.kp``: 'N*m/rad'); None for a name neither is."""
+    from legdsl.ir.model import setting_kind
+    from legdsl.lang.units import KINDS, unit_for
+
+    actuator, dot, key = name.partition(".")
+    if dot:
+        found = [a for a in model.actuators if a.name == actuator]
+        try:
+            return unit_for(KINDS[setting_kind(key, found[0].rotary)][0]) if found else None
+        except KeyError:
+            return None
+    if controller is None:
+        return None
+    ctl = model.controller(controller)
+    own = [c for c in [*ctl.inputs, *ctl.params] if c.name == name]
+    return (own[0].unit or unit_for(own[0].dim)) if own else None
