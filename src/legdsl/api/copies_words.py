@@ -5,6 +5,7 @@ to a Python caller who gave ``set={'speed': '1.0kg'}`` or ``vary={'speed': (v, '
 from __future__ import annotations
 
 import contextlib
+import inspect
 import re
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any
@@ -25,9 +26,28 @@ def check_copies(plan: dict[str, Any], progress: Callable[..., Any] | None, vary
     if progress is not None and not callable(progress):
         raise UsageError(f"run_copies(): progress= is a function called with (done, n, "
                          f"seconds_left), or None; not {progress!r}")  # fmt: skip
+    if progress is not None:
+        _check_progress(progress)
     if vary is not None and not isinstance(vary, Mapping):
         raise UsageError(f"run_copies(): vary= maps names to their values and unit, e.g. "
                          f"{{'speed': (speeds, 'm/s')}}, not {vary!r}")  # fmt: skip
+
+
+def _check_progress(progress: Callable[..., Any]) -> None:
+    """``progress=`` takes the three arguments it is called with, ``(done, n, seconds_left)``:
+    one that did not (``lambda: None``) was a bare TypeError from the batch, mid-run."""
+    try:
+        signature = inspect.signature(progress)
+    except (TypeError, ValueError):  # a builtin without one: it is called as it is
+        return
+    try:
+        signature.bind(0, 1, 0.0)
+    except TypeError:
+        raise UsageError(f"run_copies(): progress= is called with three arguments, (done, n, "
+                         f"seconds_left): the copies done, their number and the seconds left "
+                         f"(nan before the first is done), and {progress!r} takes "
+                         f"{signature}; give e.g. progress=lambda done, n, left: print(done, n)"
+                         ) from None  # fmt: skip
 
 
 @contextlib.contextmanager

@@ -57,14 +57,29 @@ class Quantity:
         return f"{self.value:g} {self.unit}".rstrip()
 
     def __format__(self, spec: str) -> str:
-        """``f"{q:.2f}"``: the number formatted so, then its unit."""
-        return str(self) if not spec else f"{format(self.value, spec)} {self.unit}".rstrip()
+        """``f"{q:.2f}"``: the number formatted so, then its unit; a whole number's ``d``
+        (``f"{q:d}"``, ``2 m``) too, which was float's ValueError from in here."""
+        if not spec:
+            return str(self)
+        number: float | int = self.value
+        whole = spec[-1:] in "bcdoxX"  # formats of a whole number ('n' takes a float too)
+        if whole and self.value.is_integer():
+            number = int(self.value)
+        try:
+            return f"{format(number, spec)} {self.unit}".rstrip()
+        except ValueError as e:
+            why = (f"formats whole numbers, and {self.value:g} is not one" if whole
+                   and not self.value.is_integer() else f"is no format for a number ({e})")  # fmt: skip
+            raise UsageError(f"Quantity {self}: {spec!r} {why}; give one such as f'{{q:.3g}}' "
+                             "or f'{q:.2f}'") from None  # fmt: skip
 
     def __float__(self) -> float:
         return self.value
 
 
 def _number(value: Any) -> float:
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value[()]  # np.array(1.5), as numpy's reductions give and run options take
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise UsageError(f"Quantity(): the value is a number, not {value!r}; {_HOW}")
     try:
