@@ -17,6 +17,7 @@ from conftest import ROOT
 
 import legdsl
 from legdsl.analysis.plot import first_leg_angles, plot_run
+from legdsl.api import LegdslWarning
 from legdsl.lang.errors import UsageError
 
 
@@ -57,7 +58,11 @@ def test_the_picture_is_the_command_s_and_survives_an_edit_of_the_file(
     with pytest.raises(UsageError, match="has changed since the run"):
         plot_run(saved, tmp_path / "again.png", first_leg_angles(saved))  # legdsl plot refuses
     assert run.plot(tmp_path / "edited.png", start=0.5).read_bytes() == cli.read_bytes()
-    assert run.plot() == saved / "figure6.png" and run.metrics().t_to == run["t"][-1]
+    assert run.plot() == saved / "figure6.png"
+    assert run.status == "fell"  # off the step: measured up to its last touchdown before then
+    with pytest.warns(LegdslWarning, match=r"did not end ok \(fell at t = 1.93 s"):
+        measured = run.metrics()
+    assert measured.status == "fell" and 0 < measured.t_to < run["t"][-1]
     assert list(scratch.iterdir()) == []
 
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import numbers
 import re
 import shlex
 import sys
@@ -23,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from legdsl.export.ending import ending_note
-from legdsl.export.video_rates import VIDEO_FPS, most_fps
+from legdsl.export.video_rates import frame_rate, most_fps, positive, video_fps
 from legdsl.lang.errors import UsageError
 from legdsl.pipeline.outputs import (
     is_stream,
@@ -94,50 +93,6 @@ def parse_size(text: str) -> tuple[int, int]:
             f"write --size {width + width % 2}x{height + height % 2}"
         )
     return width, height
-
-
-def _positive(value: float | None, flag: str) -> None:
-    if value is not None and not 0 < value < math.inf:
-        raise UsageError(f"{flag} must be positive and finite, not {value:g}")
-
-
-def frame_rate(text: str | float | None, flag: str = "--fps") -> float | None:
-    """``--fps 30`` or ``--fps 30Hz``: frames per second, a frequency with its unit checked."""
-    if getattr(text, "shape", None) == () and getattr(text, "dtype", None) is not None:
-        text = text[()]  # type: ignore[index]  # numpy's 0-d array: its number
-    if text is None:
-        value = None
-    elif isinstance(text, numbers.Real) and not isinstance(text, bool):  # 30, np.int64(30)
-        try:
-            value = float(text)
-        except OverflowError:
-            size = int(text).bit_length()  # too many digits to print
-            raise UsageError(f"{flag} a whole number of about 2**{size}: too large") from None
-    elif not isinstance(text, str):  # the API's fps=True or fps=[60]
-        raise UsageError(f"{flag}{text!r}: give the frames per second as a number, e.g. 60")
-    else:
-        try:  # a bare number (inf and nan too, told as such below): frames per second; not
-            value = float(text if text.isascii() and "_" not in text else "?")  # 6_0, as 60
-        except ValueError:
-            from legdsl.pipeline.options import Numeric, read_numeric
-
-            value = read_numeric(flag, text, Numeric("frequency", "Hz"))
-    _positive(value, flag)
-    return value
-
-
-def video_fps(value: float | None, default: float, gif: bool = False) -> float:
-    """``--fps`` of a video: one that no player shows as given, or that would render for
-    hours (a million frames a second), is refused."""
-    fps = default if value is None else value
-    top = most_fps(gif)
-    if not VIDEO_FPS[0] <= fps <= top:
-        more = "; write an .mp4 for more" if gif else ""
-        raise UsageError(
-            f"--fps {fps:g}: a{' GIF' if gif else 'n .mp4'} shows {VIDEO_FPS[0]:g} to {top:g} "
-            f"frames per second{more}"
-        )
-    return fps
 
 
 def _load(
@@ -234,7 +189,7 @@ def _cmd_animate(args: argparse.Namespace) -> int:
         gif = video.suffix.lower() == ".gif"
         fps = video_fps(args.fps, 30.0, gif)
         slow = args.slow_motion if args.slow_motion is not None else 1.0
-        _positive(slow, "--slow-motion")
+        positive(slow, "--slow-motion")
         motion = _load(args, max(fps * slow, 60.0), video=(fps, slow, most_fps(gif)))
         _say_note(motion, args.run, video)
         made = new_directory(video)
