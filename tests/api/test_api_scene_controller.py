@@ -29,7 +29,9 @@ def test_the_controller_a_gait_table_starts_with_is_taken(biped: legdsl.api.Crea
 def test_another_controller_is_refused_naming_the_one_it_starts_with(
     biped: legdsl.api.Creature,
 ) -> None:
-    with pytest.raises(UsageError, match="scene by_speed starts with gallop"):
+    with pytest.raises(
+        UsageError, match="scene by_speed starts with controller gallop; leave out controller="
+    ):
         biped.run(scene="by_speed", controller="run", time=0.05)
 
 

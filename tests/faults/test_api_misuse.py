@@ -94,7 +94,10 @@ OPTION_MISTAKES: list[tuple[dict[str, Any], str]] = [
     ({"drop": "1 s"}, r"drop= is a length .*, but 1s is a time.*drop='1 m'"),
     ({"fall_height": "0.3 kg"}, r"fall_height= is a length .*, but 0.3kg is a mass"),
     ({"fall_tilt": "30 m"}, r"fall_tilt= is an angle .*, but 30m is a length"),
-    ({"fall_tilt": 60}, r"60 rad\) is past upside down .* write fall_tilt='60 deg'"),
+    (
+        {"fall_tilt": 60},
+        r"fall_tilt=60 \(radians: 3438 deg\) is past upside down .* fall_tilt='60 deg'",
+    ),
     (
         {"fall_tilt": True},
         r"fall_tilt= is a number in SI units, or a text with its unit \(e.g. fall_tilt=.60 deg.\), not True",

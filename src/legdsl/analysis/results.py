@@ -132,6 +132,11 @@ class GaitMetrics:
         return len(self.per_stride["duration"])
 
     def summary(self, key: str) -> Summary:
+        """The summary row of metric ``key`` (a name, such as 'running_speed')."""
+        if not isinstance(key, str):  # difflib's TypeError ('int' object is not iterable)
+            keys = ", ".join(s.key for s in self.summaries)
+            raise UnknownMetric(f"no metric {key!r}: a metric is named by a text, e.g. "
+                                f"value('running_speed') (the run has {keys})")  # fmt: skip
         for s in self.summaries:
             if s.key == key:
                 return s

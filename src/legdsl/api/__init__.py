@@ -38,7 +38,7 @@ from legdsl.api.measured import run_metrics
 from legdsl.api.notes import LegdslWarning
 from legdsl.api.quantity import Quantity
 from legdsl.api.read_only import read_only, read_only_trajectory
-from legdsl.api.run_options import session_args
+from legdsl.api.run_options import many_plans, session_args
 from legdsl.check.values import did_you_mean
 from legdsl.export.motion import DEFAULT_FPS, motion_from, read_run
 from legdsl.export.stances import recorded_every_step
@@ -125,8 +125,8 @@ class Creature:
         ``Run``) as each finishes. On the C backend they go on in ``threads`` parallel
         threads (default: one per core) through its batched entry point
         (``legdsl.pipeline.backend.iter_batch``), on the Python backend one after another.
-        A run whose arguments are wrong raises its ``UsageError`` here, and the runs not yet
-        started are cancelled."""
+        Every run's arguments are checked before any runs: a mistake is a ``UsageError``
+        naming the run by its index (``run_many(): runs[2]: ...``)."""
         from legdsl.pipeline.backend import iter_batch
 
         if isinstance(runs, str | bytes | Mapping) or not isinstance(runs, Iterable):
@@ -137,7 +137,7 @@ class Creature:
             if not isinstance(r, Mapping):
                 raise UsageError(f"run_many(): each run is a dict of run()'s keyword arguments, "
                                  f"e.g. {{'controller': 'hop', 'time': 2}}, not {r!r}")  # fmt: skip
-        plans = [session_args(self.model, **r) for r in runs]
+        plans = many_plans(self.session, runs)
         # a run's notes before it are told as it comes back: a run refused is told alone
         before = [plan.pop("unreached") for plan in plans]
         with notes.from_threads(self.session) as flush:

@@ -120,95 +120,133 @@ def _real(value: object) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
-def check_fall_tilt(tilt: object) -> None:
+def named(field: str, flags: bool = True) -> str:
+    """A ``RunOptions`` field as the caller wrote it: ``legdsl run``'s flag (``--time``,
+    ``--integrator``) if ``flags``, else the API's argument (``time=``, ``integrator=``)."""
+    if not flags:
+        return f"{'time' if field == 'duration' else field}="
+    return RUN_NUMERIC[field][0] if field in RUN_NUMERIC else f"--{field.replace('_', '-')}"
+
+
+def given_as(field: str, value: str, flags: bool = True, unit: str = "") -> str:
+    """An option with its value as the caller wrote it: ``--dt 0.4s``, or ``dt=0.4`` (SI)."""
+    return f"{named(field)} {value}{unit}" if flags else f"{named(field, False)}{value}"
+
+
+def check_fall_tilt(tilt: object, flags: bool = True) -> None:
     """A fall tilt (radians) is more than zero and at most upside down; ``legdsl run`` asks
-    before it compiles (``--fall-tilt 181`` was refused only after a compile)."""
+    before it compiles (``--fall-tilt 181`` was refused only after a compile); in the API's
+    words (``fall_tilt=``, radians) unless ``flags``."""
+    off = "--fall-tilt off (fall_tilt='off' in Python)" if flags else "fall_tilt='off'"
     if not _real(tilt):
         raise UsageError(
-            f"--fall-tilt {tilt!r}: must be a number of radians more than zero, or 'off'"
+            f"{given_as('fall_tilt', repr(tilt), flags)}: must be a number of radians more than "
+            "zero, or 'off'"
         )
     tilt = float(tilt)  # type: ignore[arg-type]  # a Real, as _real said
     if not (math.isfinite(tilt) and tilt > 0):
+        shown = f"{math.degrees(tilt)!r}deg" if flags else repr(tilt)
         raise UsageError(
-            f"--fall-tilt {math.degrees(tilt)!r}deg: must be more than zero; "
-            + FALL_OFF_ADVICE.format(what="tilt", off="--fall-tilt off (fall_tilt='off' in Python)")
+            f"{given_as('fall_tilt', shown, flags)}: must be more than zero; "
+            + FALL_OFF_ADVICE.format(what="tilt", off=off)
         )
     if tilt > math.pi * (1 + 1e-12):  # fall_tilt=60 in Python is 60 rad, not 60 degrees
+        if flags:
+            raise UsageError(
+                f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
+                "(180 deg), so no tilt would stop the run; give at most 180deg, or off (in "
+                "Python a number is radians: write fall_tilt='60 deg')"
+            )
         raise UsageError(
-            f"--fall-tilt {math.degrees(tilt):.4g}deg ({tilt:.4g} rad) is past upside down "
-            "(180 deg), so no tilt would stop the run; give at most 180deg, or off (in Python a "
-            "number is radians: write fall_tilt='60 deg')"
+            f"fall_tilt={tilt:.4g} (radians: {math.degrees(tilt):.4g} deg) is past upside down "
+            "(pi, 180 deg), so no tilt would stop the run; give at most math.pi, a text with "
+            "its unit such as fall_tilt='60 deg', or fall_tilt='off'"
         )
 
 
-def check_run_options(options: RunOptions, flags: bool = True) -> None:
+def check_run_options(options: RunOptions, flags: bool = True, api: bool = False) -> None:
     """Raise ``UsageError`` for options no run can use (the API's path to the same rules); a
-    step is advised as --dt if ``flags``, else (a sweep's or a tune's runs) as the file's."""
-    positive = {"duration": "--time", "dt": "--dt", "control_dt": "--control-dt"}
-    for field, flag in positive.items():
+    step is advised as --dt if ``flags``, else (a sweep's or a tune's runs) as the file's;
+    the options are named as the API's arguments (``time=``, SI numbers) if ``api``, else
+    as ``legdsl run``'s flags."""
+    cli = not api
+
+    def say(field: str, value: float, unit: str) -> str:  # --dt 0.4s, or dt=0.4
+        return given_as(field, f"{value:g}", cli, unit)
+
+    for field in ("duration", "dt", "control_dt"):
         value = getattr(options, field)
         if not (_real(value) and math.isfinite(value) and value > 0):
-            raise UsageError(f"{flag} {value!r}: must be a finite number more than zero")
-    checks = {
-        "record_rate": ("--record-rate", options.record_rate),
-        "drop": ("--drop", options.drop),
-        "fall_height": ("--fall-height", options.fall_height),
-    }
-    for flag, value in checks.values():
-        if value is None or (flag == "--fall-height" and value == FALL_OFF):
-            continue
-        # a number here (off was passed over): the ignore is for the type, not the value
-        if not (_real(value) and math.isfinite(value) and value >= 0):  # type: ignore[arg-type,operator]
-            off = FALL_OFF_ADVICE.format(
-                what="height", off="--fall-height off (fall_height='off' in Python)"
-            )
             raise UsageError(
-                f"{flag} {value!r}: must be a finite number, zero or more"
-                + f"; {off}" * (flag == "--fall-height")
+                f"{given_as(field, repr(value), cli)}: must be a finite number more than zero"
             )
+    for field in ("record_rate", "drop", "fall_height"):
+        value = getattr(options, field)
+        if value is None or (field == "fall_height" and value == FALL_OFF):
+            continue
+        if not (_real(value) and math.isfinite(value) and value >= 0):
+            off = "--fall-height off (fall_height='off' in Python)" if cli else "fall_height='off'"
+            raise UsageError(
+                f"{given_as(field, repr(value), cli)}: must be a finite number, zero or more"
+                + f"; {FALL_OFF_ADVICE.format(what='height', off=off)}" * (field == "fall_height")
+            )
+    dt, of = named("dt", cli), " of " if cli else ""  # a --dt of 0.3s, a dt=0.3
     if options.dt > options.duration:  # first: the advice below would lead to it
-        shorter = f", or a --dt of {options.duration:g}s or less" if options.duration**2 > 0 else ""
-        raise UsageError(
-            f"--dt {options.dt:g}s is longer than the run (--time {options.duration:g}s); give "
-            f"--time {options.dt:g}s or more{shorter}"
+        shorter = (
+            f", or a {dt}{of}{options.duration:g}{'s' * cli} or less"
+            if options.duration**2 > 0
+            else ""
         )
-    _check_step_counts(options, flags)
+        raise UsageError(
+            f"{say('dt', options.dt, 's')} is longer than the run "
+            f"({say('duration', options.duration, 's')}); give "
+            f"{say('duration', options.dt, 's')} or more{shorter}" + " (seconds)" * api
+        )
+    _check_step_counts(options, flags, cli)
     rate = options.record_rate
     if rate is not None and rate > 0 and rate * options.duration < 1.0 - 1e-9:
         # one sample, the start: its summary's end would be its start, its exports one frame
+        least = f"{1.0 / options.duration:.3g}"
         raise UsageError(
-            f"--record-rate {rate:g}Hz records only the start of a {options.duration:g}s run; "
-            f"give --record-rate {1.0 / options.duration:.3g}Hz or more, or 0 to record every step"
+            f"{say('record_rate', rate, 'Hz')} records only the start of a "
+            f"{options.duration:g}{'s' if cli else ' s'} run; give {given_as('record_rate', least, cli, 'Hz')} or "
+            f"more{' (Hz)' * api}, or 0 to record every step"
         )
-    check_fall_tilt(options.fall_tilt)
+    check_fall_tilt(options.fall_tilt, cli)
     if options.integrator not in ("euler", "rk4"):
-        raise UsageError(f"--integrator {options.integrator!r}: use euler or rk4")
+        use = "euler or rk4" if cli else "integrator='euler' or integrator='rk4'"
+        raise UsageError(f"{given_as('integrator', repr(options.integrator), cli)}: use {use}")
     # the controller runs on steps: once a step at most (a shorter interval ran every step)
     if options.control_dt < options.dt * (1.0 - 1e-9):
         raise UsageError(
-            f"--control-dt {options.control_dt:g}s is shorter than the integration step "
-            f"(--dt {options.dt:g}s), and the controller runs at most once a step; give "
-            f"--control-dt {options.dt:g}s or more, or a --dt of {options.control_dt:g}s or less"
+            f"{say('control_dt', options.control_dt, 's')} is shorter than the integration "
+            f"step ({say('dt', options.dt, 's')}), and the controller runs at most once a step; "
+            f"give {say('control_dt', options.dt, 's')} or more, or a {dt}{of}"
+            f"{options.control_dt:g}{'s' * cli} or less"
         )
 
 
-def _check_step_counts(options: RunOptions, flags: bool) -> None:
+def _check_step_counts(options: RunOptions, flags: bool, cli: bool = True) -> None:
     """A step so small that its square is 0 (the stiffness check divides by it), or a run or
-    control interval of more steps than ``MOST_STEPS``: refused."""
+    control interval of more steps than ``MOST_STEPS``: refused (named as flags if ``cli``)."""
     dt = options.dt
-    step = "--dt" if flags else "dt"
+    step = "--dt" if flags and cli else "dt"
     if not dt * dt > 0:
         raise UsageError(
-            f"--dt {dt:g}s is too small to compute with (its square is 0 in doubles); give "
-            f"--dt {COMPUTABLE_STEP:g}s or more (below {SMALLEST_STEP:g}s, a second of motion is more "
-            "than a billion steps)"
+            f"{given_as('dt', f'{dt:g}', cli, 's')} is too small to compute with (its square is "
+            f"0 in doubles); give {given_as('dt', f'{COMPUTABLE_STEP:g}', cli, 's')} or more "
+            f"(below {SMALLEST_STEP:g}s, a second of motion is more than a billion steps)"
         )
-    for flag, seconds in (("--time", options.duration), ("--control-dt", options.control_dt)):
+    for field, seconds in (("duration", options.duration), ("control_dt", options.control_dt)):
         if seconds / dt > MOST_STEPS:
+            where = where_step(flags=flags)
+            if not cli:
+                where = where.replace("(--dt, or dt in", "(dt=, or dt in")
             raise UsageError(
-                f"{flag} {seconds:g}s is {seconds / dt:.3g} steps of {step} {dt:g}s, more than a "
-                f"run can count ({MOST_STEPS:.3g}); give {flag} {MOST_STEPS * dt:.3g}s or less, "
-                f"or a longer step {where_step(flags=flags)}"
+                f"{given_as(field, f'{seconds:g}', cli, 's')} is {seconds / dt:.3g} steps of "
+                f"{step} {dt:g}s, more than a run can count ({MOST_STEPS:.3g}); give "
+                f"{given_as(field, f'{MOST_STEPS * dt:.3g}', cli, 's')} or less, "
+                f"or a longer step {where}"
             )
 
 
@@ -268,9 +306,9 @@ def notes_before_run(
     options named as ``legdsl run``'s flags if ``flags``, else as the API's arguments."""
     from legdsl.pipeline.scenes import too_late
 
-    check_run_options(options)
+    check_run_options(options, api=not flags)
     said = [fall_note(options, model, flags), recording_note(options, model, flags)]
-    return [*too_late(settings, options, sources), *(note for note in said if note)]
+    return [*too_late(settings, options, sources, flags), *(note for note in said if note)]
 
 
 def recording_note(options: RunOptions, model: Model, flags: bool = True) -> str | None:

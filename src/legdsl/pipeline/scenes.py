@@ -46,13 +46,17 @@ def parse_switch(text: str, model: Model) -> Switch:
 
 
 def too_late(
-    settings: Sequence[str], options: RunOptions, sources: Mapping[str, str] | None = None
+    settings: Sequence[str],
+    options: RunOptions,
+    sources: Mapping[str, str] | None = None,
+    flags: bool = True,
 ) -> list[str]:
     """The input changes (``--set NAME=V@T``, a scene's ``at T set``) that come after the
     run's end, or after its last control tick (which reads them): notes for the user, since
     they will not happen (a switch that never took over is told after the run, which knows
     whether it waited for a liftoff). ``sources`` names a scene's lines as written
-    (``scene_sources``), not as the ``--set`` they stand for."""
+    (``scene_sources``), not as the ``--set`` they stand for; unless ``flags``, in the API's
+    words (``set={'speed@5s': '1m/s'}``, ``time=``)."""
     duration, last = options.duration, last_tick(options)
     notes = []
     sources = sources or {}
@@ -60,18 +64,26 @@ def too_late(
         with contextlib.suppress(UsageError):  # a mistake in it is reported by the run
             given = parse_given(text.rpartition("@")[2], text)
             check_dimension(text, "", given, _TIME, "@{}")
-            said = sources.get(text, f"--set {text}")
+            said = sources.get(text, f"--set {text}" if flags else _set_written(text))
+            longer = "give a longer --time" if flags else "give a longer time="
             if given.value > duration:
                 notes.append(
                     f"{said} comes after the run's end ({duration:g} s) and has no effect; "
-                    "give a longer --time to see it"
+                    f"{longer} to see it"
                 )
             elif given.value > last + 1e-12:  # as the machine reads a change (machine.py)
                 notes.append(
                     f"{said} comes after the controller's last tick ({last:.4g} s of the "
-                    f"{duration:g} s run) and has no effect; give a longer --time to see it"
+                    f"{duration:g} s run) and has no effect; {longer} to see it"
                 )
     return notes
+
+
+def _set_written(text: str) -> str:
+    """``speed=1m/s@5s`` as the API's ``set={'speed@5s': '1m/s'}``."""
+    name, _, rest = text.partition("=")
+    value, _, when = rest.rpartition("@")
+    return f"set={{{f'{name}@{when}'!r}: {value!r}}}"
 
 
 def scene_texts(scene: Scene) -> tuple[list[str], list[str]]:
