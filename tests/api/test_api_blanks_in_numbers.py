@@ -50,3 +50,20 @@ def test_blanks_between_number_and_unit_are_read(tmp_path: Path) -> None:
     for kw in ({"start": "0 1 s"}, {"min_stance": "2 0 ms"}):
         with pytest.raises(UsageError, match=BLANKS):
             run.metrics(**kw)
+
+
+def test_a_switch_time_with_blanks_in_its_number_is_refused(tmp_path: Path) -> None:
+    """switch={'0.1 0 s': ...} ran the switch at 0.10 s (run_options dropped the blanks)."""
+    creature = legdsl.load(str(HOPPER), generated=str(tmp_path / "generated"))
+    with pytest.raises(UsageError, match=rf"^run\(\): switch=\{{'0.1 0 s': ...\}}: {BLANKS}"):
+        creature.run(controller="hop", switch={"0.1 0 s": "hop"}, time=0.3)
+
+
+def test_a_time_option_of_the_commands_with_blanks_in_its_number_is_refused() -> None:
+    """read_seconds (legdsl metrics --min-stance, a sweep's times) dropped the blanks too:
+    '1 0 ms' read as 10 ms."""
+    from legdsl.pipeline.options import read_seconds
+
+    assert read_seconds("--min-stance", " 500 ms ") == 0.5
+    with pytest.raises(UsageError, match=rf"^--min-stance '1 0 ms': {BLANKS}; .* '10 ms'$"):
+        read_seconds("--min-stance", "1 0 ms")

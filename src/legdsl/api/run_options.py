@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.api.arguments import a_float, seconds, setting_text, with_units
+from legdsl.api.arguments import a_float, one_text, seconds, setting_text, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
@@ -158,7 +158,9 @@ def _a_time(key: object) -> bool:
 
 def _seconds_text(when: str | float) -> str:
     """A switch's time as ``--switch`` takes it: ``"6 s"`` -> ``6s``, ``0.5`` -> ``0.5s``."""
-    return when.replace(" ", "") if isinstance(when, str) else f"{float(when)!r}s"
+    if isinstance(when, str):  # blanks inside its number refused ('0.1 0 s' ran at 0.10 s)
+        return one_text(f"run(): switch={{{when!r}: ...}}", when, "switch={{'{}': ...}}")
+    return f"{float(when)!r}s"
 
 
 def many_plans(session: Any, runs: list[Mapping[str, Any]]) -> list[dict[str, Any]]:

@@ -14,6 +14,7 @@ import contextlib
 import math
 import numbers
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Mapping
@@ -111,7 +112,12 @@ def read_numeric(flag: str, text: str, spec: Numeric) -> float:
 
 def read_seconds(flag: str, text: str, least: str = "positive") -> float:
     """A time written as text, as ``legdsl run``'s options take it (``2s``, ``500 ms``; a
-    bare number is seconds), in seconds; a mistake raises ``UsageError`` naming ``flag``."""
+    bare number is seconds), in seconds; a mistake raises ``UsageError`` naming ``flag``. Blanks
+    inside the number are refused: they were dropped, and ``--min-stance '1 0 ms'`` read 10 ms."""
+    if re.search(r"[\d.]\s+[\d.]", text):
+        joined = re.sub(r"(?<=[\d.])\s+(?=[\d.])", "", text.strip())
+        raise UsageError(f"{flag} {text!r}: a number is written without blanks inside it; write "
+                         f"its digits together, then its unit, e.g. {flag} {joined!r}")  # fmt: skip
     return read_numeric(flag, text.replace(" ", ""), Numeric("time", "s", least))
 
 
