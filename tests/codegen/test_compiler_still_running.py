@@ -7,6 +7,7 @@ from __future__ import annotations
 import io
 import re
 import signal
+import subprocess
 import sys
 from pathlib import Path
 
@@ -85,3 +86,31 @@ def test_a_second_signal_before_the_simulation_says_no_directory_is_finished(
     interrupts.started = True  # a stopped simulation's run is written: that one is finished
     interrupts(signal.SIGTERM, None)
     assert f"finishing {tmp_path / 'runs'}/ first" in capsys.readouterr().err
+
+
+class _EndedAsItWasWaitedFor:
+    """A compiler whose wait timed out and which ended before it was asked whether it runs."""
+
+    def __init__(self) -> None:
+        self.waits = 0
+
+    def communicate(self, timeout: float | None = None) -> tuple[str, str]:
+        self.waits += 1
+        if self.waits == 1:
+            raise subprocess.TimeoutExpired("cc", timeout or 0.0)
+        return "", ""
+
+    def poll(self) -> int:
+        return 0
+
+
+def test_no_note_names_no_unit_when_the_compiler_ended_meanwhile(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """CI under load: 'has run 3 s on  (if it hangs ...' named no unit, the one waited for
+    having ended between its wait's timeout and the question which still run."""
+    monkeypatch.setattr(build, "PATIENCE", (0.0, 1.0))
+    told: list[str] = []
+    process = _EndedAsItWasWaitedFor()
+    said = build._outputs([process], ["dynamics.c"], "hopper", told.append)  # type: ignore[list-item]
+    assert said == [""] and told == [] and process.waits == 2

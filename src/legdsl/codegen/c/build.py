@@ -349,8 +349,9 @@ def _outputs(
                 assert waiting is not None
                 running = [u for u, p in zip(units, started, strict=False) if p.poll() is None]
                 seconds = time.monotonic() - start
-                waiting(f"{STILL} the C library of {who} has run {seconds:.0f} s on "
-                        f"{', '.join(running)} (if it hangs, stop it and set LEGDSL_CC to another compiler)")  # fmt: skip
+                if running:  # else the one waited for ended since: 'has run 3 s on  (if ...'
+                    waiting(f"{STILL} the C library of {who} has run {seconds:.0f} s on "
+                            f"{', '.join(running)} (if it hangs, stop it and set LEGDSL_CC to another compiler)")  # fmt: skip
                 note += PATIENCE[1]
     return said
 
