@@ -245,9 +245,7 @@ def _check_step_counts(options: RunOptions, flags: bool, cli: bool = True) -> No
         )
     for field, seconds in (("duration", options.duration), ("control_dt", options.control_dt)):
         if seconds / dt > MOST_STEPS:
-            where = where_step(flags=flags)
-            if not cli:
-                where = where.replace("(--dt, or dt in", "(dt=, or dt in")
+            where = where_step(flags=flags, step="--dt" if cli else "dt=")
             raise UsageError(
                 f"{given_as(field, f'{seconds:g}', cli, 's')} is {seconds / dt:.3g} steps of "
                 f"{step} {dt:g}s, more than a run can count ({MOST_STEPS:.3g}); give "

@@ -158,15 +158,15 @@ def smaller_step(dt_limit: float, scale: float = 1.0, flags: bool = True) -> str
     return f"a step below {told} ms {where}"
 
 
-def where_step(model: str = "", scale: float = 1.0, flags: bool = True) -> str:
-    """Where a step is given: ``--dt`` (the scaled creature's in a ``--scale`` run) or the
-    file's block, where the step is the model's, ``model`` ('below 0.5 ms'); without
-    ``flags``, the file's block alone (a sweep or a tune has no --scale either)."""
+def where_step(model: str = "", scale: float = 1.0, flags: bool = True, step: str = "--dt") -> str:
+    """Where a step is given: ``step`` (``--dt``, or the API's ``dt=``; the scaled creature's
+    in a ``--scale`` run) or the file's block, where the step is the model's, ``model`` ('below
+    0.5 ms'); without ``flags``, the file's block alone (a sweep or a tune has no --scale)."""
     if not flags:
         return "(dt in the file's simulation block; a sweep or a tune has no --dt)"
     if scale == 1.0:
-        return "(--dt, or dt in the simulation block)"
-    return f"(--dt; the file's simulation block is the unscaled creature's: dt {model} there)"
+        return f"({step}, or dt in the simulation block)"
+    return f"({step}; the file's simulation block is the unscaled creature's: dt {model} there)"
 
 
 def below(x: float) -> str:
