@@ -15,13 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.api.arguments import a_float, one_text, seconds, setting_text, with_units
+from legdsl.api.arguments import a_float, seconds, setting_text, with_units
 from legdsl.check.values import did_you_mean
 from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import bare_number
 from legdsl.pipeline.options import OFF_VALUES, RUN_NUMERIC, check_run_options, is_off
 from legdsl.pipeline.settings import refuse_repeated
+from legdsl.pipeline.text_numbers import one_text
 from legdsl.sim.run_loop import RunOptions
 
 RUN_EXAMPLES = {"dt": "0.4 ms", "control_dt": "2 ms", "record_rate": "200 Hz",

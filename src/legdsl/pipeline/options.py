@@ -14,7 +14,6 @@ import contextlib
 import math
 import numbers
 import os
-import re
 import sys
 import tempfile
 from collections.abc import Mapping
@@ -29,6 +28,7 @@ from legdsl.lang.units import KINDS, UNITS, a_kind
 from legdsl.pipeline.outputs import not_standard_output
 from legdsl.pipeline.settings import parse_given
 from legdsl.pipeline.suggested_values import written
+from legdsl.pipeline.text_numbers import one_text
 from legdsl.sim.recorder import address_space_left, recording_budget, sample_bytes
 from legdsl.sim.run_loop import FALL_OFF, INITIAL_ROWS, RunOptions, run_samples
 from legdsl.sim.stability import where_step
@@ -114,11 +114,8 @@ def read_seconds(flag: str, text: str, least: str = "positive") -> float:
     """A time written as text, as ``legdsl run``'s options take it (``2s``, ``500 ms``; a
     bare number is seconds), in seconds; a mistake raises ``UsageError`` naming ``flag``. Blanks
     inside the number are refused: they were dropped, and ``--min-stance '1 0 ms'`` read 10 ms."""
-    if re.search(r"[\d.]\s+[\d.]", text):
-        joined = re.sub(r"(?<=[\d.])\s+(?=[\d.])", "", text.strip())
-        raise UsageError(f"{flag} {text!r}: a number is written without blanks inside it; write "
-                         f"its digits together, then its unit, e.g. {flag} {joined!r}")  # fmt: skip
-    return read_numeric(flag, text.replace(" ", ""), Numeric("time", "s", least))
+    compact = one_text(f"{flag} {text!r}", text, f"{flag} '{{}}'")
+    return read_numeric(flag, compact.replace(" ", ""), Numeric("time", "s", least))
 
 
 def _real(value: object) -> bool:
