@@ -145,6 +145,26 @@ def test_sigterm_unwinds_a_reader_as_ctrl_c_does() -> None:
     assert signal.getsignal(signal.SIGTERM) == before
 
 
+def test_a_second_sigterm_does_not_cut_the_unwinding_short() -> None:
+    """SIGTERM held down: a second one raised again wherever the first's unwinding was, once
+    as the context began to exit, which left its handlers installed and a traceback after
+    "legdsl: terminated" (CI under load). Only the first is obeyed."""
+    from legdsl.cli.process import sigterm_unwinds
+    from legdsl.sim.run_loop import Interrupted
+
+    before = signal.getsignal(signal.SIGTERM)
+    unwound = []
+    with pytest.raises(Interrupted), sigterm_unwinds():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(5)  # the handler raises before this ends
+        finally:
+            os.kill(os.getpid(), signal.SIGTERM)  # lands at the next bytecode
+            unwound.extend(range(3))
+    assert unwound == [0, 1, 2]
+    assert signal.getsignal(signal.SIGTERM) == before
+
+
 def test_an_interrupted_video_leaves_no_file_and_no_ffmpeg(tmp_path: Path) -> None:
     """Ctrl-C between frames: ffmpeg is killed, not left to finish (with +faststart it wrote
     the file again by name after atomic_path had removed it: a hidden leftover)."""

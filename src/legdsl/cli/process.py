@@ -222,10 +222,20 @@ def term_unwinds(command: str) -> contextlib.AbstractContextManager[None]:
 
 @contextlib.contextmanager
 def sigterm_unwinds() -> Iterator[None]:
+    """An ending signal raises ``Interrupted``, once: the command is unwinding to its end then,
+    and another (SIGTERM held down) is not obeyed. Raised again, it could land as the context
+    began to exit, before the handlers went back, and leave them installed in a generator
+    left for the collector ("Exception ignored in: <generator object sigterm_unwinds>", a
+    traceback after "legdsl: terminated"; CI under load)."""
     from legdsl.sim.run_loop import Interrupted
 
+    unwinding = False
+
     def unwind(signum: int, frame: Any) -> None:
-        raise Interrupted(signal.Signals(signum).name)
+        nonlocal unwinding
+        if not unwinding:
+            unwinding = True
+            raise Interrupted(signal.Signals(signum).name)
 
     with handled(ENDING_SIGNALS, unwind):
         yield
