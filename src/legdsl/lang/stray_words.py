@@ -22,7 +22,7 @@ from legdsl.lang.expression_slips import NUMBER
 from legdsl.lang.spellings import mask, offset_span
 from legdsl.lang.unit_words import called, prop_runs
 from legdsl.lang.units import UnitError, looks_like_unit, parse_unit, unit_pattern
-from legdsl.lang.value_slips import hex_color_comment
+from legdsl.lang.value_slips import hex_color_at, hex_color_comment
 
 Found = tuple[int, int, str]
 
@@ -143,6 +143,9 @@ def _why(text: str, masked: str, start: int, word: str, key: str | None) -> Foun
     called = _unit_after_call(masked, before, word)
     if called is not None:
         return start, len(word), called
+    color = hex_color_at(text, start)  # 'color #ff0000 }': the '#' starts a comment
+    if color is not None:
+        return color
     if text[end : end + 1] == "#":
         written = re.match(r"\S*", text[start:])
         assert written is not None

@@ -15,7 +15,7 @@ from lark.exceptions import UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from legdsl.lang.context import innermost
 from legdsl.lang.lalr import lark_parser
 from legdsl.lang.stray_words import alone_on_its_line
-from legdsl.lang.value_slips import hex_color_comment
+from legdsl.lang.value_slips import hex_color_at
 
 Found = tuple[int, int, str]
 
@@ -49,7 +49,7 @@ def _open_brace_before(masked: str, pos: int) -> int | None:
     return None
 
 
-_COLOR_THEN_BRACE = re.compile(r"(?<![\w\"])\w+[ \t]+#[0-9A-Fa-f]{3,8}(?!\w)[^\n]*\}")
+_COLOR_THEN_BRACE = re.compile(r"(?<![\w\"])(?:\w+)?[ \t]+#[0-9A-Fa-f]{3,8}(?![\w#])[^\n]*\}")
 
 
 def _color_took_brace(text: str, masked: str, pos: int) -> Found | None:
@@ -57,17 +57,12 @@ def _color_took_brace(text: str, masked: str, pos: int) -> Found | None:
     is still open where the parse fails, a line or more later (the last such before ``pos``)."""
     for found in reversed(list(_COLOR_THEN_BRACE.finditer(text, 0, pos))):
         hash_at = text.index("#", found.start())
-        if masked[hash_at] != " " or masked[found.start()] == " ":
+        first = len(text[:hash_at].rstrip(" \t")) - 1  # the key's last letter, or the value's
+        if masked[hash_at] != " " or first < 0 or not masked[first].strip():
             continue  # the '#' in a string, or the whole of it in a comment
-        color = re.match(r"\w+[ \t]+#[0-9A-Fa-f]{3,8}", text[found.start() :])
-        told = hex_color_comment(color.group()) if color is not None else None
+        told = hex_color_at(text, found.start())
         if told is not None:
-            return (
-                found.start() + told[0],
-                told[1],
-                f"{told[2]}; the '}}' after it was read as part of the comment, so its block "
-                "stayed open",
-            )
+            return told
     return None
 
 

@@ -171,6 +171,45 @@ def hex_color_comment(line: str) -> Found | None:
     )
 
 
+# a '#' colour and the word before it, on one line: 'color #b07040 }', 'kg*m^2 #ff0000 }'
+_COLOR_AFTER = re.compile(r"(?<![\w\"])(\w+)?[ \t]+(#[0-9A-Fa-f]{3,8})(?![\w#])")
+
+
+def hex_color_at(text: str, start: int) -> Found | None:
+    """A '#' colour written after the word at ``start`` (from the whitespace before it, when
+    no word): '#' starts a comment. The word is named as the colour's key when it is one
+    ('color #b07040'), not when it ends a value ('2' of 'kg*m^2', 'kg' of '1 kg', ')'). When
+    a '}' follows on the line, the comment took it and its block stayed open. (offset in
+    ``text``, length, sentence)"""
+    line_end = text.find("\n", start)
+    line_end = len(text) if line_end < 0 else line_end
+    found = _COLOR_AFTER.match(text, start, line_end)
+    if found is None:
+        return None
+    key, color, at = found.group(1), found.group(2), found.start(2)
+    before = text[text.rfind("\n", 0, start) + 1 : start].rstrip(" \t")
+    ends_value = False  # the word is the unit of the value before it: '1 kg', '(0, 1) m'
+    if key is not None and re.search(r"(?:(?<![\w.^*/])[\d.]+(?:[eE][-+]?\d+)?|\))$", before):
+        try:
+            parse_unit(key)
+            ends_value = True
+        except UnitError:
+            pass
+    if key is not None and re.fullmatch(r"[A-Za-z_]\w*", key) and not ends_value:
+        told = (
+            f"'#' starts a comment, so the {key} was read as one: write it in quotes, "
+            f"'{key} \"{color}\"'"
+        )
+    else:
+        told = (
+            f"'#' starts a comment, so '{color}' was read as one: a color is a property of "
+            f"its own, written in quotes, as in 'color \"{color}\"'"
+        )
+    if "}" in text[at:line_end]:
+        told += "; the '}' after it was read as part of the comment, so its block stayed open"
+    return at, len(color), told
+
+
 def hex_color_line_before(text: str, pos: int) -> Found | None:
     """A 'color #b07040' line right before ``pos``'s line (blank lines aside), whose key took
     the first word of ``pos``'s line: the parse failed because of it."""
