@@ -117,3 +117,42 @@ def test_a_speed_still_rising_toward_the_command_is_told_to_run_longer() -> None
     for speed in (np.full(n, 2.86) + wobble, 2.5 - 0.2 * t + wobble):  # flat, or drifting away
         (note,) = run_notes(_run(speed, np.full(n, 5.0), states))
         assert "did not follow this command" in note and "still" not in note
+
+
+def test_a_turn_the_controller_does_not_follow_is_told_even_when_it_falls(generated: Path) -> None:
+    """The quadruped's bound accepted turn_rate=17.2deg/s, turned the other way and fell at
+    5.466 s with no word on the turn; the trot switching to the bound spun at 70 deg/s with a
+    note on the speed only. Both are told now; a trot that turns as asked is told nothing."""
+    log = io.StringIO()
+    session = RunSession.from_file(CREATURES / "quadruped.leg", generated=generated, log=log)
+    turn = ["speed=2.8m/s", "turn_rate=17.2deg/s"]
+    fell = session.run("bound", turn, options=RunOptions(duration=10.0), backend="c")
+    assert fell.status == "fell"
+    told = log.getvalue()
+    assert "the turn_rate command was 17.20 deg/s and the heading turned at -19" in told
+    assert "(from 3 s to the fall), the other way" in told
+    log.truncate(0)
+    trot = session.run("trot", ["speed=2m/s", "turn_rate=17.2deg/s"], options=RunOptions(duration=8.0), backend="c")  # fmt: skip
+    assert trot.status == "ok" and "turn_rate" not in log.getvalue()
+
+
+def test_the_turn_note_wants_a_clear_miss_and_no_path() -> None:
+    """Measured against the turn_rate of the controller running at the end, from SETTLE after
+    its inputs last changed; none where a path steers it, or where it has no turn_rate."""
+
+    def machine(rate: float, paths: tuple = ()) -> SimpleNamespace:
+        return SimpleNamespace(input_names=("speed", "turn_rate"), inputs=[1.0, rate],
+                               paths=list(paths), _history=[(0.0, [1.0, rate])])  # fmt: skip
+
+    def run(yaw_rate: float, m: SimpleNamespace) -> object:
+        r = _run(np.ones(800), np.full(800, np.nan), [], machine=m, scale=None)
+        r.result.trajectory.root_rpy[:, 2] = np.angle(np.exp(1j * yaw_rate * r.result.trajectory.t))
+        return r
+
+    assert run_notes(run(0.31, machine(0.3))) == []
+    spun = run_notes(run(1.2, machine(0.3)))
+    assert len(spun) == 1 and "the turn_rate command was 17.19 deg/s" in spun[0]
+    assert "heading turned at 68.75 deg/s (from 3 s to the end)" in spun[0]
+    assert "the other way" in run_notes(run(-0.3, machine(0.3)))[0]
+    assert run_notes(run(0.03, machine(0.0))) == []  # within TURN_MARGIN of 0
+    assert run_notes(run(1.2, machine(0.3, (SimpleNamespace(shape="circle"),)))) == []

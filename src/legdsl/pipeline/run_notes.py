@@ -17,13 +17,20 @@ events and its trajectory), whatever the creature:
   line fitted to the window rises toward it by more than ``SPEED_MARGIN`` and a quarter of the
   miss: a kangaroo 3 s into a hop from standing), the note says so and to run longer, not that
   the controller did not follow;
+* **turn**: where the controller running at the end has a ``turn_rate`` input and follows no
+  path, the heading rate (a straight line fitted to the trunk's yaw, unwrapped) from ``SETTLE``
+  after the last change of its inputs or of the controller to the end (a window of
+  ``SHORTEST`` or more) differs from the commanded ``turn_rate`` by more than ``TURN_SHARE``
+  of it and more than ``TURN_MARGIN`` (a gait that spins, or turns the other way). This one
+  is told on a run that fell too, measured to the fall: a controller that cannot turn may
+  fall for it (the quadruped's bound: docs/quadruped.md, "Turning");
 * **path**: a path the run followed, its lateral deviation RMS (its path report's, from the
   report's start) more than ``PATH_MARGIN`` or half the path's spread, whichever is less (the
   report's ``note``: ``legdsl.analysis.path_report.off_path_limit``).
 
-The times, ``SPEED_MARGIN`` and ``PATH_MARGIN`` (the path report's) are for a creature standing 0.81 m, and follow
-the run's size (its ``time_unit``, √(height / 0.81 m): a speed scales as a time does, a length
-as its square, Table 1).
+The times, ``SPEED_MARGIN``, ``TURN_MARGIN`` and ``PATH_MARGIN`` (the path report's) are for a
+creature standing 0.81 m, and follow the run's size (its ``time_unit``, √(height / 0.81 m): a
+speed scales as a time does, a rate as its inverse, a length as its square, Table 1).
 """
 
 from __future__ import annotations
@@ -32,23 +39,32 @@ from typing import Any
 
 import numpy as np
 
-from legdsl.analysis.segments import segment_report
+from legdsl.analysis.segments import SETTLE, SHORTEST, segment_report
+from legdsl.analysis.strides import EPS_T
+from legdsl.lang.scaling import factor
+from legdsl.lang.units import KINDS
+from legdsl.sim.switching import running_at_end
 
 STUCK = 2.0  # s: a gait's states last tenths of a second; a state held this long is waiting
 STUCK_SHARE = 0.25  # ... and for this share of the run or more (a short run is told nothing)
 SPEED_SHARE = 0.25  # the measured speed off the command by more than this share of it
 SPEED_MARGIN = 0.5  # m/s, and by more than this (a command of 0 has no share)
+TURN_SHARE = 0.25  # the measured heading rate off the command by more than this share of it
+TURN_MARGIN = 3.0  # deg/s, and by more than this (the shipped gaits that turn: within 1)
 
 
 def run_notes(run: Any) -> list[str]:
     """The notes on ``run`` (a ``legdsl.pipeline.session.Run``), none unless it ended ``ok``."""
     result = run.result
-    if result.status != "ok" or not len(result.trajectory):
+    if result.status not in ("ok", "fell") or not len(result.trajectory):
         return []
     unit = float(run.time_unit or 1.0)
+    if result.status == "fell":
+        return [n for n in [_off_turn(run, unit)] if n]
     notes = [
         _stuck(run, unit),
         _off_speed(run, unit),
+        _off_turn(run, unit),
         *(_off_path(r, unit) for r in run.path_reports),
     ]
     return [n for n in notes if n]
@@ -122,6 +138,46 @@ def _off_speed(run: Any, unit: float) -> str:
     return (
         f"{told}: the run is ok only in not having fallen; the controller did not follow this "
         "command (try another command, or another controller)"
+    )
+
+
+def _off_turn(run: Any, unit: float) -> str:
+    """The turn note: the heading rate measured against the ``turn_rate`` commanded."""
+    if getattr(run, "machine", None) is None:
+        return ""
+    machine, since = running_at_end(run.machine)
+    if "turn_rate" not in machine.input_names or any(p.shape != "none" for p in machine.paths):
+        return ""  # no turn command, or a path steers it (the path note tells that)
+    asked = machine.inputs[machine.input_names.index("turn_rate")]
+    if run.scale is not None:  # the machine ran the file's creature: into the scaled one's
+        asked *= factor(KINDS["angular velocity"][0], run.scale)
+        since *= factor(KINDS["time"][0], run.scale)
+    tr, end = run.result.trajectory, run.result.sim_time
+    start = since + SETTLE * unit
+    window = (tr.t >= start - EPS_T) & (tr.t < end - EPS_T)
+    t = np.asarray(tr.t[window], dtype=float)
+    if end - start < SHORTEST * unit - EPS_T or len(t) < 3 or t[-1] <= t[0]:
+        return ""
+    yaw = np.unwrap(np.asarray(tr.root_rpy[window, 2], dtype=float))
+    rate = float(np.polyfit(t - t[0], yaw, 1)[0])
+    off = abs(rate - asked)
+    if not np.isfinite(rate) or off <= TURN_SHARE * abs(asked):
+        return ""
+    if off <= np.radians(TURN_MARGIN) / unit:
+        return ""
+    way = (
+        ", the other way" if rate * asked < 0 and abs(rate) > np.radians(TURN_MARGIN) / unit else ""
+    )
+    ended = "the fall" if run.result.status == "fell" else "the end"
+    told = (
+        f"the turn_rate command was {_speed(np.degrees(asked))} deg/s and the heading turned at "
+        f"{_speed(np.degrees(rate))} deg/s (from {start:g} s to {ended}){way}"
+    )
+    if run.result.status == "fell":
+        return f"{told}: this controller did not follow the turn command before it fell"
+    return (
+        f"{told}: the run is ok only in not having fallen; the controller did not follow this "
+        "command (try another turn_rate, or another controller)"
     )
 
 

@@ -430,3 +430,10 @@ class SwitchingMachine:
             for p in machine.paths:
                 seen.setdefault(p.name, p)
         return list(seen.values())
+
+
+def running_at_end(machine: StateMachine | SwitchingMachine) -> tuple[StateMachine, float]:
+    """The machine that drives a run at its end, and when its inputs last changed: its
+    takeover or its start, or a command given after it (``--set NAME=V@T``)."""
+    last = machine.current if isinstance(machine, SwitchingMachine) else machine
+    return last, last._history[-1][0]
