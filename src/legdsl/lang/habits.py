@@ -21,6 +21,7 @@ from lark import Token
 from legdsl.lang.context import in_expression, in_parentheses, innermost, opening
 from legdsl.lang.expression_slips import LAST_NAME, expression_slip
 from legdsl.lang.expression_slips import NUMBER as _NUMBER
+from legdsl.lang.keyword_slips import misspelt_keyword_message, stem
 from legdsl.lang.lookalikes import lookalike
 from legdsl.lang.spellings import mask
 from legdsl.lang.stray_words import stray_word
@@ -384,12 +385,9 @@ def _keyword(text: str, masked: str, pos: int, kind: str) -> Found | None:
             right = _OTHER_KEYWORDS[word]
         else:
             close = difflib.get_close_matches(word, _KEYWORDS, n=1, cutoff=0.8)
+            close = close or [k for k in _KEYWORDS if k == stem(word)]  # 'Body', 'bodies'
             if not close:
                 continue
             right = close[0]
-        return (
-            start + m.start(1),
-            len(word),
-            f"'{word}' is not a word of legdsl; did you mean '{right}'?",
-        )
+        return start + m.start(1), len(word), misspelt_keyword_message(word, right)
     return None

@@ -19,6 +19,7 @@ from lark.exceptions import UnexpectedInput
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic, LegError, Span
 from legdsl.lang.file_kinds import refusal
+from legdsl.lang.keyword_slips import misspelt_declaration
 from legdsl.lang.lalr import grammar_dir, lark_parser
 from legdsl.lang.spellings import hidden_line_breaks, other_numbers, read_past_units, unshown_units
 from legdsl.lang.stray_words import stray_key
@@ -393,7 +394,7 @@ def _parsed(text: str, file: str, recover: bool) -> ast.SourceFile:
             continue
         _check_nesting(tree, file, text)
         built = _build(tree, file, text)
-        stray = stray_key(file, read, built)
+        stray = stray_key(file, read, built) or misspelt_declaration(file, built)
         if stray is not None:  # what follows it is misread: the checker's errors would mislead
             raise LegError([*pending, stray], {file: text})
         if (nan := not_a_number_name(built, text)) is not None:  # not 'declare: param inf = ...'
