@@ -9,6 +9,7 @@ that stops the parse is ('actuater hs on hip servo(...)').
 from __future__ import annotations
 
 import difflib
+from collections.abc import Sequence
 
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostic
@@ -64,7 +65,7 @@ def _names_one(prop: ast.Prop) -> bool:
     return isinstance(prop.value, ast.One) and isinstance(prop.value.value, ast.NameValue)
 
 
-def _meant(word: str, keys: set[str], line: list[object]) -> str | None:
+def _meant(word: str, keys: set[str], line: Sequence[object]) -> str | None:
     """The declaration's keyword ``word`` stands for, judged by its spelling and by what
     follows it on its line (``keys``: the properties' and blocks' keys read there)."""
     close = difflib.get_close_matches(stem(word), _DECLARATIONS, n=3, cutoff=0.6)
