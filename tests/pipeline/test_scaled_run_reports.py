@@ -105,7 +105,7 @@ def test_a_scaled_run_keeps_the_path_it_was_given_for_metrics_and_the_top_view(
     assert main(args) == 0
     capsys.readouterr()
     (spec,) = run_paths(out)
-    assert (spec.center, spec.radius, spec.lookahead) == ((0.0, 10.0), 10.0, 1.0)
+    assert (spec.center, spec.radius, spec.lookahead) == ((0.0, 10.0), 10.0, 2.0)  # 1 m x L
     (at_run,) = _run_json(out)["path_reports"]
     _, (measured,) = measure_run(out, t_from=0.5, generated=generated)
     assert measured["length"] == at_run["length"] == pytest.approx(20 * 3.141592653589793)

@@ -17,7 +17,7 @@ counted without wrapping (a closed path's second lap goes on from its length).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 Point = tuple[float, float]
 
@@ -56,6 +56,11 @@ class PathSpec:
     """A checked path: a circle (``center``, ``radius``, ``turn`` +1 left, -1 right) or vertices.
 
     The shape ``none`` is a path declared without one (``path route``): not given.
+    ``lookahead_default`` says the lookahead was not written (a ``--path`` shape or a file of
+    waypoints without one): ``DEFAULT_LOOKAHEAD`` is a default for a creature of about a
+    metre, and for one given to the creature scaled by L (``--scale L``) it is L times that,
+    as the paths ``legdsl scale`` writes (``legdsl.pipeline.scaled.scale_path``). It is how
+    the path was written, not the path: two specs that differ only in it are equal.
     """
 
     name: str
@@ -66,6 +71,7 @@ class PathSpec:
     radius: float = 0.0
     turn: int = 1
     lookahead: float = DEFAULT_LOOKAHEAD
+    lookahead_default: bool = field(default=False, compare=False)
 
     def describe(self) -> str:
         """The path as it could be written in a .leg file (SI units)."""

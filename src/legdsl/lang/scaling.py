@@ -119,6 +119,62 @@ def _quantities(tree: ast.SourceFile) -> list[tuple[ast.Span, Dim, float]]:
     return found
 
 
+def _reached_names(node: Any, out: set[str]) -> None:
+    """The actions invoked and the shared parts included anywhere under ``node``."""
+    if isinstance(node, ast.InvokeStmt):
+        out.add(node.action.name)
+    elif isinstance(node, ast.IncludeDecl):
+        out.update(n.name for n in node.names)
+    if isinstance(node, tuple | list):
+        for item in node:
+            _reached_names(item, out)
+    elif is_dataclass(node) and not isinstance(node, ast.Span | ast.Ident):
+        for f in fields(node):
+            _reached_names(getattr(node, f.name), out)
+
+
+def scaled_text(written: str, dim: Dim, scale: float) -> str | None:
+    """A quantity as written (``1 ms``) scaled by Table 1 in the unit it is written in
+    (``0.1 ms`` at L = 0.01); None for text that does not start with a number."""
+    number = _NUMBER.match(written)
+    if number is None:
+        return None
+    return format_number(float(number[0]) * factor(dim, scale)) + written[number.end() :]
+
+
+def _definitions(tree: ast.SourceFile) -> list[ast.ActionDef | ast.SharedDecl]:
+    return [*tree.actions, *tree.shared]
+
+
+def reached_quantities(
+    tree: ast.SourceFile, used: list[ast.SourceFile]
+) -> list[tuple[str, ast.Span, Dim]]:
+    """The numbers that scaling changes (not 0, with a unit that is not an angle's or none) in
+    the actions and shared parts of the ``used`` files (nearest first) that ``tree``'s
+    creatures, controllers, actions and scenes invoke or include, directly or through them:
+    each with the name of its action or part, its span and its dimension. ``scale_source``
+    does not rewrite them (they are another file's)."""
+    own = {d.name.name for d in _definitions(tree)}
+    defs: dict[str, ast.ActionDef | ast.SharedDecl] = {}
+    for used_tree in used:
+        for d in _definitions(used_tree):
+            defs.setdefault(d.name.name, d)
+    todo: set[str] = set()
+    _reached_names((tree.creatures, tree.controllers, tree.actions, tree.shared, tree.scenes), todo)
+    seen: set[str] = set()
+    found: list[tuple[str, ast.Span, Dim]] = []
+    while todo:
+        name = todo.pop()
+        if name in seen or name in own or name not in defs:
+            continue
+        seen.add(name)
+        _reached_names(defs[name], todo)
+        numbers: list[tuple[ast.Span, Dim, float]] = []
+        _walk(defs[name], None, numbers)
+        found += [(name, span, dim) for span, dim, v in numbers if exponent(dim) and v]
+    return sorted(found, key=lambda f: (f[1].file, f[1].line, f[1].col))
+
+
 def scales_anything(text: str, file: str = "<string>") -> bool:
     """Whether a file holds a number that scaling changes (not 0, with a unit that is not an
     angle's or none): a used file that does is left as written by ``scale_source``."""
@@ -203,6 +259,23 @@ def _simulation_completed(
     return [(line, line, "".join(f"{indent}{m}  # scaled with it\n" for m in missing))]
 
 
+def path_decls(tree: ast.SourceFile) -> list[ast.PathDecl]:
+    """The paths declared in a file's controllers and shared parts."""
+    owners: list[ast.ControllerDecl | ast.SharedDecl] = [*tree.controllers, *tree.shared]
+    return [i for owner in owners for i in owner.items if isinstance(i, ast.PathDecl)]
+
+
+def unwritten_lookahead(scale: float) -> str:
+    """What a scaled file's path without a shape (``path route``) needs of a ``--path``: the
+    default lookahead is for a creature of about a metre, the unscaled one's."""
+    look = format_number(DEFAULT_LOOKAHEAD * scale)
+    return (
+        f"a --path without a lookahead follows {format_number(DEFAULT_LOOKAHEAD)} m ahead, "
+        f"the unscaled creature's default; give it 'lookahead = {look} m' (scaled by "
+        f"{format_number(scale)})"
+    )
+
+
 def scale_source(
     text: str,
     scale: float,
@@ -263,16 +336,20 @@ def scale_source(
             edits.append((end, end, block))
         else:
             edits += _simulation_completed(creature, text, starts, scale)
-    for controller in tree.controllers:
-        for path in (i for i in controller.items if isinstance(i, ast.PathDecl)):
-            call = path.value
-            if isinstance(call, ast.Call) and all(
-                a.keyword is None or a.keyword.name != "lookahead" for a in call.args
-            ):  # the default lookahead is a length too: write it, scaled
-                end = _offset(starts, call.span.end_line, call.span.end_col) - 1
-                assert text[end] == ")"
-                look = format_number(DEFAULT_LOOKAHEAD * scale)
-                edits.append((end, end, f", lookahead = {look} m"))
+    look = format_number(DEFAULT_LOOKAHEAD * scale)
+    for path in path_decls(tree):
+        call = path.value
+        if isinstance(call, ast.Call) and all(
+            a.keyword is None or a.keyword.name != "lookahead" for a in call.args
+        ):  # the default lookahead is a length too: write it, scaled
+            end = _offset(starts, call.span.end_line, call.span.end_col) - 1
+            assert text[end] == ")"
+            edits.append((end, end, f", lookahead = {look} m"))
+        elif path.value is None and scale != 1:  # a --path for it: said beside it
+            end = _offset(starts, path.span.end_line, path.span.end_col)
+            rest = text.find("\n", end)
+            if not text[end : len(text) if rest < 0 else rest].strip():
+                edits.append((end, end, f"  # {unwritten_lookahead(scale)}"))
     # 'for NAME' of a controller or a scene follows the creature's new name
     owners = [*(c.creature for c in tree.controllers), *(s.creature for s in tree.scenes)]
     for owner in owners:

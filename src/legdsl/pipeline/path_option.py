@@ -12,6 +12,7 @@ from pathlib import Path
 from legdsl.check.paths import check_path
 from legdsl.ir.paths import PathSpec
 from legdsl.ir.waypoints import read_waypoints
+from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, LegError, UsageError
 from legdsl.lang.parser import parse_value
 
@@ -31,7 +32,7 @@ def parse_path_option(text: str) -> PathSpec:
         if not file.is_file():
             raise UsageError(f"--path {text}: {_not_a_file(file)}; give a file of 'x,y' lines, "
                              "or a shape, as in --path 'circle(center = (0, 5) m, radius = 5 m)'")  # fmt: skip
-        return read_waypoints(file, name)
+        return replace(read_waypoints(file, name), lookahead_default=True)
     if not shape.strip():
         raise UsageError(
             f"--path {text!r} gives no path: write a shape, as in --path 'circle(center = "
@@ -49,7 +50,10 @@ def parse_path_option(text: str) -> PathSpec:
     spec = check_path(name, value, diag)
     diag.raise_if_any()
     assert spec is not None
-    return spec
+    written = isinstance(value, ast.Call) and any(
+        a.keyword is not None and a.keyword.name == "lookahead" for a in value.args
+    )
+    return replace(spec, lookahead_default=not written)
 
 
 def _not_a_file(file: Path) -> str:

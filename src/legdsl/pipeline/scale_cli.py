@@ -17,7 +17,16 @@ from legdsl.ir.model import Model
 from legdsl.lang import ast
 from legdsl.lang.errors import Diagnostics, LegError, UsageError
 from legdsl.lang.parser import parse, parse_file
-from legdsl.lang.scaling import scale_name, scale_source, scales_anything
+from legdsl.lang.scaling import (
+    DEFAULT_LOOKAHEAD,
+    format_number,
+    path_decls,
+    reached_quantities,
+    scale_name,
+    scale_source,
+    scaled_text,
+    scales_anything,
+)
 from legdsl.pipeline.options import check_output_file
 from legdsl.pipeline.outputs import is_stream, made_note, named_as, new_directory
 from legdsl.pipeline.scaled import scale_factor
@@ -86,7 +95,12 @@ def cmd_scale(args: argparse.Namespace) -> int:
                 f"{'NEW' if len(names) == 1 else f'{old}=NEW'}",
                 file=sys.stderr,
             )
+    if path_decls(tree) and args.by != 1:
+        print(f"legdsl: note: {_lookahead_note(written, args.file, args.by)}", file=sys.stderr)
     users = _users([tree, *(parse(text, path) for path, text in used.items())])
+    library = _library_note(tree, used, written, args.file, args.by)
+    if library is not None:
+        print(f"legdsl: note: {library}", file=sys.stderr)
     for path in _unscaled(used, Path(args.file)):
         user = users[Path(path).resolve()]
         by = "it" if user == Path(args.file).resolve() else _readable(str(user))
@@ -98,6 +112,51 @@ def cmd_scale(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     return 0
+
+
+def _lookahead_note(creatures: str, file: str, scale: float) -> str:
+    """A ``--path`` given to the scaled file without a lookahead gets the default, 1 m, which
+    the scaled file cannot carry (a ``path NAME`` without a shape has no lookahead to scale):
+    said, with the lookahead that follows the original's motion scaled."""
+    by, default = format_number(scale), format_number(DEFAULT_LOOKAHEAD)
+    return (
+        f"a --path given to {creatures} without a lookahead follows {default} m ahead, the "
+        f"default for a creature of about a metre, not scaled; give it 'lookahead = "
+        f"{format_number(DEFAULT_LOOKAHEAD * scale)} m' ({default} m scaled by {by}) to "
+        f"follow it as {file} does "
+        f"with the path scaled down (legdsl run {file} --scale {by} makes that the default)"
+    )
+
+
+def _library_note(
+    tree: ast.SourceFile, used: dict[str, str], creatures: str, file: str, scale: float
+) -> str | None:
+    """The standard library's numbers that scaling would change, in the actions and parts the
+    file reaches (``reached_quantities``): OUT uses them as written, for the unscaled size."""
+    if scale == 1:
+        return None
+    reached = reached_quantities(tree, [parse(text, path) for path, text in used.items()])
+    told = []
+    for name, span, dim in reached:
+        library = stdlib_name(Path(span.file))
+        if library is None:  # a file of the user's own: its note is below
+            continue
+        line = used[span.file].splitlines()[span.line - 1]
+        written = line[span.col - 1 : span.end_col - 1] if span.end_line == span.line else ""
+        scaled = scaled_text(written, dim, scale)
+        if scaled is None:  # a number told by its place alone
+            told.append(f"a number in {name} ({library}:{span.line})")
+        else:
+            told.append(f"{written} in {name} ({library}:{span.line}; scaled, {scaled})")
+    if not told:
+        return None
+    return (
+        f"{creatures} uses numbers of the standard library, which is not scaled: "
+        f"{', '.join(told)}; they stay as written, for the unscaled size, so its run can "
+        "part from the original's run scaled, the more the further L is from 1 "
+        f"(docs/scaling.md, 'Why it parts'); legdsl run {file} --scale {format_number(scale)} "
+        "is the original's run scaled, these numbers included"
+    )
 
 
 def _write(out: Path, text: str) -> None:

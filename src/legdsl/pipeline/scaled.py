@@ -22,7 +22,7 @@ from typing import Any, Literal
 import numpy as np
 
 from legdsl.ir.model import Model, setting_kind
-from legdsl.ir.paths import PathSpec
+from legdsl.ir.paths import DEFAULT_LOOKAHEAD, PathSpec
 from legdsl.ir.scene import Scene
 from legdsl.lang.errors import UsageError
 from legdsl.lang.scaling import factor
@@ -223,7 +223,11 @@ def scale_scene(scene: Scene, model: Model, scale: float) -> Scene:
 
 
 def scale_path(spec: PathSpec, scale: float) -> PathSpec:
-    """A path given for the scaled creature, for the unscaled model (lengths / L)."""
+    """A path given for the scaled creature, for the unscaled model (lengths / L). A lookahead
+    not written is the scaled creature's default, L times ``DEFAULT_LOOKAHEAD`` (as the paths
+    ``legdsl scale`` writes): for the unscaled model the default itself, exactly, so that the
+    run is the original's on the original's path, scaled. The result's lookahead is written
+    (``scale_path(p, 1 / L)`` gives the path as given, its lookahead L m)."""
 
     def point(p: tuple[float, float]) -> tuple[float, float]:
         return (p[0] / scale, p[1] / scale)
@@ -233,7 +237,8 @@ def scale_path(spec: PathSpec, scale: float) -> PathSpec:
         points=tuple(point(p) for p in spec.points),
         center=point(spec.center),
         radius=spec.radius / scale,
-        lookahead=spec.lookahead / scale,
+        lookahead=DEFAULT_LOOKAHEAD if spec.lookahead_default else spec.lookahead / scale,
+        lookahead_default=False,
     )
 
 
