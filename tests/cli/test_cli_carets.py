@@ -111,3 +111,19 @@ def test_a_length_for_a_time_is_advised_in_seconds_first(
     monkeypatch.chdir(tmp_path)
     lines = _told(["run", HOPPER, "--time", "5m"], capsys)
     assert lines[0].endswith("write e.g. --time 5s, or 5ms if the m meant milli"), lines
+
+
+def test_a_switchs_bare_time_has_the_caret_under_the_time() -> None:
+    """``--switch 6=bound`` had its caret under ``bound``, where a --set's value would be."""
+    said = pointed(
+        "--switch 6=bound: the time before '=' is in seconds; give its unit, e.g. --switch 6s=bound",
+        ["run", "f.leg", "--switch", "6=bound"],
+        {"--switch"},
+    )
+    assert said.splitlines()[1:] == ["    --switch 6=bound", "             ^"]
+    said = pointed(
+        "--switch 6.25=bound: the time before '=' is in seconds; give its unit, e.g. --switch 6.25s=bound",
+        ["run", "f.leg", "--switch", "6.25=bound"],
+        {"--switch"},
+    )
+    assert said.splitlines()[2] == "             ^~~~"

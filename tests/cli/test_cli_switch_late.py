@@ -124,3 +124,42 @@ def test_a_scene_switch_that_never_took_over_is_a_note_at_its_line(
         f"legdsl: note: {leg}:{line}:3: 'at 5 s switch hold' of scene late comes after the "
         "run's end (0.2 s) and never took over; give a longer --time to see it"
     ) in err, err
+
+
+def test_a_gait_tables_late_switch_is_named_by_the_line_that_chooses_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A scene's gait table switches where a command's band changes: a late one was told as
+    '--switch 12s=gallop', an option nobody wrote; it is named by the scene's line now."""
+    leg = CREATURES / "quadruped.leg"
+    line = next(i for i, text in enumerate(leg.read_text().splitlines(), 1)
+                if text.strip() == "at 12 s set speed = 4 m/s" and i > 540)  # fmt: skip
+    argv = ["run", str(leg), "--scene", "by_speed", "--time", "0.1", "--backend", "python",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run")]  # fmt: skip
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "--switch 12s=gallop" not in err, err
+    assert (
+        f"legdsl: note: the switch to gallop that the gait table of scene by_speed chooses for "
+        f"{leg}:{line}:3: 'at 12 s set speed' comes after the run's end (0.1 s) and never took "
+        "over"
+    ) in err, err
+
+
+def test_a_switch_back_to_the_running_controller_past_a_superseded_one_says_it_restarts(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The kangaroo hopping, --switch 2.5s=jump still waiting when --switch 2.6s=hop came due:
+    the hop's state machine restarted at 2.62 s, and only the jump's never taking over was
+    said."""
+    _needs_compiler()
+    argv = ["run", str(CREATURES / "kangaroo.leg"), "--controller", "hop", "--time", "3",
+            "--generated", str(GENERATED), "--out", str(tmp_path / "run"), "--backend", "c",
+            "--switch", "2.5s=jump", "--switch", "2.6s=hop"]  # fmt: skip
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert (
+        "came due, and never took over (a switch waits up to 0.643 s): give the later one a "
+        "later time to see both; hop was still running, so --switch 2.6s=hop restarts its "
+        "state machine"
+    ) in err, err

@@ -62,6 +62,9 @@ def _fault(message: str, value: str) -> tuple[int, int] | None:
         number = _NUMBER.match(token)
         return at, number.end() if said.group(1) and number else len(token)
     if "give its unit" in message:  # a bare number: under it, where the unit goes
+        first = _NUMBER.match(value)
+        if not after and first and value[first.end() : first.end() + 1] == "=":
+            return 0, first.end()  # the time before '=' (--switch 6=bound)
         start = after or value.find("=", 0, value.find("@") % (len(value) + 1)) + 1
         bare = _NUMBER.match(value, start)
         return (start, bare.end() - start) if bare else (start, len(value) - start)

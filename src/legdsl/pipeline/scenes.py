@@ -114,6 +114,18 @@ def scene_sources(scene: Scene, written: Scene | None = None) -> dict[str, str]:
         named[f"--switch {text}"] = (
             f"{s.span}: 'at {s.t:g} s switch {s.controller}' of scene {scene.name}{scaled}"
         )
+    # a gait table's switches, by the command of its input that chooses them (scene_plan)
+    bands = dict.fromkeys(b.controller for b in scene.bands)
+    for v, ran in zip((written or scene).values, scene.values, strict=True):
+        if v.at is None or ran.at is None or v.name != scene.band_input:
+            continue
+        scaled = f", at {ran.at:g} s once scaled," if ran.at != v.at else ""
+        for name in bands:
+            named.setdefault(
+                f"--switch {ran.at!r}s={name}",
+                f"the switch to {name} that the gait table of scene {scene.name} chooses for "
+                f"{v.span}: 'at {v.at:g} s set {v.name}'{scaled}",
+            )
     return named
 
 
@@ -290,10 +302,18 @@ def switches_not_made(run: Any, sources: Mapping[str, str] | None = None) -> lis
     if not isinstance(machine, SwitchingMachine):
         return []
     wait = HANDOVER_WAIT * (machine.unit or 1.0)  # for this creature's size
+    restarted = _restarts(machine)
     lines = [
         f"{switch_source(gone, sources)} was still waiting for a liftoff when the switch to "
         f"{by.controller} at {by.t:g} s came due, and never took over (a switch waits up to "
         f"{wait:.3g} s): give the later one a later time to see both"
+        + (
+            f"; {by.controller} was still running, so {switch_source(by, sources)} restarts "
+            f"its state machine (the state that matches the feet down, its 'own' records "
+            "from 0)"
+            if id(by) in restarted
+            else ""
+        )
         for gone, by in machine.superseded
     ]
     over = {id(w) for w in machine.made} | {id(gone) for gone, _ in machine.superseded}
@@ -315,6 +335,18 @@ def switches_not_made(run: Any, sources: Mapping[str, str] | None = None) -> lis
                 "took over; give a longer --time to see it"
             )
     return lines
+
+
+def _restarts(machine: SwitchingMachine) -> set[int]:
+    """The switches that took over from the controller they name (by ``id``): a switch to
+    another one came between them but never took over (``switches_to_the_running`` tells
+    the others, asked for twice in a row, before the run)."""
+    running, out = machine.segments[0]["controller"], set()
+    for w in machine.made:
+        if w.controller == running:
+            out.add(id(w))
+        running = w.controller
+    return out
 
 
 def followed_paths(machine: Any, end: float, scale: float | None = None) -> list[Followed]:
