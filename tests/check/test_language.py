@@ -78,6 +78,25 @@ def test_an_axis_of_huge_components_is_normalised(tmp_path: Path) -> None:
     assert dof.axis == pytest.approx((math.sqrt(0.5), math.sqrt(0.5), 0.0))
 
 
+@pytest.mark.parametrize(
+    ("axis", "expected"),
+    [("(1e-300, 0, 0)", (1.0, 0.0, 0.0)), ("(3e-320, 0, -3e-320)", (0.5**0.5, 0.0, -(0.5**0.5)))],
+)
+def test_an_axis_of_tiny_components_is_a_direction(
+    tmp_path: Path, axis: str, expected: tuple[float, float, float]
+) -> None:
+    """A direction has no length to be too short: '(1e-300, 0, 0)' was refused as of zero
+    length (its norm under 1e-12); scaled by its largest component it is x."""
+    path = tmp_path / "axis.leg"
+    path.write_text(
+        "creature a {\n  spatial\n  body b free { mass 1 kg  inertia (1, 1, 1) kg*m^2 }\n"
+        f"  body c on b via revolute j {{ axis {axis}  mass 1 kg  "
+        "inertia (1, 1, 1) kg*m^2 }\n}\n"
+    )
+    (dof,) = check_model(path).joint("j").dofs
+    assert dof.axis == pytest.approx(expected)
+
+
 def test_a_file_that_is_not_utf8_is_reported_at_the_bad_byte(tmp_path: Path) -> None:
     path = tmp_path / "latin1.leg"
     path.write_bytes(b"creature a {\n  planar # caf\xe9\n}\n")

@@ -53,7 +53,8 @@ class ActuatorChecker(CreaturePart):
         self, decl: ast.ActuatorDecl, dofs: dict[str, Dof], welded: Collection[str] = ()
     ) -> Actuator | None:
         """The actuator ``decl`` on one of ``dofs``; ``welded``: the fixed joints' names."""
-        self.declare(decl.name, "actuator")
+        # a second of one name is checked, but the first is the one the rest sees
+        declared = self.declare(decl.name, "actuator")
         kind = decl.kind.name
         if kind == "torque":
             kind = "force"
@@ -144,6 +145,8 @@ class ActuatorChecker(CreaturePart):
             "servo": ("kp", "kv", "setpoint"),
             "force": ("value",),
         }[kind]
+        if not declared:
+            return None
         return Actuator(
             decl.name.name,
             kind,
@@ -173,7 +176,7 @@ class ActuatorChecker(CreaturePart):
         return None
 
     def contact(self, decl: ast.ContactDecl, bodies: dict[str, Body]) -> Contact | None:
-        self.declare(decl.name, "contact")
+        declared = self.declare(decl.name, "contact")  # else the first is the one seen
         body = bodies.get(decl.body.name)
         if body is None:
             names = list(bodies)
@@ -191,4 +194,4 @@ class ActuatorChecker(CreaturePart):
         point = (
             self.location(decl.at, body, contact=True) if decl.at is not None else (0.0, 0.0, 0.0)
         )
-        return Contact(decl.name.name, body.name, point, decl.span)
+        return Contact(decl.name.name, body.name, point, decl.span) if declared else None

@@ -147,11 +147,13 @@ class LegChecker(CreaturePart):
                 f"(the joints above '{contact_by[foot].body}': {', '.join(reversed(chain)) or 'none'})",
             )
         if leg_joints[0] in chain:
-            own = chain[: chain.index(leg_joints[0]) + 1]  # from the foot up to the hip
             # The listed joints are the whole chain of joints that move, hip first, from the
             # highest one listed on it: a weld moves nothing and is left out (a leg with no
             # joint that moves, a peg welded on, names the weld it hangs from).
             top = max(chain.index(j) for j in leg_joints if j in chain)
+            # from the foot up to the hip, the highest joint listed, whatever the order they
+            # are listed in (told above): 'joints slide, hip' is a leg from 'hip' down
+            own = chain[: top + 1]
             moving = {j.name for j in joints if j.kind != "weld"}
             whole = [j for j in chain[top::-1] if j in moving]
             if [j for j in leg_joints if j in moving or j not in chain] != whole and joints_at:
@@ -193,8 +195,13 @@ class LegChecker(CreaturePart):
             if ident is None:
                 return []
             name = ident.name
-            if name not in contact_by and self.names.get(name, ("",))[0] == "contact":
+            if name not in contact_by and (
+                self.names.get(name, ("",))[0] == "contact" or name in self.refused
+            ):
                 return []  # declared, with its mistake reported there (on an unknown body, say)
+            if name not in contact_by and self.names.get(name, ("",))[0] == "body":
+                self.err(ident.span, _body_as_foot(name, contact_by))
+                return []
             if name not in contact_by:
                 self.err(
                     ident.span,
@@ -263,3 +270,18 @@ def _weld_listed(weld: str, leg: str, whole: list[str]) -> str:
         f"not one of the joints of leg '{leg}' (its joints that move, from the hip: "
         f"{', '.join(whole)}); leave it out: write 'joints {', '.join(whole)}'"
     )
+
+
+def _body_as_foot(body: str, contact_by: dict[str, Contact]) -> str:
+    """A body named as a leg's foot: a foot is a contact, a point on its body."""
+    on = [c.name for c in contact_by.values() if c.body == body]
+    advice = (
+        f"write 'foot {on[0]}', the contact on '{body}'"
+        if len(on) == 1
+        else f"write one of the contacts on '{body}', as in 'foot {on[0]}' (its contacts: "
+        f"{', '.join(on)})"
+        if on
+        else f"declare one, as in 'contact {body}_toe on {body} at tip', and write "
+        f"'foot {body}_toe'"
+    )
+    return f"'{body}' is a body, and a leg's foot names a contact, a point on a body: {advice}"

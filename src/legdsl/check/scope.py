@@ -36,6 +36,8 @@ class Scope:
     # Joints whose kind was wrong and could not be guessed, or of a body declared twice: their
     # coordinates are unknown, so a name on them is not reported again as unknown.
     unsettled: set[str] = field(default_factory=set)
+    # Names a declaration was refused (taken already): what uses them is not told again.
+    refused: set[str] = field(default_factory=set)
 
 
 class CreaturePart(ValueChecker):
@@ -46,6 +48,7 @@ class CreaturePart(ValueChecker):
         self.planar = scope.planar
         self.names = scope.names
         self.unsettled = scope.unsettled
+        self.refused = scope.refused
 
     def point(
         self, value: ast.Value, what: str, kind: str = "length", example: str | None = None
@@ -63,12 +66,16 @@ class CreaturePart(ValueChecker):
         v = self.point(value, what, "dimensionless", self._direction_example(value))
         if v is None:
             return None
-        norm = math.hypot(*v)  # not sqrt of the sum of squares: (1e200, 1e200, 0) overflows it
-        if norm < 1e-12:
+        # a direction: scaled by its largest component first, so that (1e-300, 0, 0) is x,
+        # as (1e200, 1e200, 0) is the diagonal; only (0, 0, 0) has none
+        largest = max(abs(c) for c in v)
+        if largest == 0.0:
             down = "(0, -1)" if self.planar else "(0, 0, -1)"
             self.err(value.span, f"{what} has zero length; give a direction such as {down}")
             return None
-        return (v[0] / norm, v[1] / norm, v[2] / norm)
+        scaled = (v[0] / largest, v[1] / largest, v[2] / largest)
+        norm = math.hypot(*scaled)  # between 1 and sqrt(3)
+        return (scaled[0] / norm, scaled[1] / norm, scaled[2] / norm)
 
     def _direction_example(self, value: ast.Value) -> str:
         """A direction to show for ``value``: along the axis it names (``axis z``: (0, 0, 1)),
@@ -87,6 +94,8 @@ class CreaturePart(ValueChecker):
     def declare(self, ident: ast.Ident, kind: str) -> bool:
         prior = self.names.get(ident.name)
         builtin = CONTROLLER_BUILTINS.get(ident.name)
+        if builtin is not None or prior is not None:
+            self.refused.add(ident.name)
         if builtin is not None:
             # a part so named and the controllers' own name would hide one another
             self.err(
