@@ -23,12 +23,12 @@ def _out_and_back() -> np.ndarray:
 
 def test_arrows_point_the_way_out_and_the_way_back() -> None:
     arrows = arrows_along(_out_and_back(), 6)
-    ways = [float(np.sign(head[0] - tail[0])) for tail, head in arrows]
+    ways = [float(np.sign(way[0])) for _, way in arrows]
     assert ways == [1.0, 1.0, -1.0, -1.0, -1.0, -1.0]  # 20 m: out 6 m, back 14 m
     assert arrows_along(np.zeros((5, 2)), 6) == []  # standing still: no way to point
     # a path out and back: its arrows each way are at different places
     path = np.array([[0.0, 0.0], [6.0, 0.0], [0.0, 0.0]])
-    places = sorted(round(float(t[0]), 3) for t, _ in arrows_along(path, 4, 0.35))
+    places = sorted(round(float(p[0]), 3) for p, _ in arrows_along(path, 4, 0.35))
     assert len(set(places)) == 4
 
 
@@ -42,3 +42,24 @@ def test_the_start_and_the_end_are_marked_with_their_times() -> None:
     assert ends[0] == pytest.approx((0.0, 0.0)) and ends[1] == pytest.approx((-8.0, 0.0))
     assert len(ax.texts) == 6 + 4  # the track's arrows and the path's
     plt.close(fig)
+
+
+def test_an_arrow_is_a_head_of_one_size_on_the_track_whatever_its_length() -> None:
+    """Each arrow was a black chord from 1% of the track's length before a point to 1% after:
+    on a 60 s circle, 1.8 m straight strokes that read as track. It is an arrowhead now, on
+    the track, its shaft a point long, the same on a 5 m and a 500 m circle."""
+    shapes = []
+    for radius in (5.0, 500.0):
+        turn = np.linspace(0.0, 2 * np.pi, 2001)
+        track = radius * np.column_stack([np.sin(turn), 1 - np.cos(turn)])
+        fig, ax = plt.subplots()
+        mark_way(ax, track, np.linspace(0.0, 60.0, len(track)), [])
+        arrows = ax.texts
+        assert len(arrows) == 6
+        for a in arrows:
+            assert a.anncoords == "offset points" and np.hypot(*a.xyann) == pytest.approx(1.0)
+            x, y = a.xy  # on the circle
+            assert np.hypot(x, y - radius) == pytest.approx(radius, rel=1e-4)
+        shapes.append([tuple(np.round(a.xyann, 6)) for a in arrows])
+        plt.close(fig)
+    assert shapes[0] == shapes[1]
