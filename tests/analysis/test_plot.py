@@ -286,3 +286,16 @@ def test_a_top_views_labels_are_inside_the_picture(
         assert box.x1 <= fig.bbox.width and box.y1 <= fig.bbox.height, (text, box)
     drawn = ax.get_tightbbox()  # the tick labels drawn too
     assert drawn.x0 >= 0 and drawn.x1 <= fig.bbox.width, drawn
+
+
+def test_the_pitch_panel_says_which_way_is_positive(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The docs read the plotted pitch as positive nose down; the panel said only 'body
+    pitch (deg)'."""
+    import matplotlib
+
+    monkeypatch.setitem(matplotlib.rcParams, "svg.fonttype", "none")  # its text as text
+    run = _run(tmp_path)
+    assert main(["plot", str(run), "-o", str(tmp_path / "f.svg")]) == 0
+    assert "+ nose down" in (tmp_path / "f.svg").read_text()

@@ -210,7 +210,7 @@ def draw_run(
         welded_note(pitch, drawn.welded)
     else:  # unwrapped: a planar flip's pitch, read in (-180, 180], is drawn as the turn it makes
         pitch.plot(t, np.degrees(np.unwrap(tr.root_rpy[window, 1])), color="k", label="pitch")
-        pitch.set_ylabel("body pitch (deg)")
+        pitch.set_ylabel("body pitch (deg),\n+ nose down")
 
     heading = tr.root_rpy[window, 2]
     vx, vy = tr.com_vel[window, 0], tr.com_vel[window, 1]
@@ -221,7 +221,7 @@ def draw_run(
             pitch.plot(t, np.degrees(tr.root_rpy[window, 0]), color="k", linestyle=":",
                        label="roll")  # fmt: skip
             _legend(pitch)
-            pitch.set_ylabel("body pitch, roll (deg)")
+            pitch.set_ylabel("body pitch (+ nose down),\nroll (deg)")
         sideways = -vx * np.sin(heading) + vy * np.cos(heading)
         speed.plot(t, sideways, color="k", linestyle=":", label="sideways speed")
     if np.isfinite(tr.speed_command[window]).any():
