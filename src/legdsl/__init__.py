@@ -24,12 +24,22 @@ __version__ = "0.1.0"
 if "sympy" not in sys.modules:
     os.environ.setdefault("SYMPY_CACHE_SIZE", "50000")
 __all__ = ["__version__", "load", "open_run"]
+# the API's names, read from legdsl.api when first used (docs/api.md writes legdsl.Run and
+# legdsl.api.Quantity, legdsl.api.LegdslWarning: 'legdsl.api' after 'import legdsl' alone was
+# an AttributeError, the API not yet imported)
+_API_NAMES = ("load", "open_run", "Creature", "Run", "Copies", "Quantity", "LegdslWarning")
 
 
 def __getattr__(name: str) -> Any:
-    if name in ("load", "open_run", "Creature", "Run"):
+    if name == "api" or name in _API_NAMES:
         from legdsl.signals import import_held
 
         # a Ctrl-C in the 0.6 s import comes once it is whole
-        return getattr(import_held("legdsl.api"), name)
+        api = import_held("legdsl.api")
+        return api if name == "api" else getattr(api, name)
     raise AttributeError(f"module 'legdsl' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    """The public names and the module's own (not os, sys, Any: its imports)."""
+    return sorted({*(n for n in globals() if n.startswith("__")), "api", *_API_NAMES})
