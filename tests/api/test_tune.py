@@ -152,7 +152,7 @@ controller hold {
         # it ran, scored and printed every row twice
         (["--speeds", "1,2,1"], r"--speeds '1,2,1': 1 is given twice \(1 before it is the same value, and its runs would be alike\); give each speed once"),
         (["--speeds", "1:2:0"], r"--speeds '1:2:0': N, the number of values from LO to HI, is a whole number"),
-        (["--param", "k_speed=0.03:0.1"], r"--param k_speed: give each parameter's bounds once"),
+        (["--param", "k_speed=0.03:0.1"], r"--param 'k_speed=0.03:0.1': k_speed's bounds are given twice \(--param k_speed=[^)]* before it\); give each parameter's bounds once\n    --param k_speed=0.03:0.1\n            \^~~~~~~\n"),
         (["--param", "speed=0.5:2"], r"speed is an input of 'hop', not a parameter"),
         (["--param", "k_sped=0.5:2"], r"--param k_sped: not a parameter of the controller; did you mean .k_speed.\? \(it has k_speed,"),
         # an actuator's setting is swept, not tuned: it was "not a parameter of the controller"

@@ -64,8 +64,13 @@ def _bounds(
                 f"(it has {', '.join(params)})"
             )
         axis = parse_axis("param", text, {n: c.dim for n, c in params.items()})
-        if any(b.name == axis.name for b in bounds):
-            raise UsageError(f"--param {axis.name}: give each parameter's bounds once")
+        first = next((t for t in args.param if t.partition("=")[0].strip() == axis.name), text)
+        if any(b.name == axis.name for b in bounds):  # named, the caret under the second
+            lead = len(text) - len(text.lstrip())
+            raise PointedError(
+                f"{axis.name}'s bounds are given twice (--param {first} before it); give each "
+                "parameter's bounds once", "--param", text, lead, len(axis.name),
+            )  # fmt: skip
         low, high = axis.values
         start = params[axis.name].value
         if not low <= start <= high:
@@ -78,13 +83,13 @@ def _bounds(
             raise PointedError(
                 f"the file's value {start:g}{unit} is outside the bounds ({low:g} to "
                 f"{high:g}{unit}); widen them"
-                + bare_in_si(text, axis.name, params[axis.name].dim, written),
+                + _unit_note(text, axis.name, params[axis.name].dim, written, start),
                 "--param", text, at + len(bound) - len(bound.lstrip()), len(bound.strip()),
             )  # fmt: skip
         # bare numbers are SI, as a sweep's: an angle's are radians (lean=-5:5 searched
-        # ±286° of a 2 deg lean, unsaid), and the note is the sweep's
-        bare = bare_in_si(text, axis.name, params[axis.name].dim,
-                          written_unit(source, controller, axis.name))  # fmt: skip
+        # ±286° of a 2 deg lean, unsaid), and the note is the sweep's, where it helps
+        bare = _unit_note(text, axis.name, params[axis.name].dim,
+                          written_unit(source, controller, axis.name), start)  # fmt: skip
         if bare:
             say(f"legdsl: note: --param {text}: {bare.removeprefix('; ')}")
         bounds.append(Bound(axis.name, low, high, start))
@@ -96,6 +101,32 @@ def _bounds(
         say(f"legdsl: note: {name} is declared in {used}: the tuned file overrides it in "
             f"controller '{controller.name}' and leaves {used} as it is")  # fmt: skip
     return bounds
+
+
+def _unit_note(text: str, name: str, dim: Dim, written: str | None, value: float) -> str:
+    """The sweep's note that bare numbers are SI (``bare_in_si``), where it helps: where the
+    range in the file's unit (or the usual one) fits the file's ``value`` better than the bare
+    range. It was said of every bare range, and its advice was wrong where the bare range was
+    right: stroke=0.01:0.08 m, 3 cm in the file, 'write stroke=0.01cm:0.08cm', which was then
+    refused for leaving the file's value out. Said where the bare range leaves the value out
+    and the other holds it, or both hold it and the other is nearer its size (lean=-5:5 rad of
+    a 2 deg lean), or the value is 0 (nothing to tell them apart by)."""
+    note = bare_in_si(text, name, dim, written)
+    if not note:
+        return ""
+    try:
+        other = parse_axis("param", note.rpartition("write ")[2], {name: dim}).values
+    except UsageError:  # a unit the note writes that cannot be read back: say it as it was
+        return note
+    low, high = parse_axis("param", text, {name: dim}).values
+    bare_holds, other_holds = low <= value <= high, other[0] <= value <= other[1]
+    if not other_holds or value == 0:
+        return note if other_holds else ""
+
+    def off(bounds: tuple[float, ...]) -> float:  # how far the bounds' size is from the value's
+        return abs(math.log(max(abs(bounds[0]), abs(bounds[1])) / abs(value)))
+
+    return note if not bare_holds or off(other) < off((low, high)) else ""
 
 
 def _check_read(bounds: list[Bound], model: Model, controller: Controller) -> None:
