@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import itertools
 import logging
 import multiprocessing
 import os
@@ -29,6 +30,8 @@ from typing import Any, TypeVar
 from legdsl.lang.errors import UsageError, thread_refused
 from legdsl.pipeline.optional import not_installed
 from legdsl.signals import import_held, signals_held, unblock_stopping
+
+IN_FLIGHT = 4  # items handed to the executor per local process at most, the rest queued here
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -129,7 +132,8 @@ class Workers:
         # running, a worker of a parent killed by SIGTERM would wait for work forever
         processes = list((getattr(self._pool, "_processes", None) or {}).values())
         manager = getattr(self._pool, "_executor_manager_thread", None)
-        self._pool.shutdown(wait=False, cancel_futures=True)
+        with signals_held():  # a second Ctrl-C, in a future's cancel, left its lock taken
+            self._pool.shutdown(wait=False, cancel_futures=True)
         for process in processes:
             process.terminate()  # SIGTERM, which a worker leaves at the system's default
         for process in processes:
@@ -145,17 +149,7 @@ class Workers:
         if not items:
             return
         if self.dask is None:
-            if self._pool is None:
-                self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
-            with signals_held():  # the first submit forks the processes
-                order = {self._pool.submit(fn, item): k for k, item in enumerate(items)}
-            # kept here: the executor forgets a process that died before its exit code is read
-            self._started |= set((getattr(self._pool, "_processes", None) or {}).values())
-
-            def local_wait(pending: set[Any]) -> tuple[set[Any], set[Any]]:
-                return wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
-
-            yield from self._as_they_end(order, local_wait, self._check_manager, self._local_result)
+            yield from self._local(fn, items)
             return
         distributed = import_held("distributed")
 
@@ -187,16 +181,57 @@ class Workers:
         order = {f: k for k, f in enumerate(futures)}
         yield from self._as_they_end(order, dask_wait, dask_idle, dask_result)
 
+    def _local(self, fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
+        """``as_completed`` on the local processes: a few items at a time (``IN_FLIGHT`` per
+        process) handed to the executor, more as they end. Every item submitted at once (a
+        sweep of 1,000,000 runs) made each wait take the lock of every pending future, seconds
+        of it: a Ctrl-C nearly always came in there, left a future's lock taken, and the
+        executor's thread, then Python's exit waiting for it, waited for ever ('sweep
+        interrupted', then no end). Each call into the executor and its futures is made with
+        the stopping signals held, so none is cut short with a lock taken (a Ctrl-C waits at
+        most the second of a wait)."""
+        if self._pool is None:
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_worker)
+        pool = self._pool
+        queued = iter(enumerate(items))
+        order: dict[Any, int] = {}
+        window = IN_FLIGHT * max(1, self.workers)
+
+        def more(pending: set[Any]) -> None:
+            if len(pending) >= window:
+                return
+            with signals_held():  # the first submit forks the processes
+                for k, item in itertools.islice(queued, window - len(pending)):
+                    future = pool.submit(fn, item)
+                    order[future] = k
+                    pending.add(future)
+            # kept here: the executor forgets a process that died before its exit code is read
+            self._started |= set((getattr(pool, "_processes", None) or {}).values())
+
+        def local_wait(pending: set[Any]) -> tuple[set[Any], set[Any]]:
+            with signals_held():
+                return wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
+
+        def local_result(future: Any) -> Any:
+            del order[future]  # forgotten once read
+            return self._local_result(future)
+
+        yield from self._as_they_end(order, local_wait, self._check_manager, local_result, more)
+
     def _as_they_end(
         self,
         order: dict[Any, int],
         wait_some: Callable[[set[Any]], tuple[set[Any], set[Any]]],
         idle: Callable[[], None],
         result: Callable[[Any], Any],
+        more: Callable[[set[Any]], None] | None = None,
     ) -> Iterator[Any]:
         """The results of the futures of ``order`` as they end, waking every second while none
-        does (``idle``: the pool's check; ``waiting``: a progress log's lines go on)."""
+        does (``idle``: the pool's check; ``waiting``: a progress log's lines go on); ``more``
+        adds the next futures to those pending (and to ``order``) before each wait."""
         pending = set(order)
+        if more is not None:
+            more(pending)
         while pending:
             ready, pending = wait_some(pending)
             if not ready:
@@ -207,10 +242,13 @@ class Workers:
             # 0, 2, 1 on a loaded machine, and a resume test cut the wrong row)
             for future in sorted(ready, key=order.__getitem__):
                 yield result(future)
+            if more is not None:
+                more(pending)
 
     def _local_result(self, future: Any) -> Any:
         try:
-            return future.result()
+            with signals_held():  # not cut short with the future's lock taken
+                return future.result()
         except BrokenProcessPool:
             self._killed()
             raise
