@@ -54,3 +54,32 @@ def test_one_contact_a_leg_is_not_noted(tmp_path: Path, capsys: pytest.CaptureFi
     src.write_text(FLAT.replace("  contact heel on foot at (-0.05 m, 0 m)\n", ""), encoding="utf-8")
     assert main(["check", str(src)]) == 0
     assert "note" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["check", "show"])
+def test_contacts_with_no_ground_are_noted(
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """With no ground block the feet touch nothing: check passed silently, and a run fell."""
+    src = tmp_path / "flat.leg"
+    without = "\n".join(line for line in FLAT.split("\n") if "ground {" not in line)
+    src.write_text(without.replace("foot toe }", "foot toe, heel }"), encoding="utf-8")
+    assert main([command, str(src)]) == 0
+    err = capsys.readouterr().err
+    assert (
+        "note: flat: it has no ground block, so its contacts ('toe', 'heel') touch nothing"
+    ) in err
+    assert "add one: 'ground { normal spring(k = ..., b = ...)" in err
+
+
+def test_a_creature_with_no_contacts_and_no_ground_is_not_noted(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    src = tmp_path / "arm.leg"
+    src.write_text(
+        "creature arm {\n  planar\n  body base fixed { mass 1 kg  inertia 0.1 kg*m^2 }\n"
+        "  body link on base via revolute j { length 0.5 m  mass 1 kg  inertia 0.1 kg*m^2 }\n}\n",
+        encoding="utf-8",
+    )
+    assert main(["check", str(src)]) == 0
+    assert "note" not in capsys.readouterr().err

@@ -10,6 +10,9 @@ Legs that hang from different bodies (a trunk in two halves on a spine) have the
 listed by ``legdsl show`` in the root body's frame, whose origin is then the root half's,
 not the centre of mass the controllers' ``hip_x`` is measured from: a rear hip placed from
 the wrong origin looks right there. The note gives each hip from the centre of mass.
+
+A creature with contacts and no ground block is well-formed (the ground is optional), but its
+contacts touch nothing: its feet pass through the floor and a run of it falls.
 """
 
 from __future__ import annotations
@@ -18,9 +21,22 @@ from legdsl.ir.model import Model
 
 
 def leg_contact_notes(model: Model) -> list[str]:
-    """One note per leg whose foot's body carries contacts the leg does not list, and one for
-    legs hanging from several bodies."""
-    return _foot_notes(model) + _hips_on_several_bodies(model)
+    """One note per leg whose foot's body carries contacts the leg does not list, one for
+    legs hanging from several bodies, and one for contacts with no ground to touch."""
+    return _no_ground(model) + _foot_notes(model) + _hips_on_several_bodies(model)
+
+
+def _no_ground(model: Model) -> list[str]:
+    """A note when ``model`` has contacts and no ground for them to touch."""
+    if model.ground is not None or not model.contacts:
+        return []
+    names = ", ".join(f"'{c.name}'" for c in model.contacts[:4])
+    more = ", ..." if len(model.contacts) > 4 else ""
+    return [
+        f"{model.name}: it has no ground block, so its contacts ({names}{more}) touch "
+        "nothing and a run of it falls through the floor; to stand on the ground, add one: "
+        "'ground { normal spring(k = ..., b = ...)  tangent spring(k = ..., b = ...) }'"
+    ]
 
 
 def _hips_on_several_bodies(model: Model) -> list[str]:
