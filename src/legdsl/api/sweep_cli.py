@@ -32,6 +32,7 @@ from legdsl.api.sweep import (
     units_of,
 )
 from legdsl.api.sweep_axes import bare_in_si, parse_axis, same_value
+from legdsl.api.sweep_notes import beyond_a_plot, changed_nothing
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
@@ -333,19 +334,29 @@ def _sweep_into(
             plot_sweep(shown, [a.name for a in axes], metric, drawn, labels,
                        [a.name for a in axes if a.kind != "grid"])  # fmt: skip
 
+    huge = beyond_a_plot(rows, [a.name for a in axes], metric)  # matplotlib's ValueError
     try:
         _parquet(rows, out / "sweep.parquet")
-        not_drawn = drawn_if_room("draw the heat map", draw)
+        not_drawn = None if huge else drawn_if_room("draw the heat map", draw)
     except (KeyboardInterrupt, Interrupted):  # it said only "interrupted"
         print(f"legdsl: sweep interrupted as it drew its heat map: its {len(rows)} rows "
               f"are whole in {out / 'sweep.csv'}; the same command again draws {picture} "
               "without a run", file=sys.stderr)  # fmt: skip
         raise
-    if not not_drawn:
+    if huge:
+        print(f"legdsl: note: {picture} not drawn: {huge}; the rows are in "
+              f"{out / 'sweep.csv'}", file=sys.stderr)  # fmt: skip
+    elif not not_drawn:
         _say_unmeasured(rows, metric, args, controller, picture)
+    for a in axes:  # as legdsl tune says of tuned parameters that changed nothing
+        if a.name in changed_nothing(rows, [b.name for b in axes], METRICS):
+            print(f"legdsl: note: --{a.kind} {a.name}: its values changed nothing in these "
+                  "runs (every row alike, to the bit, but for it): the controller reads it only "
+                  "where these runs never go, a limit they never reach or a state they never "
+                  "enter", file=sys.stderr)  # fmt: skip
     fell = sum(1 for r in rows if r["outcome"] != "ok")
     resumed = f", {before} of them from before" if before else ""
-    wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn else f", {picture}")
+    wrote = f"{out / 'sweep.csv'}" + ("" if not_drawn or huge else f", {picture}")
     print(f"{len(rows)} run{'' if len(rows) == 1 else 's'}{resumed} ({fell} fell or diverged): "
           f"{wrote}")  # fmt: skip
     if not_drawn:  # the table is whole; the same command again draws the map from it
