@@ -14,6 +14,7 @@ middle 0.6000000000000001, which a resume written ``0.3,0.6,0.9`` did not match)
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from fractions import Fraction
@@ -172,6 +173,13 @@ def _parse_values(
                                "this has more parts", option, text, pieces[3][0] - 1,
                                end - pieces[3][0] + 1)  # fmt: skip
         count = pieces[2][1].strip()
+        if not count.isdigit() and (whole := _whole_written_otherwise(count)) is not None:
+            # 1e9 is a whole number: its refusal said it was not (--samples 1e9 says it)
+            digits = f"{pieces[0][1].strip()}:{pieces[1][1].strip()}:{whole}"
+            why = (f"{whole:,} values, more than a sweep takes ({MAX_RUNS:,}); sweep fewer"
+                   if whole > MAX_RUNS else f"write N in digits: {name}={digits}")  # fmt: skip
+            raise PointedError(f"N, the number of values from LO to HI, is {count}: {why}",
+                               option, text, *_where(pieces[2]))  # fmt: skip
         if not count.isdigit() or int(count) < 1:
             raise PointedError(
                 f"N, the number of values from LO to HI, is a whole number, 1 or more; "
@@ -244,6 +252,33 @@ def _in_which_unit(want: Dim) -> str:
     if not si:
         return "write it without a unit"
     return f"give it in {si}" + ("" if usual in ("", si) else f" or {usual}")
+
+
+def refuse_swept_twice(given: list[tuple[str, str]]) -> None:
+    """Each name swept by one option (``given``: each --grid, --random and --lhs as (kind,
+    text)): the second named, a caret under it ('sweep: each name is swept once' said
+    neither)."""
+    seen: dict[str, str] = {}
+    for kind, text in given:
+        written = text.partition("=")[0]
+        name = written.strip()
+        if name in seen:
+            raise PointedError(
+                f"{name} is swept twice ({seen[name]} sweeps it already); sweep each name "
+                "once, all its values in one option", f"--{kind}", text,
+                len(written) - len(written.lstrip()), len(name),
+            )  # fmt: skip
+        seen[name] = f"--{kind} {text}"
+
+
+def _whole_written_otherwise(count: str) -> int | None:
+    """A grid's N written other than in digits (``1e9``, ``3.0``) that is a whole number, 1 or
+    more; else None."""
+    try:
+        value = float(count)
+    except ValueError:
+        return None
+    return int(value) if math.isfinite(value) and value >= 1 and value == int(value) else None
 
 
 def _at_most(runs: int, what: str) -> None:

@@ -31,8 +31,8 @@ from legdsl.api.sweep import (
     seconds,
     units_of,
 )
-from legdsl.api.sweep_axes import bare_in_si, parse_axis, same_value
-from legdsl.api.sweep_notes import beyond_a_plot, changed_nothing
+from legdsl.api.sweep_axes import bare_in_si, parse_axis, refuse_swept_twice, same_value
+from legdsl.api.sweep_notes import beyond_a_plot, changed_nothing, step_of
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
@@ -118,8 +118,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     args.seed = 0 if args.seed is None else args.seed
     if not axes:
         raise UsageError("sweep: give at least one --grid, --random or --lhs")
-    if len({a.name for a in axes}) != len(axes):
-        raise UsageError("sweep: each name is swept once")
+    refuse_swept_twice([(k, t) for k in ("grid", "random", "lhs") for t in getattr(args, k)])
     for text in args.set:  # a fixed value would override the swept one in every run
         name, _, value = text.partition("=")
         name = name.strip().removeprefix(f"{args.controller}.")  # its own value: the same
@@ -205,6 +204,8 @@ def _refuse_too_stiff(
     ]
     units = units_of(dims)
     options = run_options(session.model, args.time, {})
+    if options.dt > options.duration:  # told as legdsl run's (--dt), which a sweep has not
+        raise UsageError(f"sweep: --time {args.time:g}s is shorter than one step ({step_of(options, session.model)}); give --time {options.dt:g}s or more, or a smaller dt in the file's simulation block (a sweep has no --dt)")  # fmt: skip
     session.note = None  # its runs' notes are the sweep's rows
     session.step_flags = False  # and their step the file's
     for k, values in enumerate(tried):

@@ -58,3 +58,10 @@ def _key(value: Any) -> Any:
     if isinstance(value, float) and math.isnan(value):
         return "nan"
     return value
+
+
+def step_of(options: Any, model: Any) -> str:
+    """The step a sweep's runs take, and where it is from (a sweep has no --dt)."""
+    given = model.simulation.dt is not None
+    where = "the file's simulation block" if given else "the default: the file's gives none"
+    return f"dt {options.dt:g}s, {where}"
