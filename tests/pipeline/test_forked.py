@@ -5,6 +5,8 @@ from __future__ import annotations
 import multiprocessing
 import os
 import pickle
+import sys
+import threading
 import time
 from pathlib import Path
 
@@ -24,6 +26,10 @@ def _dies_elsewhere(item: tuple[int, int]) -> bytes:
     if os.getpid() != parent:
         os._exit(3)  # killed, or out of memory: no answer, no exception
     return _square(n)
+
+
+def _lowering_imported(n: int) -> bytes:
+    return pickle.dumps(("legdsl.lower.control" in sys.modules, os.getpid()))
 
 
 def _refuses(n: int) -> bytes:
@@ -94,3 +100,23 @@ def test_a_process_works_all_its_items_while_this_one_is_busy(tmp_path: Path) ->
         assert [pickle.loads(forked.result(k))[0] for k in range(3)] == [0, 1, 2]
     finally:
         forked.close()
+
+
+def test_a_threaded_process_imports_the_lowering_once_not_in_each_process() -> None:
+    """Where this process has threads (a notebook's kernel, a Dask worker, a test runner),
+    forking may deadlock: the processes were spawned, and each imported the compiler's
+    lowering again (sympy: some 1.5 s a process, a fifth of the test suite's time). They come
+    from a fork server, which imported it once: it is there before their work is unpickled
+    (this work's module imports none of it)."""
+    held = threading.Event()
+    thread = threading.Thread(target=held.wait)
+    thread.start()
+    try:
+        for _ in range(2):  # the server started by the first, used again by the second
+            forked = Forked(_lowering_imported, [0, 1], 2)
+            answers = [pickle.loads(forked.result(k)) for k in range(2)]
+            forked.close()
+            assert all(imported and pid != os.getpid() for imported, pid in answers), answers
+    finally:
+        held.set()
+        thread.join()

@@ -18,6 +18,7 @@ import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import Connection
+from multiprocessing.context import ForkContext, ForkServerContext, SpawnContext
 from typing import Any
 
 from legdsl.signals import signals_held, unblock_stopping
@@ -47,6 +48,29 @@ def _main_not_imported(forked: bool) -> Iterator[None]:
             setattr(main, name, value)
 
 
+def _context(
+    work: Work,
+) -> ForkContext | ForkServerContext | SpawnContext:
+    """Forked (no import of sympy again) where this process has one thread. Where it has more
+    (a notebook's kernel, a Dask worker, a test runner), forking may deadlock: the processes
+    come from a fork server, a process of one thread started once for this one, which imports
+    the work's module (sympy, the lowering) once and forks each from itself; spawned each
+    imported them again, some 1.5 s a process, a fifth of the test suite's time. (macOS
+    forks unsafely under its system frameworks; Python spawns there by default, as here.)"""
+    if not sys.platform.startswith("linux"):
+        return multiprocessing.get_context("spawn")
+    if threading.active_count() == 1:
+        return multiprocessing.get_context("fork")
+    context = multiprocessing.get_context("forkserver")
+    # Taken where the server starts, once (one already running, the caller's own, is used as
+    # it is): the compiler's lowering, whatever work comes first, and the work's own module
+    # (its default, the caller's __main__, ran a script again).
+    context.set_forkserver_preload(
+        ["legdsl.pipeline.compile", getattr(work, "func", work).__module__]
+    )
+    return context
+
+
 class Forked:
     """``work`` on ``items[k]`` in one of up to ``processes`` processes (item k in process
     k mod n, which answers its items in order); ``result(k)`` waits for it."""
@@ -55,14 +79,7 @@ class Forked:
         self.work, self.items = work, items
         self._pipes: list[Connection | None] = []
         self._processes: list[multiprocessing.process.BaseProcess] = []
-        # Forked (no import of sympy again) where this process has one thread; spawned where
-        # it has more (a Dask worker compiling a stale creature), as forking a threaded
-        # process may deadlock. (macOS forks unsafely under its system frameworks: Python
-        # spawns there by default too.)
-        alone = threading.active_count() == 1 and sys.platform.startswith("linux")
-        context = (
-            multiprocessing.get_context("fork") if alone else multiprocessing.get_context("spawn")
-        )
+        context = _context(work)
         forked = context.get_start_method() == "fork"
         for first in range(min(processes, len(items))):
             try:
