@@ -50,7 +50,7 @@ from legdsl.analysis.plot import pyplot
 from legdsl.analysis.table2 import MEASURE, TABLE2
 from legdsl.api.sweep import Job, run_jobs
 from legdsl.api.tune_journal import Journal
-from legdsl.api.tune_pace import time_left
+from legdsl.api.tune_pace import time_left, wall
 from legdsl.api.tune_report import NO_STRIDE as NO_STRIDE  # (read from here before)
 from legdsl.api.tune_report import report as report
 from legdsl.api.tune_report import tune_pitch as tune_pitch
@@ -263,7 +263,7 @@ def tune(
                                  halfway_speeds(objective.speeds))  # fmt: skip
                 elapsed = time.perf_counter() - tune_began
                 say(f"generation {done}/{generations}: best {history[-1]['best']:.4g}, so far "
-                    f"{best[0]:.4g} ({elapsed:.0f} s, about {left:.0f} s left)")  # fmt: skip
+                    f"{best[0]:.4g} ({wall(elapsed)}, about {wall(left)} left)")  # fmt: skip
             if len(history) < generations:  # else the report's few generations are unexplained
                 alike = {begun[0]} | {h[k] for h in history for k in ("best", "mean")}
                 if any(row["outcome"] != "ok" for row in begun[1]):  # falls alike: said so

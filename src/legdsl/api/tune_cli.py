@@ -125,7 +125,7 @@ def _cmd_tune(args: argparse.Namespace, measured: list[bool]) -> int:
     bounds = _bounds(args, controller, source, actuator_settings(model), notes)
     _check_read(bounds, model, controller)
     speeds = _speeds(args.speeds, _speed_input(args.controller, controller, model).dim)
-    _check_search(args)
+    _check_search(args, len(speeds), model)
     if args.table2 is not None:  # before --out is made: a row this creature cannot be measured as
         _table2_legs(args.table2, model, source)
     out = Path(args.out)

@@ -13,7 +13,7 @@ from typing import Any
 from legdsl.analysis.results import MetricsError
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import seconds, units_of
-from legdsl.api.sweep_axes import PointedError, bare_in_si, parse_axis
+from legdsl.api.sweep_axes import MAX_RUNS, PointedError, bare_in_si, parse_axis
 from legdsl.api.tune import Bound
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, written_unit
 from legdsl.api.workers import dask_address
@@ -23,6 +23,9 @@ from legdsl.ir.model import Model
 from legdsl.lang.errors import UsageError
 from legdsl.lang.units import KINDS, Dim, describe
 from legdsl.pipeline.settings import plain_number
+
+MAX_POPSIZE = 10_000  # candidates of a generation: its runs are held and ranked at once
+MAX_GENERATIONS = 100_000  # each is kept, in tune.json and the journal
 
 
 def _bounds(
@@ -214,9 +217,10 @@ def _how_to_command(controller: Controller, model: Model | None) -> str:
     return fix
 
 
-def _check_search(args: argparse.Namespace) -> None:
+def _check_search(args: argparse.Namespace, speeds: int = 1, model: Model | None = None) -> None:
     """The objective's weights, the runs' times and CMA-ES's options (``args.time`` and
-    ``args.t_from`` become seconds)."""
+    ``args.t_from`` become seconds); ``speeds`` is how many runs a candidate has, ``model``
+    the creature whose step the runs take."""
     from legdsl.analysis.table2 import TABLE2
 
     dask_address(args.dask)
@@ -228,6 +232,7 @@ def _check_search(args: argparse.Namespace) -> None:
                          ("--pitch-weight", args.pitch_weight)):  # fmt: skip
         if not (math.isfinite(weight) and weight >= 0):
             raise UsageError(f"{flag} {weight:g}: give a weight of 0 or more")
+    time_text = str(args.time)  # as written, for the caret
     args.time = seconds("--time", args.time)
     args.t_from = seconds("--from", args.t_from, "nonnegative")
     for flag, value in (("--generations", args.generations), ("--jobs", args.jobs)):
@@ -239,6 +244,8 @@ def _check_search(args: argparse.Namespace) -> None:
             "so no candidate's speed would be measured; give --from from 0 to before --time "
             "(seconds; --from is 3 unless given)"
         )
+    if model is not None:
+        _check_steps(args.time, time_text, model)
     if not 1 <= args.seed < 2**32:  # cma reads 0 as "from the clock", numpy no other
         raise UsageError(
             f"--seed {args.seed}: give a whole number from 1 to {2**32 - 1} (CMA-ES would take "
@@ -248,6 +255,60 @@ def _check_search(args: argparse.Namespace) -> None:
         raise UsageError(
             f"--popsize {args.popsize}: CMA-ES needs at least 2 candidates per generation; "
             "give --popsize 2 or more (or leave it out for CMA-ES's own)"
+        )
+    _at_most(args, speeds)
+
+
+def _check_steps(time: float, text: str, model: Model) -> None:
+    """``--time`` against the creature's step, in tune's words (it was told in the Python
+    API's, 'run_many(): runs[0]: time=1e+300 is ... give time=3.6e+12 or less, or a longer step
+    (dt=, ...)', an option tune lacks): a run shorter than one step, or of more steps than a
+    run can count (the closing runs last twice --time)."""
+    from legdsl.lang.scaling import MOST_STEPS
+    from legdsl.pipeline.options import check_run_options
+    from legdsl.pipeline.scaled import run_options
+    from legdsl.sim.stability import below
+
+    options = run_options(model, duration=time)
+    dt, own = options.dt, model.simulation.dt is not None
+    step = f"dt {dt:g} s, " + ("the file's simulation block's" if own else "the runner's default")
+    if dt > time:
+        raise PointedError(
+            f"a run shorter than one step ({step}); give --time {dt:g} or more, or a shorter "
+            "dt in the file's simulation block (a tune has no --dt)", "--time", text, 0, len(text),
+        )  # fmt: skip
+    if 2 * time / dt > MOST_STEPS:
+        raise PointedError(
+            f"the closing runs, twice --time, would be {2 * time / dt:.3g} steps ({step}), more "
+            f"than a run can count ({MOST_STEPS:.3g}); give --time {below(MOST_STEPS * dt / 2)} "
+            "or less, or a longer dt in the file's simulation block (a tune has no --dt)",
+            "--time", text, 0, len(text),
+        )  # fmt: skip
+    try:
+        check_run_options(options, flags=False)
+    except UsageError as e:  # the rest are the file's, its simulation block checked
+        raise UsageError(f"tune: {e}") from None
+
+
+def _at_most(args: argparse.Namespace, speeds: int) -> None:
+    """Refuses a search larger than a tune takes, naming the option: --popsize 100000000 was
+    'out of memory: ... a shorter --time, fewer --jobs', --popsize 10000000 ran minutes
+    without a line, --generations 1000000000 told 'about 122240633 s left'. A tune runs at
+    most as many runs as a sweep (``MAX_RUNS``)."""
+    for flag, value, most in (("--popsize", args.popsize, MAX_POPSIZE),
+                              ("--generations", args.generations, MAX_GENERATIONS)):  # fmt: skip
+        if value is not None and value > most:
+            own = " (or leave it out for CMA-ES's own, 4 + 3 ln(parameters))"
+            raise UsageError(f"{flag} {value}: more than a tune takes ({most:,}); give {flag} "
+                             f"{most} or fewer{own if flag == '--popsize' else ''}")  # fmt: skip
+    n = len(args.param or ()) or 1
+    popsize = args.popsize if args.popsize is not None else 4 + int(3 * math.log(n))
+    runs = args.generations * popsize * speeds
+    if runs > MAX_RUNS:
+        raise UsageError(
+            f"--generations {args.generations}: {args.generations:,} generations of {popsize} "
+            f"candidates at {speeds} speed{'s' if speeds > 1 else ''} are {runs:,} runs, more "
+            f"than a tune takes ({MAX_RUNS:,}); give fewer --generations or a smaller --popsize"
         )
 
 

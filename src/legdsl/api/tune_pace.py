@@ -36,3 +36,12 @@ def time_left(
     searching = generations_left * batch(runs_per_generation, duration)
     closing = batch(len(halfway), duration) + batch(len(speeds), 2 * duration)
     return searching + closing
+
+
+def wall(seconds: float) -> str:
+    """A wall time as the progress line tells it: seconds under a minute, then as ``legdsl
+    sweep`` writes it (1m05s, 13h53m, 2d04h; a long tune told 'about 122240633 s left')."""
+    from legdsl.pipeline.report import time_left as sweep_wall
+
+    whole = round(seconds)
+    return f"{whole} s" if whole < 60 else sweep_wall(whole)
