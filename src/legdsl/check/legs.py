@@ -97,7 +97,9 @@ class LegChecker(CreaturePart):
                     target = self.name_of(item.value, "an alias target")
                     if target is None:
                         continue
-                    if target.name not in referable and target.name in self.names:
+                    if target.name not in referable and (
+                        target.name in self.names or target.name in self.refused
+                    ):
                         continue  # declared, with its mistake told there (an unknown joint)
                     if target.name not in referable:
                         self.err(
