@@ -100,3 +100,16 @@ def test_a_shared_parts_path_gets_its_lookahead_scaled(tmp_path: Path) -> None:
     (path,) = big.controller("run").paths
     assert (path.radius, path.lookahead) == (10.0, 2.0)
     assert math.isclose(path.center[1], 10.0)
+
+
+def test_the_lookahead_note_under_scale_speaks_of_the_scaled_creatures_default(
+    generated: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The note on a lookahead too long for a path's turns was worked out on the path as given
+    with 1 m, before --scale: a biped 4 times as large followed 4 m ahead on a 2 m circle,
+    unnoted."""
+    biped = str(CREATURES / "biped.leg")
+    assert main(["run", biped, "--controller", "run", "--generated", str(generated),
+                 "--backend", "python", "--path", "circle(center = (0, 2) m, radius = 2 m)",
+                 "--scale", "4", "--time", "0.01", "--out", str(tmp_path / "r")]) == 0  # fmt: skip
+    assert "its lookahead (4 m) is longer than its radius (2 m)" in capsys.readouterr().err

@@ -242,6 +242,14 @@ def scale_path(spec: PathSpec, scale: float) -> PathSpec:
     )
 
 
+def path_as_given(spec: PathSpec, scale: float) -> PathSpec:
+    """A path given for the creature scaled by ``scale``, a lookahead not written being that
+    creature's default (L m), as its notes speak of it (``scale_path`` gives the model's)."""
+    if not spec.lookahead_default:
+        return spec
+    return dataclasses.replace(spec, lookahead=DEFAULT_LOOKAHEAD * scale, lookahead_default=False)
+
+
 def _q_dims(model: Model, rate: bool) -> list[Dim | None]:
     """The dimension of each entry of q (or of v): lengths, angles (1), quaternion parts (1)."""
     if rate:

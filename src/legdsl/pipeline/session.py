@@ -244,7 +244,8 @@ class RunSession:
         if control is not None and controller is not None:  # as given, before any --scale
             modules = {name: self.control(name) for name in dict.fromkeys([controller, *later])}
             told = [*sorted_settings.inputs, *(c.name for c in sorted_settings.schedule)]
-            for note in switching.path_notes(self.model, modules, controller, changes, specs, told):
+            given = [scaled.path_as_given(p, scale) for p in specs] if scale else specs
+            for note in switching.path_notes(self.model, modules, controller, changes, given, told):
                 self.tell("note", note)
         if scale is not None:
             options = scaled.scale_options(asked, scale)
