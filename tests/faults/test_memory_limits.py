@@ -293,3 +293,12 @@ def test_a_command_without_options_to_ask_less_is_told_the_limit_alone(
     assert capsys.readouterr().err == (
         "legdsl: out of memory: raise the memory limit (ulimit -v) and run again\n"
     )
+
+
+def test_a_tune_short_of_memory_is_told_its_population_too() -> None:
+    """A tune holds a generation's runs at once: `--popsize 100000000` ran out of memory and was
+    told only 'a shorter --time, fewer --jobs'."""
+    from legdsl.cli.process import out_of_memory
+
+    assert "a smaller --popsize" in out_of_memory("tune")
+    assert "--popsize" not in out_of_memory("sweep")

@@ -23,7 +23,7 @@ LESS_OF = {
     "animate": "fewer frames: a lower --fps, e.g. --fps 10, or a video's lower --slow-motion",
     "export-motion": "fewer keyframes: a lower --fps, e.g. --fps 10",
     "sweep": "a shorter --time, fewer --jobs",
-    "tune": "a shorter --time, fewer --jobs",
+    "tune": "a shorter --time, a smaller --popsize, fewer --jobs",  # each holds a generation
 }
 OUT_OF_MEMORY_TO_LOAD = (
     "out of memory to load legdsl and its libraries (numpy, sympy): raise the memory limit "
