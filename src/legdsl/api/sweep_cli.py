@@ -31,8 +31,15 @@ from legdsl.api.sweep import (
     seconds,
     units_of,
 )
-from legdsl.api.sweep_axes import bare_in_si, parse_axis, refuse_swept_twice, same_value
-from legdsl.api.sweep_notes import beyond_a_plot, changed_nothing, step_of
+from legdsl.api.sweep_axes import bare_in_si, parse_axis, refuse_swept_twice
+from legdsl.api.sweep_notes import (
+    Preparing,
+    alike,
+    beyond_a_plot,
+    changed_nothing,
+    plan_text,
+    step_of,
+)
 from legdsl.api.workers import dask_address
 from legdsl.check.source import check_model
 from legdsl.codegen.fingerprints import controller_fingerprint, creature_fingerprint
@@ -172,9 +179,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     made = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
     lock = writer_lock(out, "sweep")  # held until it is done (two would append the same rows)
+    bar = progress_bar if sys.stderr.isatty() else ProgressLog("sweep", "runs")
+    if isinstance(bar, ProgressLog):  # its lines every 10 s from here (1e6 runs: 30 s unsaid)
+        bar(0, len(combos), None)
+    preparing = Preparing(len(combos), bar)  # a line every 10 s until the first bar
     try:
-        return _sweep_into(out, args, model, controller, axes, dims, combos)
+        return _sweep_into(out, args, model, controller, axes, dims, combos, preparing)
     finally:  # an API caller may sweep into the same --out again in this process
+        preparing.stop()
         release(lock, out, made)
 
 
@@ -236,6 +248,7 @@ def _sweep_into(
     axes: list[Any],
     dims: dict[str, Dim],
     combos: list[dict[str, float]],
+    preparing: Preparing,
 ) -> int:
     """The sweep, its lock held: the plan, the runs, the table's copies and the map."""
     plan = {"file": str(args.file), "creature": model.name, "controller": args.controller,
@@ -252,7 +265,7 @@ def _sweep_into(
     before_plan = _plan_in(plan_file) if planned_before else plan
     if isinstance(before_plan, dict):  # an older legdsl's plan names no creature: its digest
         before_plan = {"creature": model.name, **before_plan}
-    if not _alike(_comparable(before_plan), _comparable(plan)):
+    if not alike(_comparable(before_plan), _comparable(plan)):
         digests = ("creature_digest", "controller_digest", "simulation")
         edited = (  # the same sweep but for the file (an older legdsl's plan has no digests)
             isinstance(before_plan, dict)
@@ -285,7 +298,7 @@ def _sweep_into(
             "unknown (they were taken as this sweep's, whatever their --time or --from); put "
             "its sweep.json back, or remove the table to run the sweep again"
         )
-    write_atomic(plan_file, json.dumps(plan, indent=2) + "\n")
+    write_atomic(plan_file, plan_text(plan))
     before = len(ran)
     # a run is kept by the sweep that runs it: resumed with --keep-runs added, the rows from
     # before had no directory, and nothing said so
@@ -299,9 +312,8 @@ def _sweep_into(
               f"{before} rows from before in {out / 'sweep.csv'} have no directory under "
               f"{out / 'runs'} (run {bare[0]}{', ...' if len(bare) > 1 else ''}), as they ran "
               "without it; to keep every run, sweep into another --out", file=sys.stderr)  # fmt: skip
-    bar = progress_bar if sys.stderr.isatty() else ProgressLog("sweep", "runs")
     try:
-        rows = run_sweep(jobs, out / "sweep.csv", args.jobs, bar, args.dask)
+        rows = run_sweep(jobs, out / "sweep.csv", args.jobs, preparing.progress, args.dask)
     except UsageError:  # every run refused (a setting too stiff for the step): the plan it
         # wrote would refuse the corrected command as another sweep
         if not planned_before and not read_table(out / "sweep.csv"):
@@ -319,6 +331,7 @@ def _sweep_into(
             f"{len(jobs) - done}"
         ) from None
     except (KeyboardInterrupt, Interrupted):
+        preparing.stop()
         done = len(read_table(out / "sweep.csv"))
         kept = (f"{done} of {len(jobs)} runs are in {out / 'sweep.csv'}" if done else
                 f"no run's row had come back, so {out / 'sweep.csv'} was not begun")  # fmt: skip
@@ -430,25 +443,11 @@ def _plan_differs(before: object, plan: dict[str, Any]) -> str:
     if not isinstance(before, dict):
         return "its sweep.json is damaged"
     mine, theirs = _comparable(plan), _comparable(before)
-    keys = [k for k in plan if not _alike(theirs.get(k), mine[k])]
+    keys = [k for k in plan if not alike(theirs.get(k), mine[k])]
     if "file" in keys or "creature" in keys:  # whose digests differ with them, unsaid
         keys = [k for k in keys if not k.endswith("_digest")]
     other = [_PLAN_WORDS.get(k, k) for k in keys]
     return f"other {', '.join(other)}" if other else "its sweep.json differs"
-
-
-def _alike(a: Any, b: Any) -> bool:
-    """Two plans (or parts) alike, their numbers to a relative 1e-12: a value written in
-    other units is the same (``57cm/s`` is 0.5700000000000001 m/s; it was refused as another
-    sweep of ``0.57``)."""
-    if isinstance(a, dict) and isinstance(b, dict):
-        return a.keys() == b.keys() and all(_alike(a[k], b[k]) for k in a)
-    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
-        return len(a) == len(b) and all(map(_alike, a, b))
-    numbers = (int, float)
-    if isinstance(a, numbers) and isinstance(b, numbers) and not isinstance(a, bool):
-        return not isinstance(b, bool) and same_value(float(a), float(b))
-    return bool(a == b)
 
 
 def _comparable(plan: Any) -> Any:
