@@ -33,3 +33,18 @@ def test_work_shorter_than_that_says_nothing(
     for done in (0, 1, 2):
         log(done, 2, None)
     assert capsys.readouterr().err == ""
+
+
+def test_a_large_count_is_written_in_digits(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A sweep of a million runs read 'sweep: 1 of 1e+06 runs' (and its bar '1/1e+06')."""
+    clock = iter([0.0, 11.0])
+    monkeypatch.setattr(report.time, "monotonic", lambda: next(clock))
+    log = ProgressLog("sweep", "runs")
+    for done in (0.0, 1.0):
+        log(done, 1e6, None)
+    report.progress_line(2500.0, 1e6, "runs", None)
+    err = capsys.readouterr().err
+    assert "legdsl: sweep: 1 of 1,000,000 runs, time left not yet known" in err.splitlines()
+    assert "2,500/1,000,000 runs" in err

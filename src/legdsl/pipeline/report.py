@@ -38,7 +38,7 @@ def progress_line(
     elif unit == "%":  # a share of some work (a compile's)
         amount = f"{100 * frac:3.0f}%"
     else:
-        amount = f"{done:g}/{total:g} {unit}"
+        amount = f"{_amount(done)}/{_amount(total)} {unit}"
     if frac >= 1.0:
         tail = ", done\n"
     elif stopped:
@@ -49,6 +49,12 @@ def progress_line(
         tail = f", about {time_left(left)} left\033[K"  # \033[K: clear the rest
     print(f"\r[{'#' * filled}{'.' * (width - filled)}] {amount}{tail}", end="",
           file=sys.stderr, flush=True)  # fmt: skip
+
+
+def _amount(x: float) -> str:
+    """A count in digits with thousands marked (a sweep's 1,000,000 runs were '1e+06'),
+    else as short as it reads."""
+    return f"{int(x):,}" if float(x).is_integer() and abs(x) < 1e18 else f"{x:g}"
 
 
 class ProgressLog:
@@ -77,8 +83,8 @@ class ProgressLog:
             eta = ", time left not yet known"
         else:
             eta = f", about {time_left(left)} left"
-        print(f"legdsl: {self.what}: {done:g} of {total:g} {self.unit}{eta}", file=sys.stderr,
-              flush=True)  # fmt: skip
+        print(f"legdsl: {self.what}: {_amount(done)} of {_amount(total)} {self.unit}{eta}",
+              file=sys.stderr, flush=True)  # fmt: skip
 
 
 class ProgressBar:
