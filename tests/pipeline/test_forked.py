@@ -71,6 +71,7 @@ def test_processes_that_cannot_start_leave_everything_to_this_one(
 
     monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", refused)
     monkeypatch.setattr(multiprocessing.context.SpawnProcess, "start", refused)
+    monkeypatch.setattr(multiprocessing.context.ForkServerProcess, "start", refused)  # threaded
     answers = _results(Forked(_square, range(3), 2), 3)
     assert answers == [(n * n, PARENT) for n in range(3)]
 
