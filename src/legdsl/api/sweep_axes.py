@@ -65,14 +65,27 @@ def bare_in_si(text: str, name: str, dim: Dim, written: str | None = None) -> st
     usual unit (or the unit the file ``written`` it in: ``stroke = 1.5 cm``) is not SI (an
     angle: ``stand=-50:-30`` meant in degrees is radians) say so, and how to write it in that
     unit; "" otherwise."""
+    other = in_usual_unit(text, name, dim, written)
+    if other is None:
+        return ""
+    return (
+        f"; a bare number is in {named_si_unit(dim)}: to give them in {other[0]}, write {other[1]}"
+    )
+
+
+def in_usual_unit(
+    text: str, name: str, dim: Dim, written: str | None = None
+) -> tuple[str, str] | None:
+    """``bare_in_si``'s unit and ``NAME=...`` rewritten in it, or None (units given, or the
+    usual unit SI)."""
     spec = text.partition("=")[2]
     si, usual = named_si_unit(dim), written or unit_for(dim)
     if any(c.isalpha() for c in spec) or usual in ("", si):
-        return ""
+        return None
     numbers = re.split(r"([:,])", spec)
     last = len(numbers) - 1 if ":" in spec and spec.count(":") == 2 else len(numbers)  # a grid's N
-    written = "".join(p + usual if i % 2 == 0 and i < last else p for i, p in enumerate(numbers))
-    return f"; a bare number is in {si}: to give them in {usual}, write {name}={written.replace(' ', '')}"
+    rewritten = "".join(p + usual if i % 2 == 0 and i < last else p for i, p in enumerate(numbers))
+    return usual, f"{name}={rewritten.replace(' ', '')}"
 
 
 def _pieces(text: str, start: int, separator: str) -> list[tuple[int, str]]:

@@ -362,8 +362,9 @@ def _sweep_into(
               f"{out / 'sweep.csv'}", file=sys.stderr)  # fmt: skip
     elif not not_drawn:
         _say_unmeasured(rows, metric, args, controller, picture)
+    quiet = changed_nothing(rows, [a.name for a in axes], METRICS)
     for a in axes:  # as legdsl tune says of tuned parameters that changed nothing
-        if a.name in changed_nothing(rows, [b.name for b in axes], METRICS):
+        if a.name in quiet:
             print(f"legdsl: note: --{a.kind} {a.name}: its values changed nothing in these "
                   "runs (every row alike, to the bit, but for it): the controller reads it only "
                   "where these runs never go, a limit they never reach or a state they never "

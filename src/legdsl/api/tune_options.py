@@ -13,7 +13,7 @@ from typing import Any
 from legdsl.analysis.results import MetricsError
 from legdsl.analysis.table2 import virtual_legs
 from legdsl.api.sweep import seconds, units_of
-from legdsl.api.sweep_axes import MAX_RUNS, PointedError, bare_in_si, parse_axis
+from legdsl.api.sweep_axes import MAX_RUNS, PointedError, bare_in_si, in_usual_unit, parse_axis
 from legdsl.api.tune import Bound
 from legdsl.api.tuned_file import declared_in, shared_owners, used_owners, written_unit
 from legdsl.api.workers import dask_address
@@ -114,11 +114,11 @@ def _unit_note(text: str, name: str, dim: Dim, written: str | None, value: float
     refused for leaving the file's value out. Said where the bare range leaves the value out
     and the other holds it, or both hold it and the other is nearer its size (lean=-5:5 rad of
     a 2 deg lean), or the value is 0 (nothing to tell them apart by)."""
-    note = bare_in_si(text, name, dim, written)
-    if not note:
+    note, usual = bare_in_si(text, name, dim, written), in_usual_unit(text, name, dim, written)
+    if usual is None:
         return ""
     try:
-        other = parse_axis("param", note.rpartition("write ")[2], {name: dim}).values
+        other = parse_axis("param", usual[1], {name: dim}).values
     except UsageError:  # a unit the note writes that cannot be read back: say it as it was
         return note
     low, high = parse_axis("param", text, {name: dim}).values

@@ -162,12 +162,14 @@ def hex_color_comment(line: str) -> Found | None:
     found = _HEX_COLOR.search(line)
     if found is None:
         return None
-    key, color = found.group(1), found.group(2)
+    return found.start(2), len(found.group(2)), _quote_it(found.group(1), found.group(2))
+
+
+def _quote_it(key: str, color: str) -> str:
+    """``key``'s '#' colour read as a comment, and how to write it."""
     return (
-        found.start(2),
-        len(color),
         f"'#' starts a comment, so the {key} was read as one: write it in quotes, "
-        f"'{key} \"{color}\"'",
+        f"'{key} \"{color}\"'"
     )
 
 
@@ -196,10 +198,7 @@ def hex_color_at(text: str, start: int) -> Found | None:
         except UnitError:
             pass
     if key is not None and re.fullmatch(r"[A-Za-z_]\w*", key) and not ends_value:
-        told = (
-            f"'#' starts a comment, so the {key} was read as one: write it in quotes, "
-            f"'{key} \"{color}\"'"
-        )
+        told = _quote_it(key, color)
     else:
         told = (
             f"'#' starts a comment, so '{color}' was read as one: a color is a property of "

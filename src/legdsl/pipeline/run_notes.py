@@ -54,7 +54,8 @@ TURN_MARGIN = 3.0  # deg/s, and by more than this (the shipped gaits that turn: 
 
 
 def run_notes(run: Any) -> list[str]:
-    """The notes on ``run`` (a ``legdsl.pipeline.session.Run``), none unless it ended ``ok``."""
+    """The notes on ``run`` (a ``legdsl.pipeline.session.Run``): none unless it ended ``ok``,
+    but for the turn note of one that fell."""
     result = run.result
     if result.status not in ("ok", "fell") or not len(result.trajectory):
         return []
@@ -160,14 +161,10 @@ def _off_turn(run: Any, unit: float) -> str:
         return ""
     yaw = np.unwrap(np.asarray(tr.root_rpy[window, 2], dtype=float))
     rate = float(np.polyfit(t - t[0], yaw, 1)[0])
-    off = abs(rate - asked)
-    if not np.isfinite(rate) or off <= TURN_SHARE * abs(asked):
+    off, margin = abs(rate - asked), np.radians(TURN_MARGIN) / unit
+    if not np.isfinite(rate) or off <= TURN_SHARE * abs(asked) or off <= margin:
         return ""
-    if off <= np.radians(TURN_MARGIN) / unit:
-        return ""
-    way = (
-        ", the other way" if rate * asked < 0 and abs(rate) > np.radians(TURN_MARGIN) / unit else ""
-    )
+    way = ", the other way" if rate * asked < 0 and abs(rate) > margin else ""
     ended = "the fall" if run.result.status == "fell" else "the end"
     told = (
         f"the turn_rate command was {_speed(np.degrees(asked))} deg/s and the heading turned at "

@@ -97,8 +97,9 @@ def cmd_scale(args: argparse.Namespace) -> int:
             )
     if path_decls(tree) and args.by != 1:
         print(f"legdsl: note: {_lookahead_note(written, args.file, args.by)}", file=sys.stderr)
-    users = _users([tree, *(parse(text, path) for path, text in used.items())])
-    library = _library_note(tree, used, written, args.file, args.by)
+    used_trees = [parse(text, path) for path, text in used.items()]
+    users = _users([tree, *used_trees])
+    library = _library_note(tree, used, used_trees, written, args.file, args.by)
     if library is not None:
         print(f"legdsl: note: {library}", file=sys.stderr)
     for path in _unscaled(used, Path(args.file)):
@@ -129,13 +130,18 @@ def _lookahead_note(creatures: str, file: str, scale: float) -> str:
 
 
 def _library_note(
-    tree: ast.SourceFile, used: dict[str, str], creatures: str, file: str, scale: float
+    tree: ast.SourceFile,
+    used: dict[str, str],
+    used_trees: list[ast.SourceFile],
+    creatures: str,
+    file: str,
+    scale: float,
 ) -> str | None:
     """The standard library's numbers that scaling would change, in the actions and parts the
     file reaches (``reached_quantities``): OUT uses them as written, for the unscaled size."""
     if scale == 1:
         return None
-    reached = reached_quantities(tree, [parse(text, path) for path, text in used.items()])
+    reached = reached_quantities(tree, used_trees)
     told = []
     for name, span, dim in reached:
         library = stdlib_name(Path(span.file))
